@@ -1,0 +1,219 @@
+//! Radar parameters and fidelity switches, shared by the scenario files (which set them) and
+//! the radar model (which uses them). Defaults are PHYSICS.md §3.3's generic S-band ship radar.
+//!
+//! Every field is in SI units with the unit in its name; the scenario TOML uses the same names.
+
+use serde::{Deserialize, Serialize};
+
+/// Antenna pattern model (PHYSICS.md §2.2, §2.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum PatternModel {
+    /// Gaussian sum beam, linear-ratio difference beams (default).
+    #[default]
+    Gaussian,
+    /// Uniform rectangular aperture: sinc sum beam, sidelobes, nonlinear monopulse curve.
+    UniformAperture,
+}
+
+/// Swerling fluctuation case (PHYSICS.md §3.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Swerling {
+    Sw0,
+    #[default]
+    Sw1,
+    Sw3,
+}
+
+/// Parameters of one ship radar (PHYSICS.md §3.3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RadarParams {
+    /// Carrier frequency (Hz).
+    pub frequency_hz: f64,
+    /// Aperture width along the face's x axis (m).
+    pub aperture_x_m: f64,
+    /// Aperture height along the face's y axis (m).
+    pub aperture_y_m: f64,
+    /// Aperture efficiency η_a.
+    pub aperture_efficiency: f64,
+    /// Beamwidth factor κ in θ = κλ/D (sine space).
+    pub beamwidth_factor: f64,
+    /// Scan-loss exponent α_s per way: G = G0·w^α_s.
+    pub scan_loss_exponent: f64,
+    /// Maximum scan angle off boresight (deg).
+    pub max_scan_deg: f64,
+    /// Normalized monopulse slope k_m (Gaussian model).
+    pub monopulse_slope: f64,
+    /// Face boresight azimuths relative to the bow (deg, clockwise).
+    pub face_azimuths_deg: Vec<f64>,
+    /// Face elevation tilt (deg).
+    pub face_tilt_deg: f64,
+    /// Peak transmit power (W).
+    pub peak_power_w: f64,
+    /// Pulse width τ (s).
+    pub pulse_width_s: f64,
+    /// Waveform bandwidth B (Hz); range cell ΔR = c/(2B).
+    pub bandwidth_hz: f64,
+    /// Pulse repetition frequency (Hz).
+    pub prf_hz: f64,
+    /// Maximum pulses per dwell.
+    pub max_pulses: u32,
+    /// Receiver noise figure (dB).
+    pub noise_figure_db: f64,
+    /// Total system loss L (dB).
+    pub loss_db: f64,
+    /// Per-cell false-alarm probability.
+    pub pfa: f64,
+    /// Instrumented range (m); search covers ρ up to this.
+    pub instrumented_range_m: f64,
+    /// Minimum range (m), eclipsed below.
+    pub min_range_m: f64,
+    /// Fixed per-dwell overhead added to the timeline (s).
+    pub dwell_overhead_s: f64,
+}
+
+impl Default for RadarParams {
+    fn default() -> Self {
+        RadarParams {
+            frequency_hz: 3.3e9,
+            aperture_x_m: 3.6,
+            aperture_y_m: 3.6,
+            aperture_efficiency: 0.8,
+            beamwidth_factor: 1.0,
+            scan_loss_exponent: 1.5,
+            max_scan_deg: 60.0,
+            monopulse_slope: 1.6,
+            face_azimuths_deg: vec![45.0, 135.0, 225.0, 315.0],
+            face_tilt_deg: 15.0,
+            peak_power_w: 100e3,
+            pulse_width_s: 10e-6,
+            bandwidth_hz: 5e6,
+            prf_hz: 300.0,
+            max_pulses: 16,
+            noise_figure_db: 4.0,
+            loss_db: 5.0,
+            pfa: 1e-6,
+            instrumented_range_m: 450e3,
+            min_range_m: 2e3,
+            dwell_overhead_s: 1e-3,
+        }
+    }
+}
+
+impl RadarParams {
+    /// Wavelength λ (m).
+    pub fn wavelength_m(&self) -> f64 {
+        crate::SPEED_OF_LIGHT_MPS / self.frequency_hz
+    }
+    /// Sine-space half-power beamwidth along u.
+    pub fn beamwidth_u(&self) -> f64 {
+        self.beamwidth_factor * self.wavelength_m() / self.aperture_x_m
+    }
+    /// Sine-space half-power beamwidth along v.
+    pub fn beamwidth_v(&self) -> f64 {
+        self.beamwidth_factor * self.wavelength_m() / self.aperture_y_m
+    }
+    /// Range cell ΔR = c/(2B) (m).
+    pub fn range_cell_m(&self) -> f64 {
+        crate::SPEED_OF_LIGHT_MPS / (2.0 * self.bandwidth_hz)
+    }
+    /// Peak gain G0 = 4π η_a Dx Dy / λ² (linear).
+    pub fn peak_gain(&self) -> f64 {
+        let l = self.wavelength_m();
+        4.0 * std::f64::consts::PI * self.aperture_efficiency * self.aperture_x_m * self.aperture_y_m / (l * l)
+    }
+    /// Square-law detection threshold γ = −ln P_FA on |Σ|².
+    pub fn threshold(&self) -> f64 {
+        -self.pfa.ln()
+    }
+    /// Minimum w = cos θ_max a beam may be steered to.
+    pub fn min_scan_w(&self) -> f64 {
+        self.max_scan_deg.to_radians().cos()
+    }
+
+    /// Check physical sanity; returns the name of the first offending field and what was wanted.
+    pub fn validate(&self) -> Result<(), (String, String)> {
+        let pos = |name: &str, x: f64| -> Result<(), (String, String)> {
+            if x.is_finite() && x > 0.0 { Ok(()) } else { Err((name.to_string(), format!("a positive finite number, got {x}"))) }
+        };
+        pos("frequency_hz", self.frequency_hz)?;
+        pos("aperture_x_m", self.aperture_x_m)?;
+        pos("aperture_y_m", self.aperture_y_m)?;
+        pos("aperture_efficiency", self.aperture_efficiency)?;
+        if self.aperture_efficiency > 1.0 {
+            return Err(("aperture_efficiency".into(), format!("at most 1, got {}", self.aperture_efficiency)));
+        }
+        pos("beamwidth_factor", self.beamwidth_factor)?;
+        pos("monopulse_slope", self.monopulse_slope)?;
+        pos("peak_power_w", self.peak_power_w)?;
+        pos("pulse_width_s", self.pulse_width_s)?;
+        pos("bandwidth_hz", self.bandwidth_hz)?;
+        pos("prf_hz", self.prf_hz)?;
+        pos("instrumented_range_m", self.instrumented_range_m)?;
+        if !(self.scan_loss_exponent.is_finite() && self.scan_loss_exponent >= 0.0) {
+            return Err(("scan_loss_exponent".into(), "a finite number >= 0".into()));
+        }
+        if !(self.max_scan_deg > 0.0 && self.max_scan_deg < 90.0) {
+            return Err(("max_scan_deg".into(), format!("between 0 and 90 degrees, got {}", self.max_scan_deg)));
+        }
+        if !(self.pfa > 0.0 && self.pfa < 0.1) {
+            return Err(("pfa".into(), format!("between 0 and 0.1, got {}", self.pfa)));
+        }
+        if self.max_pulses == 0 {
+            return Err(("max_pulses".into(), "at least 1".into()));
+        }
+        if self.face_azimuths_deg.is_empty() || self.face_azimuths_deg.iter().any(|a| !a.is_finite()) {
+            return Err(("face_azimuths_deg".into(), "a non-empty list of finite angles".into()));
+        }
+        if !(self.face_tilt_deg.is_finite() && self.face_tilt_deg.abs() < 90.0) {
+            return Err(("face_tilt_deg".into(), "a tilt between -90 and 90 degrees".into()));
+        }
+        for (n, x) in [("noise_figure_db", self.noise_figure_db), ("loss_db", self.loss_db)] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err((n.into(), format!("a finite number of dB >= 0, got {x}")));
+            }
+        }
+        if !(self.min_range_m.is_finite() && self.min_range_m >= 0.0 && self.min_range_m < self.instrumented_range_m) {
+            return Err(("min_range_m".into(), "a range >= 0 and below instrumented_range_m".into()));
+        }
+        if !(self.dwell_overhead_s.is_finite() && self.dwell_overhead_s >= 0.0) {
+            return Err(("dwell_overhead_s".into(), "a duration >= 0".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Modelling switches a scene may or may not need (DESIGN.md §2 `fidelity`). Recorded in the
+/// manifest of every run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Fidelity {
+    pub pattern: PatternModel,
+    pub swerling: Swerling,
+    /// Apply 4/3-earth refraction to measured elevation (PHYSICS.md §1.8). Default off.
+    pub refraction: bool,
+    /// Model orthogonal-waveform leakage with this isolation (dB); `None` is ideal.
+    pub waveform_isolation_db: Option<f64>,
+    /// Polarization scattering matrix model (PHYSICS.md §3.2). Default off.
+    pub polarization: bool,
+    /// Cells simulated explicitly on each side of a target return (PHYSICS.md §4.4).
+    pub explicit_cells_each_side: u32,
+    /// Truth sample rate (Hz) of the truth table.
+    pub truth_rate_hz: f64,
+}
+
+impl Default for Fidelity {
+    fn default() -> Self {
+        Fidelity {
+            pattern: PatternModel::Gaussian,
+            swerling: Swerling::Sw1,
+            refraction: false,
+            waveform_isolation_db: None,
+            polarization: false,
+            explicit_cells_each_side: 3,
+            truth_rate_hz: 10.0,
+        }
+    }
+}
