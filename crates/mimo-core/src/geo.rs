@@ -75,11 +75,10 @@ pub fn ecef_to_geodetic(p: DVec3) -> Geodetic {
     let lon = p.y.atan2(p.x);
     let rho = (p.x * p.x + p.y * p.y).sqrt();
     let mut lat = p.z.atan2(rho * (1.0 - WGS84_E2));
-    let mut h = 0.0;
     for _ in 0..8 {
         let n = prime_vertical_radius_m(lat);
         let (s, c) = lat.sin_cos();
-        h = if c.abs() > 1e-3 { rho / c - n } else { p.z.abs() / s.abs() - n * (1.0 - WGS84_E2) };
+        let h = if c.abs() > 1e-3 { rho / c - n } else { p.z.abs() / s.abs() - n * (1.0 - WGS84_E2) };
         let new_lat = p.z.atan2(rho * (1.0 - WGS84_E2 * n / (n + h)));
         let done = (new_lat - lat).abs() < 1e-14;
         lat = new_lat;
@@ -89,7 +88,7 @@ pub fn ecef_to_geodetic(p: DVec3) -> Geodetic {
     }
     let n = prime_vertical_radius_m(lat);
     let (s, c) = lat.sin_cos();
-    h = if c.abs() > 1e-3 { rho / c - n } else { p.z.abs() / s.abs() - n * (1.0 - WGS84_E2) };
+    let h = if c.abs() > 1e-3 { rho / c - n } else { p.z.abs() / s.abs() - n * (1.0 - WGS84_E2) };
     Geodetic { lat_rad: lat, lon_rad: lon, alt_m: h }
 }
 

@@ -193,11 +193,14 @@ pub struct PrimitiveRow {
     /// Imaginary-part statistic T = η_Qa²/var_a + η_Qe²/var_e (χ²₂ for one target).
     pub eta_q: f64,
     pub merged: bool,
-    /// Cell samples of the peak and its larger neighbour, kept so that clustering and
-    /// centroiding can be re-run offline: peak |Σ| and neighbour |Σ| and the neighbour's offset.
-    pub peak_amp: f64,
-    pub neighbour_amp: f64,
-    pub neighbour_offset: i8,
+    /// Beam steering direction of the receiver (sine space), so the monopulse ratio can be
+    /// recovered offline.
+    pub beam_u: f64,
+    pub beam_v: f64,
+    /// Variances of this primitive's estimates, from the observed SNR (PHYSICS.md §2.6, §4.6).
+    pub var_range_m2: f64,
+    pub var_u: f64,
+    pub var_v: f64,
     /// Truth id of the dominant contributor (evaluation only).
     pub target_hint: Option<String>,
 }
