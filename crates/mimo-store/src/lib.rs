@@ -1,1 +1,169 @@
-//! mimo-store
+//! # mimo-store
+//!
+//! The only crate that touches Arrow and Parquet. It owns:
+//!
+//! * [`schema`]: every table's columns (name, type, unit, meaning), defined once. The Arrow
+//!   schemas, the `schemas/*.json` files and the readers' checks derive from it.
+//! * [`rows`]: row records ⇄ Arrow record batches.
+//! * Parquet I/O ([`write_table`], [`read_table`], [`read_table_dir`]): files are written to a
+//!   temporary name and renamed, carry the table name and schema version in their key-value
+//!   metadata, and are byte-identical for identical rows (no timestamps, single row group
+//!   layout fixed by the writer properties).
+//! * [`rundir`]: the run directory of DESIGN.md §2 — staging, atomic publication, `--force`,
+//!   and [`manifest::Manifest`].
+
+pub mod manifest;
+pub mod rows;
+pub mod rundir;
+pub mod schema;
+
+use arrow::array::RecordBatch;
+use parquet::arrow::ArrowWriter;
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use parquet::basic::Compression;
+use parquet::file::properties::WriterProperties;
+use rows::{Batch, TableRow};
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+/// Errors of the storage layer. Each names the file (and column) concerned.
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    #[error("{}: {source}", path.display())]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{}: not a readable Parquet file ({why})", path.display())]
+    Parquet { path: PathBuf, why: String },
+    #[error("{}: column '{column}' {why}", file.display())]
+    BadColumn { file: PathBuf, column: String, why: String },
+    #[error("{}: {why}", file.display())]
+    BadTable { file: PathBuf, why: String },
+    #[error("{}: field '{field}': {why}", file.display())]
+    BadManifest { file: PathBuf, field: String, why: String },
+    #[error("{}: already exists (use --force to replace it)", path.display())]
+    Exists { path: PathBuf },
+    #[error("{}: no such run directory or table", path.display())]
+    Missing { path: PathBuf },
+    #[error("arrow: {0}")]
+    Arrow(String),
+}
+
+impl StoreError {
+    /// Whether the error is the user's input (exit status 2) rather than an internal failure.
+    pub fn is_input_error(&self) -> bool {
+        !matches!(self, StoreError::Arrow(_))
+    }
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> StoreError + '_ {
+    move |source| StoreError::Io { path: path.to_path_buf(), source }
+}
+
+/// Writer properties: fixed so that identical rows give identical bytes.
+fn writer_props() -> WriterProperties {
+    WriterProperties::builder()
+        .set_compression(Compression::SNAPPY)
+        .set_created_by(format!("mimo {}", env!("CARGO_PKG_VERSION")))
+        .set_max_row_group_row_count(Some(1 << 20))
+        .build()
+}
+
+/// Write rows as one Parquet file, atomically (temporary name, then rename).
+pub fn write_table<R: TableRow>(path: &Path, rows: &[R]) -> Result<u64, StoreError> {
+    let batch = rows::to_batch(rows)?;
+    write_batch(path, &batch)?;
+    Ok(rows.len() as u64)
+}
+
+fn write_batch(path: &Path, batch: &RecordBatch) -> Result<(), StoreError> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    }
+    let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.tmp"));
+    let file = File::create(&tmp).map_err(io_err(&tmp))?;
+    let mut w = ArrowWriter::try_new(file, batch.schema(), Some(writer_props()))
+        .map_err(|e| StoreError::Parquet { path: tmp.clone(), why: e.to_string() })?;
+    w.write(batch).map_err(|e| StoreError::Parquet { path: tmp.clone(), why: e.to_string() })?;
+    w.close().map_err(|e| StoreError::Parquet { path: tmp.clone(), why: e.to_string() })?;
+    std::fs::rename(&tmp, path).map_err(io_err(path))?;
+    Ok(())
+}
+
+/// Read one Parquet file of table `R`, checking table name, schema version, column types and
+/// finiteness of floating-point values.
+pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
+    let file = File::open(path).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            StoreError::Missing { path: path.to_path_buf() }
+        } else {
+            StoreError::Io { path: path.to_path_buf(), source: e }
+        }
+    })?;
+    let builder = ParquetRecordBatchReaderBuilder::try_new(file)
+        .map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+    let md = builder.schema().metadata().clone();
+    let spec = &R::SPEC;
+    match md.get(schema::META_TABLE) {
+        Some(t) if t == spec.name => {}
+        Some(t) => {
+            return Err(StoreError::BadTable { file: path.into(), why: format!("holds table '{t}', expected '{}'", spec.name) });
+        }
+        None => {
+            return Err(StoreError::BadTable {
+                file: path.into(),
+                why: format!("has no '{}' metadata: not written by mimo", schema::META_TABLE),
+            });
+        }
+    }
+    let want = schema::SCHEMA_VERSION.to_string();
+    match md.get(schema::META_SCHEMA_VERSION) {
+        Some(v) if *v == want => {}
+        v => {
+            return Err(StoreError::BadTable {
+                file: path.into(),
+                why: format!("schema version {} does not match this mimo's {want}", v.map(String::as_str).unwrap_or("(none)")),
+            });
+        }
+    }
+    let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+    let table_spec = schema::table(spec.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", spec.name)))?;
+    let mut out = Vec::new();
+    for batch in reader {
+        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+        let b = Batch::check(&batch, path, table_spec)?;
+        out.extend(R::from_batch(&b)?);
+    }
+    Ok(out)
+}
+
+/// The files of one table in a run directory, in run order (`TABLE/run-0000.parquet`, …).
+pub fn table_files(run_dir: &Path, table: &str) -> Result<Vec<PathBuf>, StoreError> {
+    let dir = run_dir.join(table);
+    let rd = std::fs::read_dir(&dir).map_err(|_| StoreError::Missing { path: dir.clone() })?;
+    let mut files: Vec<PathBuf> = rd
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.extension().is_some_and(|x| x == "parquet")
+                && p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("run-"))
+        })
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(StoreError::Missing { path: dir });
+    }
+    Ok(files)
+}
+
+/// Read every file of a table in a run directory.
+pub fn read_table_dir<R: TableRow>(run_dir: &Path, table: &str) -> Result<Vec<R>, StoreError> {
+    let mut out = Vec::new();
+    for f in table_files(run_dir, table)? {
+        out.extend(read_table::<R>(&f)?);
+    }
+    Ok(out)
+}
+
+/// File name of run `k`'s file of a table: `run-0000.parquet`.
+pub fn run_file_name(run: u32) -> String {
+    format!("run-{run:04}.parquet")
+}

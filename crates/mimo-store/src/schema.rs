@@ -1,0 +1,309 @@
+//! Table schemas, defined once.
+//!
+//! Each table of DESIGN.md §3 is a [`TableSpec`]: an ordered list of [`ColumnSpec`]s giving the
+//! column name, type, unit and meaning. The Arrow schema (with the unit and description in each
+//! field's metadata), the files under `schemas/` and the readers' validation are all derived from
+//! these specs, so they cannot drift apart; a test fails when `schemas/` and the code disagree.
+
+use arrow::datatypes::{DataType, Field, Schema};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// Version of the table layouts. Bump it whenever a column is added, removed or changes type.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Parquet key-value metadata key holding the table name.
+pub const META_TABLE: &str = "mimo.table";
+/// Parquet key-value metadata key holding [`SCHEMA_VERSION`].
+pub const META_SCHEMA_VERSION: &str = "mimo.schema_version";
+
+/// Column types used by the tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColType {
+    U8,
+    U32,
+    U64,
+    I64,
+    F64,
+    Bool,
+    Utf8,
+    /// Fixed-size list of 21 f64: the upper triangle of a 6×6 covariance, row-major.
+    Cov21,
+}
+
+impl ColType {
+    /// The Arrow data type.
+    pub fn arrow(self) -> DataType {
+        match self {
+            ColType::U8 => DataType::UInt8,
+            ColType::U32 => DataType::UInt32,
+            ColType::U64 => DataType::UInt64,
+            ColType::I64 => DataType::Int64,
+            ColType::F64 => DataType::Float64,
+            ColType::Bool => DataType::Boolean,
+            ColType::Utf8 => DataType::Utf8,
+            ColType::Cov21 => DataType::FixedSizeList(Arc::new(Field::new("item", DataType::Float64, false)), 21),
+        }
+    }
+
+    /// Name used in `schemas/`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ColType::U8 => "uint8",
+            ColType::U32 => "uint32",
+            ColType::U64 => "uint64",
+            ColType::I64 => "int64",
+            ColType::F64 => "float64",
+            ColType::Bool => "bool",
+            ColType::Utf8 => "utf8",
+            ColType::Cov21 => "fixed_size_list<float64, 21>",
+        }
+    }
+}
+
+/// One column.
+#[derive(Debug, Clone, Copy)]
+pub struct ColumnSpec {
+    pub name: &'static str,
+    pub ty: ColType,
+    pub nullable: bool,
+    /// SI unit, or "" for dimensionless / categorical.
+    pub unit: &'static str,
+    pub description: &'static str,
+}
+
+const fn col(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
+    ColumnSpec { name, ty, nullable: false, unit, description }
+}
+
+const fn opt(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
+    ColumnSpec { name, ty, nullable: true, unit, description }
+}
+
+/// One table.
+#[derive(Debug, Clone, Copy)]
+pub struct TableSpec {
+    pub name: &'static str,
+    pub description: &'static str,
+    pub columns: &'static [ColumnSpec],
+}
+
+impl TableSpec {
+    /// The Arrow schema, with unit and description in each field's metadata and the table name
+    /// and schema version in the schema metadata.
+    pub fn arrow_schema(&self) -> Schema {
+        let fields: Vec<Field> = self
+            .columns
+            .iter()
+            .map(|c| {
+                let mut md = HashMap::new();
+                md.insert("unit".to_string(), c.unit.to_string());
+                md.insert("description".to_string(), c.description.to_string());
+                Field::new(c.name, c.ty.arrow(), c.nullable).with_metadata(md)
+            })
+            .collect();
+        let mut md = HashMap::new();
+        md.insert(META_TABLE.to_string(), self.name.to_string());
+        md.insert(META_SCHEMA_VERSION.to_string(), SCHEMA_VERSION.to_string());
+        Schema::new(fields).with_metadata(md)
+    }
+
+    /// The JSON document written to `schemas/<table>.json`.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "table": self.name,
+            "schema_version": SCHEMA_VERSION,
+            "description": self.description,
+            "columns": self.columns.iter().map(|c| serde_json::json!({
+                "name": c.name,
+                "type": c.ty.name(),
+                "nullable": c.nullable,
+                "unit": c.unit,
+                "description": c.description,
+            })).collect::<Vec<_>>(),
+        })
+    }
+}
+
+use ColType::*;
+
+const RUN: ColumnSpec = col("run", U32, "", "Monte Carlo run index");
+
+pub const TRUTH: TableSpec = TableSpec {
+    name: "truth",
+    description: "One row per target per truth sample (default 10 Hz).",
+    columns: &[
+        RUN,
+        col("t_s", F64, "s", "time since scenario start"),
+        col("target", Utf8, "", "target id (F-1…F-4, A, B, C in the standard scenarios)"),
+        col("x_m", F64, "m", "ECEF x position"),
+        col("y_m", F64, "m", "ECEF y position"),
+        col("z_m", F64, "m", "ECEF z position"),
+        col("vx_mps", F64, "m/s", "ECEF x velocity"),
+        col("vy_mps", F64, "m/s", "ECEF y velocity"),
+        col("vz_mps", F64, "m/s", "ECEF z velocity"),
+        col("lat_deg", F64, "deg", "WGS-84 geodetic latitude"),
+        col("lon_deg", F64, "deg", "WGS-84 geodetic longitude"),
+        col("alt_m", F64, "m", "height above the WGS-84 ellipsoid"),
+        col("rcs_m2", F64, "m^2", "mean radar cross-section"),
+    ],
+};
+
+pub const DWELLS: TableSpec = TableSpec {
+    name: "dwells",
+    description: "One row per radar's part in one dwell; the radars of one MIMO dwell share group_id.",
+    columns: &[
+        RUN,
+        col("dwell_id", U64, "", "id of this radar's part in the dwell, unique within a run"),
+        col("group_id", U64, "", "id shared by all radars of one (MIMO) dwell"),
+        col("radar", Utf8, "", "radar id R1…R4"),
+        col("role", Utf8, "", "tx, rx or txrx"),
+        col("kind", Utf8, "", "search, confirm, track or mimo"),
+        col("requested_by", Utf8, "", "radar (own background search) or ta (test article)"),
+        col("t_s", F64, "s", "dwell start time"),
+        col("duration_s", F64, "s", "timeline occupancy τ_dwell"),
+        col("pulse_width_s", F64, "s", "pulse width τ_pw"),
+        col("n_pulses", U32, "", "pulses integrated coherently"),
+        col("peak_power_w", F64, "W", "peak transmit power"),
+        col("energy_j", F64, "J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)"),
+        col("waveform", U32, "", "orthogonal waveform (code) index transmitted"),
+        col("face", U8, "", "array face used (0-based)"),
+        col("beam_u", F64, "", "beam steering direction cosine u in the face frame"),
+        col("beam_v", F64, "", "beam steering direction cosine v in the face frame"),
+        col("aim_x_m", F64, "m", "aim point ECEF x"),
+        col("aim_y_m", F64, "m", "aim point ECEF y"),
+        col("aim_z_m", F64, "m", "aim point ECEF z"),
+    ],
+};
+
+pub const VOLTAGES: TableSpec = TableSpec {
+    name: "voltages",
+    description: "Complex voltages per receive channel per range cell per dwell (only with --record voltages); noise is CN(0,1).",
+    columns: &[
+        RUN,
+        col("dwell_id", U64, "", "receiver's dwell part"),
+        col("rx", Utf8, "", "receiving radar"),
+        col("tx", Utf8, "", "transmitting radar (matched filter)"),
+        col("range_cell", I64, "", "cell index k, ρ_k = k·δs"),
+        col("range_m", F64, "m", "equivalent monostatic range ρ = R_B/2 of the cell"),
+        col("sum_i", F64, "", "sum channel in-phase (√SNR units)"),
+        col("sum_q", F64, "", "sum channel quadrature"),
+        col("az_i", F64, "", "azimuth-difference channel in-phase"),
+        col("az_q", F64, "", "azimuth-difference channel quadrature"),
+        col("el_i", F64, "", "elevation-difference channel in-phase"),
+        col("el_q", F64, "", "elevation-difference channel quadrature"),
+    ],
+};
+
+pub const PRIMITIVES: TableSpec = TableSpec {
+    name: "primitives",
+    description: "One row per threshold crossing (local maximum) after ML monopulse DOA.",
+    columns: &[
+        RUN,
+        col("dwell_id", U64, "", "receiver's dwell part"),
+        col("t_s", F64, "s", "dwell time"),
+        col("rx", Utf8, "", "receiving radar"),
+        col("tx", Utf8, "", "transmitting radar"),
+        col("rx_face", U8, "", "receiver face the (u, v) refer to"),
+        col("range_cell", I64, "", "peak cell index"),
+        col("range_m", F64, "m", "centroided equivalent monostatic range ρ = R_B/2"),
+        col("u", F64, "", "estimated direction cosine u (receiver face)"),
+        col("v", F64, "", "estimated direction cosine v (receiver face)"),
+        col("snr_db", F64, "dB", "observed sum-channel SNR over the cells used"),
+        col("eta_q", F64, "", "imaginary-part monopulse statistic T (χ²₂ for one target)"),
+        col("merged", Bool, "", "flagged as possibly unresolved (merged) targets"),
+        col("beam_u", F64, "", "receiver beam steering u"),
+        col("beam_v", F64, "", "receiver beam steering v"),
+        col("var_range_m2", F64, "m^2", "variance of range_m"),
+        col("var_u", F64, "", "variance of u"),
+        col("var_v", F64, "", "variance of v"),
+        opt("target_hint", Utf8, "", "truth id of the dominant contributor (evaluation only); null for false alarms"),
+    ],
+};
+
+pub const MEASUREMENTS: TableSpec = TableSpec {
+    name: "measurements",
+    description: "One row per clustered, centroided detection handed to trackers.",
+    columns: &[
+        RUN,
+        col("meas_id", U64, "", "measurement id, unique within a run"),
+        col("dwell_id", U64, "", "receiver's dwell part"),
+        col("t_s", F64, "s", "dwell time"),
+        col("rx", Utf8, "", "receiving radar"),
+        col("tx", Utf8, "", "transmitting radar"),
+        col("rx_face", U8, "", "receiver face the (u, v) refer to"),
+        col("range_m", F64, "m", "equivalent monostatic range ρ = (R_t+R_r)/2"),
+        col("u", F64, "", "direction cosine u (receiver face)"),
+        col("v", F64, "", "direction cosine v (receiver face)"),
+        col("snr_db", F64, "dB", "observed SNR"),
+        col("var_range_m2", F64, "m^2", "variance of range_m"),
+        col("var_u", F64, "", "variance of u"),
+        col("var_v", F64, "", "variance of v"),
+        col("n_primitives", U32, "", "primitives merged into this measurement"),
+        col("merged", Bool, "", "possibly unresolved targets"),
+        opt("target_hint", Utf8, "", "truth id of the dominant contributor; null for false alarms (evaluation only)"),
+    ],
+};
+
+pub const TRACKS: TableSpec = TableSpec {
+    name: "tracks",
+    description: "Track state at each update, plus one row when the track ends (status deleted).",
+    columns: &[
+        RUN,
+        col("t_s", F64, "s", "time of the state"),
+        col("track_id", U64, "", "track id, unique within a run"),
+        col("status", Utf8, "", "tentative, confirmed or deleted"),
+        col("x_m", F64, "m", "ECEF x position"),
+        col("y_m", F64, "m", "ECEF y position"),
+        col("z_m", F64, "m", "ECEF z position"),
+        col("vx_mps", F64, "m/s", "ECEF x velocity"),
+        col("vy_mps", F64, "m/s", "ECEF y velocity"),
+        col("vz_mps", F64, "m/s", "ECEF z velocity"),
+        col("cov", Cov21, "m^2, m^2/s, m^2/s^2", "upper triangle of the 6×6 ECEF position-velocity covariance, row-major"),
+        col("n_updates", U32, "", "measurement updates so far"),
+        opt("last_meas_id", U64, "", "last measurement used; null if none"),
+    ],
+};
+
+/// Every table, in pipeline order.
+pub const ALL_TABLES: [TableSpec; 6] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS];
+
+/// Look up a table by name.
+pub fn table(name: &str) -> Option<&'static TableSpec> {
+    ALL_TABLES.iter().find(|t| t.name == name)
+}
+
+/// The manifest's keys and meanings, written to `schemas/manifest.json`.
+pub const MANIFEST_KEYS: &[(&str, &str, &str)] = &[
+    ("mimo_version", "string", "version of mimo that wrote the run"),
+    ("schema_version", "uint32", "table layout version (SCHEMA_VERSION)"),
+    ("scenario", "object {name, resolved}", "scenario name and the full resolved scenario"),
+    ("seed", "uint64", "master random seed"),
+    ("runs", "uint32", "number of Monte Carlo runs"),
+    ("duration_s", "float64 (s)", "simulated duration of each run"),
+    ("fidelity", "object", "every modelling switch in force"),
+    ("tracker", "object {name, config} or null", "the test article / tracker and its configuration"),
+    ("schedule", "string", "how the dwell schedule was produced"),
+    ("parent", "string or null", "for mimo track outputs, the run directory re-tracked"),
+    ("tables", "object table -> [{file, rows}]", "files of each table and their row counts"),
+    ("timing_s", "object stage -> float64 (s)", "wall-clock seconds per stage"),
+];
+
+/// The JSON document written to `schemas/manifest.json`.
+pub fn manifest_json() -> serde_json::Value {
+    serde_json::json!({
+        "file": "manifest.json",
+        "schema_version": SCHEMA_VERSION,
+        "keys": MANIFEST_KEYS.iter().map(|(k, t, d)| serde_json::json!({"name": k, "type": t, "description": d})).collect::<Vec<_>>(),
+    })
+}
+
+/// Every file of `schemas/` as (file name, pretty JSON text).
+pub fn schema_files() -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = ALL_TABLES
+        .iter()
+        .map(|t| (format!("{}.json", t.name), serde_json::to_string_pretty(&t.to_json()).unwrap_or_default() + "\n"))
+        .collect();
+    out.push(("manifest.json".into(), serde_json::to_string_pretty(&manifest_json()).unwrap_or_default() + "\n"));
+    out
+}
