@@ -1,1 +1,61 @@
-//! mimo-radar
+//! # mimo-radar
+//!
+//! The radar model of `mimo`: from targets and a dwell to complex monopulse voltages, detection
+//! primitives and measurements. Pure functions, no I/O, no global state; every random draw comes
+//! from a [`mimo_core::rng::Stream`] keyed by the caller's `(seed, keys…)`.
+//!
+//! | module | does | PHYSICS.md |
+//! |---|---|---|
+//! | [`geometry`] | face choice and scan limit, scan loss `G0·w^α_s`, 4/3-earth horizon, optional refraction, bistatic ranges and angle, bistatic `(R_B,u,v)` ⇄ ECEF, measurement Jacobians | §1.4–§1.8, §5.1, §5.4 |
+//! | [`equation`] | radar range equation, bistatic and monostatic | §3.1, §3.3 |
+//! | [`pattern`] | Gaussian (A) and uniform-aperture (B) Σ/Δ voltage patterns, monopulse curve and its inverse | §2.1–§2.3, §2.5 |
+//! | [`fluctuation`] | Swerling 0/1/3 voltage draws | §3.2 |
+//! | [`range`] | `ρ = R_B/2`, cell grid, triangular response, straddle loss | §4.1 |
+//! | [`dwell`] | per-channel voltages: explicit cells near returns, §4.4 false-alarm shortcut, waveform leakage | §2.4, §2.7, §4.2, §4.4, §5.2, §5.3 |
+//! | [`detect`] | threshold, clusters, two-point range centroid, ML monopulse, variances, merged flag | §2.5–§2.7, §4.3, §4.5, §4.6 |
+//! | [`measure`] | primitives → measurements (the only implementation, used online and offline) | §4.5 |
+//! | [`energy`] | predicted SNR, required SNR, pointing/straddle loss, pulses per dwell, dwell time and energy | §7.2, §7.3 |
+//!
+//! ## Flow of one dwell
+//!
+//! ```text
+//! Dwell{transmitters, receivers, windows, fidelity, stream keys} + targets at mid-dwell
+//!   └─ dwell::simulate     per (tx→rx) channel: returns of the targets that matter, explicit
+//!                          cells (noise + voltages), false alarms by the shortcut
+//!   └─ dwell::detect_channel → PrimitiveRow (ρ̂, û, v̂, S, T, merged, variances, target_hint)
+//!   └─ measure::measurements_from_primitives → MeasurementRow
+//! ```
+//! [`dwell::evaluate`] does the first two for all channels (and the voltage rows when asked).
+//!
+//! ## Conventions and decisions
+//!
+//! * Voltages are normalized so that noise is `CN(0,1)` in every channel and cell; `|a|²` of a
+//!   signal amplitude is its SNR. SW0/SW1/SW3 targets give one complex sample per cell per dwell
+//!   with SNR `N_p·SNR₁` (coherent integration, no integration loss).
+//! * Cells: `ρ_k = k·ΔR` with `ΔR = c/(2B)` of the receiver, sample spacing `δ_s = ΔR`.
+//! * For a bistatic pair the loss `L` is the mean (in dB) of the two radars' losses, `P_t`, `τ`, `λ`
+//!   the transmitter's and the noise figure the receiver's.
+//! * The ML monopulse bias factor `c = R̄/(1+R̄)` uses the dwell's *predicted* SNR
+//!   ([`dwell::Receiver::predicted_snr`]), never the truth, and is skipped above 20 dB or without a
+//!   prediction (search).
+//! * Monopulse estimates more than one beamwidth off the beam are rejected (§2.5).
+//! * Polarization (§3.2 option): all radars transmit and receive H, so the effective scattering
+//!   voltage is `s_HH`, whose default statistics are those of SW1; the switch has no effect until
+//!   radars carry polarization settings.
+//! * Refraction (§1.8, off by default) bends the direction used for both patterns (so the measured
+//!   `û, v̂` are apparent directions); ranges stay geometric.
+
+pub mod detect;
+pub mod dwell;
+pub mod energy;
+pub mod equation;
+pub mod fluctuation;
+pub mod geometry;
+pub mod measure;
+pub mod pattern;
+pub mod range;
+
+pub use detect::{Cell, Monopulse, Source};
+pub use dwell::{Channel, Dwell, DwellOutput, Receiver, Target, Transmitter, evaluate};
+pub use measure::measurements_from_primitives;
+pub use pattern::{Antenna, Gains};
