@@ -1,0 +1,385 @@
+//! Filters: a predictor and an updater composed into a per-track recursive estimator.
+//!
+//! Every filter keeps a [`FilterState`], a Gaussian mixture over motion modes with mode
+//! probabilities `μ` (one mode with `μ = [1]` for a plain EKF), so the tracker treats the EKF and
+//! the IMM alike. [`TrackFilter`] is the family trait; [`SingleModelFilter`] and [`ImmFilter`] are
+//! the implementations. The IMM follows filterpy's `IMMEstimator` (mixing, mode-matched
+//! filtering, mode-probability update, moment-matched combination) with the time-dependent mode
+//! transition matrix of PHYSICS.md §6.3.
+
+use crate::association::Hypothesis;
+use crate::frame::Gaussian;
+use crate::linalg::{Mat3, Vec3, add, outer, scale, symmetrize, vsub};
+use crate::measurement::MeasurementModel;
+use crate::motion::Predictor;
+use crate::update::{Innovation, UpdateError, Updater};
+
+/// A mixture of mode-conditioned Gaussians with mode probabilities.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterState {
+    pub modes: Vec<Gaussian>,
+    pub mu: Vec<f64>,
+}
+
+impl FilterState {
+    /// A single-mode state.
+    pub fn single(g: Gaussian) -> FilterState {
+        FilterState { modes: vec![g], mu: vec![1.0] }
+    }
+
+    /// The moment-matched combination `Σ μ_j N(x_j, P_j)`.
+    pub fn combined(&self) -> Gaussian {
+        moment_match(&self.mu, &self.modes)
+    }
+
+    /// Every mode is finite.
+    pub fn is_finite(&self) -> bool {
+        self.modes.iter().all(Gaussian::is_finite) && self.mu.iter().all(|m| m.is_finite())
+    }
+}
+
+/// `x = Σ w_j x_j`, `P = Σ w_j (P_j + (x_j − x)(x_j − x)ᵀ)` (weights summing to 1).
+pub fn moment_match(w: &[f64], g: &[Gaussian]) -> Gaussian {
+    if g.len() == 1 {
+        return g[0];
+    }
+    let mut x = [0.0; 6];
+    for (wj, gj) in w.iter().zip(g) {
+        for (xi, gi) in x.iter_mut().zip(&gj.x) {
+            *xi += wj * gi;
+        }
+    }
+    let mut p = [[0.0; 6]; 6];
+    for (wj, gj) in w.iter().zip(g) {
+        let d = vsub(&gj.x, &x);
+        p = add(&p, &scale(&add(&gj.p, &outer(&d)), *wj));
+    }
+    Gaussian { x, p: symmetrize(&p) }
+}
+
+/// A prediction of a [`FilterState`]: mode-conditioned predictions, predicted mode
+/// probabilities `c̄`, and their combination.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterPrediction {
+    pub modes: Vec<Gaussian>,
+    pub cbar: Vec<f64>,
+    pub combined: Gaussian,
+}
+
+/// Result of a filter update.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FilterUpdate {
+    pub state: FilterState,
+    /// Innovation of the combined prediction (NIS for consistency checks).
+    pub innovation: Innovation,
+    /// Some mode needed jitter to stay positive definite.
+    pub jitter: bool,
+}
+
+/// A recursive estimator for one track.
+pub trait TrackFilter: Send + Sync {
+    /// Name for manifests ("ekf-ncv", "imm-cv2").
+    fn name(&self) -> String;
+    /// Number of motion modes.
+    fn n_modes(&self) -> usize;
+    /// The filter state of a new track with estimate `g`.
+    fn init(&self, g: Gaussian) -> FilterState;
+    /// Predict over `dt` seconds (pure: the state is not changed).
+    fn predict(&self, state: &FilterState, dt: f64) -> FilterPrediction;
+    /// Update a prediction with a measurement.
+    fn update(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+        iterations: u32,
+    ) -> Result<FilterUpdate, UpdateError>;
+    /// Innovation of the combined prediction.
+    fn innovation(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+    ) -> Result<Innovation, UpdateError>;
+
+    /// Gating and association statistics of a measurement (see [`Hypothesis`]). The default is
+    /// the combined prediction's innovation.
+    fn hypothesis(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+    ) -> Result<Hypothesis, UpdateError> {
+        self.innovation(pred, model, z, r).map(|i| Hypothesis { nis: i.nis, ln_det_2pi_s: i.ln_det_2pi_s })
+    }
+}
+
+/// One motion model, one updater: the EKF of the default tracker.
+pub struct SingleModelFilter {
+    pub name: String,
+    pub predictor: Box<dyn Predictor>,
+    pub updater: Box<dyn Updater>,
+}
+
+impl TrackFilter for SingleModelFilter {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+
+    fn n_modes(&self) -> usize {
+        1
+    }
+
+    fn init(&self, g: Gaussian) -> FilterState {
+        FilterState::single(g)
+    }
+
+    fn predict(&self, state: &FilterState, dt: f64) -> FilterPrediction {
+        let g = self.predictor.predict(&state.combined(), dt);
+        FilterPrediction { modes: vec![g], cbar: vec![1.0], combined: g }
+    }
+
+    fn update(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+        iterations: u32,
+    ) -> Result<FilterUpdate, UpdateError> {
+        let out = self.updater.update(&pred.combined, model, z, r, iterations)?;
+        Ok(FilterUpdate { state: FilterState::single(out.posterior), innovation: out.innovation, jitter: out.jitter })
+    }
+
+    fn innovation(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+    ) -> Result<Innovation, UpdateError> {
+        self.updater.innovation(&pred.combined, model, z, r)
+    }
+}
+
+/// Interacting multiple model estimator.
+pub struct ImmFilter {
+    pub name: String,
+    /// One predictor per mode.
+    pub predictors: Vec<Box<dyn Predictor>>,
+    /// Mean sojourn time of each mode (s): mode `i` is left over `T` seconds with probability
+    /// `1 − exp(−T/τ_i)`, spread evenly over the other modes (PHYSICS.md §6.3).
+    pub sojourn_s: Vec<f64>,
+    /// Mode probabilities of a new track.
+    pub initial_mu: Vec<f64>,
+    pub updater: Box<dyn Updater>,
+}
+
+impl ImmFilter {
+    /// Mode transition matrix `Π(T)`, row `i` = from mode `i`.
+    pub fn transition_matrix(&self, dt: f64) -> Vec<Vec<f64>> {
+        let m = self.sojourn_s.len();
+        (0..m)
+            .map(|i| {
+                let leave = if m > 1 { 1.0 - (-dt.abs() / self.sojourn_s[i]).exp() } else { 0.0 };
+                (0..m).map(|j| if i == j { 1.0 - leave } else { leave / (m - 1) as f64 }).collect()
+            })
+            .collect()
+    }
+}
+
+impl TrackFilter for ImmFilter {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+
+    fn n_modes(&self) -> usize {
+        self.predictors.len()
+    }
+
+    fn init(&self, g: Gaussian) -> FilterState {
+        let m = self.predictors.len();
+        let s: f64 = self.initial_mu.iter().sum();
+        let mu = if self.initial_mu.len() == m && s > 0.0 {
+            self.initial_mu.iter().map(|x| x / s).collect()
+        } else {
+            vec![1.0 / m as f64; m]
+        };
+        FilterState { modes: vec![g; m], mu }
+    }
+
+    fn predict(&self, state: &FilterState, dt: f64) -> FilterPrediction {
+        let m = self.predictors.len();
+        let pi = self.transition_matrix(dt);
+        // c̄_j = Σ_i π_ij μ_i.
+        let cbar: Vec<f64> = (0..m).map(|j| (0..m).map(|i| pi[i][j] * state.mu[i]).sum()).collect();
+        let mut modes = Vec::with_capacity(m);
+        for j in 0..m {
+            // Mixing weights μ_{i|j} = π_ij μ_i / c̄_j.
+            let w: Vec<f64> = if cbar[j] > 1e-300 {
+                (0..m).map(|i| pi[i][j] * state.mu[i] / cbar[j]).collect()
+            } else {
+                (0..m).map(|i| if i == j { 1.0 } else { 0.0 }).collect()
+            };
+            let x0 = moment_match(&w, &state.modes);
+            modes.push(self.predictors[j].predict(&x0, dt));
+        }
+        let combined = moment_match(&cbar, &modes);
+        FilterPrediction { modes, cbar, combined }
+    }
+
+    fn update(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+        iterations: u32,
+    ) -> Result<FilterUpdate, UpdateError> {
+        let m = pred.modes.len();
+        let mut posts = Vec::with_capacity(m);
+        let mut loglik = Vec::with_capacity(m);
+        let mut jitter = false;
+        let mut last_err = UpdateError::NonFinite;
+        for g in &pred.modes {
+            match self.updater.update(g, model, z, r, iterations) {
+                Ok(o) => {
+                    jitter |= o.jitter;
+                    posts.push(o.posterior);
+                    loglik.push(o.innovation.log_likelihood());
+                }
+                Err(e) => {
+                    last_err = e;
+                    posts.push(*g);
+                    loglik.push(f64::NEG_INFINITY);
+                }
+            }
+        }
+        let best = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !best.is_finite() {
+            return Err(last_err);
+        }
+        // μ_j ∝ Λ_j c̄_j, computed in the log domain; a tiny floor keeps every mode alive.
+        let mut mu: Vec<f64> = (0..m).map(|j| pred.cbar[j] * (loglik[j] - best).exp()).collect();
+        let s: f64 = mu.iter().sum();
+        if !(s.is_finite() && s > 0.0) {
+            return Err(UpdateError::NonFinite);
+        }
+        for x in mu.iter_mut() {
+            *x = (*x / s).max(1e-12);
+        }
+        let s: f64 = mu.iter().sum();
+        let mu: Vec<f64> = vscale_vec(&mu, 1.0 / s);
+        let innovation = self.updater.innovation(&pred.combined, model, z, r)?;
+        Ok(FilterUpdate { state: FilterState { modes: posts, mu }, innovation, jitter })
+    }
+
+    fn innovation(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+    ) -> Result<Innovation, UpdateError> {
+        self.updater.innovation(&pred.combined, model, z, r)
+    }
+
+    /// Gate on the union of the mode-matched gates (the smallest mode NIS), so that a
+    /// manoeuvre the quiet mode cannot explain still reaches the manoeuvre mode; cost from the
+    /// mixture likelihood `Λ = Σ_j c̄_j N(ν_j; 0, S_j)`, i.e. `nis + ln_det_2pi_s = −2 ln Λ`.
+    fn hypothesis(
+        &self,
+        pred: &FilterPrediction,
+        model: &dyn MeasurementModel,
+        z: &Vec3,
+        r: &Mat3,
+    ) -> Result<Hypothesis, UpdateError> {
+        let mut min_nis = f64::INFINITY;
+        let mut terms = Vec::with_capacity(pred.modes.len());
+        let mut last_err = UpdateError::NonFinite;
+        for (g, c) in pred.modes.iter().zip(&pred.cbar) {
+            match self.updater.innovation(g, model, z, r) {
+                Ok(i) => {
+                    min_nis = min_nis.min(i.nis);
+                    if *c > 0.0 {
+                        terms.push(c.ln() + i.log_likelihood());
+                    }
+                }
+                Err(e) => last_err = e,
+            }
+        }
+        let best = terms.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !min_nis.is_finite() || !best.is_finite() {
+            return Err(last_err);
+        }
+        let log_lik = best + terms.iter().map(|t| (t - best).exp()).sum::<f64>().ln();
+        Ok(Hypothesis { nis: min_nis, ln_det_2pi_s: -2.0 * log_lik - min_nis })
+    }
+}
+
+fn vscale_vec(v: &[f64], s: f64) -> Vec<f64> {
+    v.iter().map(|x| x * s).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::identity;
+    use crate::motion::{KalmanPredictor, Ncv};
+    use crate::update::EkfUpdater;
+
+    fn imm() -> ImmFilter {
+        ImmFilter {
+            name: "imm".into(),
+            predictors: vec![
+                Box::new(KalmanPredictor::new(Ncv::dwna(1.0))),
+                Box::new(KalmanPredictor::new(Ncv::dwna(25.0))),
+            ],
+            sojourn_s: vec![60.0, 15.0],
+            initial_mu: vec![0.9, 0.1],
+            updater: Box::new(EkfUpdater::default()),
+        }
+    }
+
+    #[test]
+    fn transition_matrix_is_stochastic_and_time_dependent() {
+        let f = imm();
+        let p = f.transition_matrix(1.0);
+        assert!((p[0][1] - (1.0 - (-1.0f64 / 60.0).exp())).abs() < 1e-15);
+        assert!((p[1][0] - (1.0 - (-1.0f64 / 15.0).exp())).abs() < 1e-15);
+        for row in &p {
+            assert!((row.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        }
+        let p0 = f.transition_matrix(0.0);
+        assert_eq!(p0, vec![vec![1.0, 0.0], vec![0.0, 1.0]]);
+    }
+
+    #[test]
+    fn imm_prediction_mixes_like_filterpy() {
+        // Two modes with different means: the mixed prior of mode j is the μ_{i|j}-weighted
+        // moment match, and the combination uses c̄.
+        let f = imm();
+        let mut a = Gaussian { x: [0.0; 6], p: identity() };
+        let mut b = a;
+        a.x[0] = 0.0;
+        b.x[0] = 10.0;
+        let st = FilterState { modes: vec![a, b], mu: vec![0.7, 0.3] };
+        let pr = f.predict(&st, 0.0);
+        assert_eq!(pr.cbar, vec![0.7, 0.3]);
+        assert_eq!(pr.modes[0].x[0], 0.0);
+        assert_eq!(pr.modes[1].x[0], 10.0);
+        assert!((pr.combined.x[0] - 3.0).abs() < 1e-12);
+        // Spread of means enters the combined covariance: 1 + 0.7·9 + 0.3·49.
+        assert!((pr.combined.p[0][0] - (1.0 + 0.7 * 9.0 + 0.3 * 49.0)).abs() < 1e-9);
+        let pr = f.predict(&st, 10.0);
+        let pi = f.transition_matrix(10.0);
+        let c0 = pi[0][0] * 0.7 + pi[1][0] * 0.3;
+        assert!((pr.cbar[0] - c0).abs() < 1e-15);
+        let w00 = pi[0][0] * 0.7 / c0;
+        // The mixed mean of mode 0 at t+10 s is (1 − w00)·10 (zero velocity).
+        assert!((pr.modes[0].x[0] - (1.0 - w00) * 10.0).abs() < 1e-9);
+    }
+}

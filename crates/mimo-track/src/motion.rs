@@ -1,0 +1,227 @@
+//! Motion models and the predictor (PHYSICS.md §6.1, §6.3).
+//!
+//! [`MotionModel`] is the family trait: a (possibly nonlinear) state transition with its Jacobian
+//! and process noise. [`Ncv`] is the nearly-constant-velocity model with DWNA or CWNA noise
+//! (filterpy `Q_discrete_white_noise` / `Q_continuous_white_noise`, Bar-Shalom 2001 p. 274);
+//! [`HorizontalTurn`] is a known-rate coordinated turn in the ENU horizontal plane, usable as an
+//! extra IMM mode. [`Predictor`] turns a model into the Kalman prediction step; [`KalmanPredictor`]
+//! is the EKF one.
+
+use crate::frame::Gaussian;
+use crate::linalg::{Mat6, Vec6, add, mul_vec, sandwich};
+use serde::{Deserialize, Serialize};
+
+/// A discrete-time motion model over an interval `dt` (s). A negative `dt` (a measurement older
+/// than the state, which happens when dwells of different radars overlap) must be handled: the
+/// models here run the transition backwards and add the process noise of `|dt|`, which is
+/// conservative.
+pub trait MotionModel: Send + Sync {
+    /// Short name for logs and manifests.
+    fn name(&self) -> String;
+    /// The propagated mean `f(x, dt)`.
+    fn propagate(&self, x: &Vec6, dt: f64) -> Vec6;
+    /// `∂f/∂x` at `x`.
+    fn jacobian(&self, x: &Vec6, dt: f64) -> Mat6;
+    /// Process-noise covariance over `dt`.
+    fn process_noise(&self, x: &Vec6, dt: f64) -> Mat6;
+}
+
+/// Discretization of the white-noise acceleration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum ProcessNoise {
+    /// Discrete white-noise acceleration with standard deviation `sigma_a_mps2` (m/s²):
+    /// `Q = σ_a² [[T⁴/4, T³/2], [T³/2, T²]] ⊗ I₃`.
+    Dwna { sigma_a_mps2: f64 },
+    /// Continuous white-noise acceleration with power spectral density `q_m2ps3` (m²/s³):
+    /// `Q = q̃ [[T³/3, T²/2], [T²/2, T]] ⊗ I₃`.
+    Cwna { q_m2ps3: f64 },
+}
+
+impl ProcessNoise {
+    /// The 6×6 `Q` over `dt` (uses `|dt|`).
+    pub fn q(&self, dt: f64) -> Mat6 {
+        let t = dt.abs();
+        let (pp, pv, vv) = match *self {
+            ProcessNoise::Dwna { sigma_a_mps2: s } => {
+                let s2 = s * s;
+                (s2 * t.powi(4) / 4.0, s2 * t.powi(3) / 2.0, s2 * t * t)
+            }
+            ProcessNoise::Cwna { q_m2ps3: q } => (q * t.powi(3) / 3.0, q * t * t / 2.0, q * t),
+        };
+        let mut m = [[0.0; 6]; 6];
+        for i in 0..3 {
+            m[i][i] = pp;
+            m[i][i + 3] = pv;
+            m[i + 3][i] = pv;
+            m[i + 3][i + 3] = vv;
+        }
+        m
+    }
+}
+
+/// `F(dt)` of the constant-velocity model.
+pub fn cv_transition(dt: f64) -> Mat6 {
+    let mut f = crate::linalg::identity::<6>();
+    for (i, row) in f.iter_mut().enumerate().take(3) {
+        row[i + 3] = dt;
+    }
+    f
+}
+
+/// Nearly constant velocity.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Ncv {
+    pub noise: ProcessNoise,
+}
+
+impl Ncv {
+    /// NCV with DWNA noise of `sigma_a_mps2`.
+    pub fn dwna(sigma_a_mps2: f64) -> Ncv {
+        Ncv { noise: ProcessNoise::Dwna { sigma_a_mps2 } }
+    }
+}
+
+impl MotionModel for Ncv {
+    fn name(&self) -> String {
+        match self.noise {
+            ProcessNoise::Dwna { sigma_a_mps2 } => format!("ncv-dwna({sigma_a_mps2})"),
+            ProcessNoise::Cwna { q_m2ps3 } => format!("ncv-cwna({q_m2ps3})"),
+        }
+    }
+
+    fn propagate(&self, x: &Vec6, dt: f64) -> Vec6 {
+        [x[0] + dt * x[3], x[1] + dt * x[4], x[2] + dt * x[5], x[3], x[4], x[5]]
+    }
+
+    fn jacobian(&self, _x: &Vec6, dt: f64) -> Mat6 {
+        cv_transition(dt)
+    }
+
+    fn process_noise(&self, _x: &Vec6, dt: f64) -> Mat6 {
+        self.noise.q(dt)
+    }
+}
+
+/// Coordinated turn at a known, fixed rate `omega_radps` (positive = counter-clockwise seen from
+/// above, i.e. a left turn in ENU) in the horizontal plane, constant velocity vertically, with
+/// the given acceleration noise on all axes (PHYSICS.md §6.3 with ω not estimated; TCL
+/// `FCoordTurn2D`). Linear in the state, so the Jacobian is the transition itself.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HorizontalTurn {
+    pub omega_radps: f64,
+    pub noise: ProcessNoise,
+}
+
+impl HorizontalTurn {
+    fn coefficients(&self, dt: f64) -> (f64, f64, f64, f64) {
+        let wt = self.omega_radps * dt;
+        let (s, c) = wt.sin_cos();
+        if wt.abs() < 1e-4 {
+            // Taylor series of sin(ωT)/ω and (1 − cos ωT)/ω.
+            let w = self.omega_radps;
+            (dt * (1.0 - wt * wt / 6.0), w * dt * dt / 2.0 * (1.0 - wt * wt / 12.0), s, c)
+        } else {
+            (s / self.omega_radps, (1.0 - c) / self.omega_radps, s, c)
+        }
+    }
+}
+
+impl MotionModel for HorizontalTurn {
+    fn name(&self) -> String {
+        format!("ct({:.4} rad/s)", self.omega_radps)
+    }
+
+    fn propagate(&self, x: &Vec6, dt: f64) -> Vec6 {
+        mul_vec(&self.jacobian(x, dt), x)
+    }
+
+    fn jacobian(&self, _x: &Vec6, dt: f64) -> Mat6 {
+        let (a, b, s, c) = self.coefficients(dt);
+        let mut f = cv_transition(dt);
+        f[0][3] = a;
+        f[0][4] = -b;
+        f[1][3] = b;
+        f[1][4] = a;
+        f[3][3] = c;
+        f[3][4] = -s;
+        f[4][3] = s;
+        f[4][4] = c;
+        f
+    }
+
+    fn process_noise(&self, _x: &Vec6, dt: f64) -> Mat6 {
+        self.noise.q(dt)
+    }
+}
+
+/// The prediction step of a filter family.
+pub trait Predictor: Send + Sync {
+    /// Predict `prior` over `dt` seconds.
+    fn predict(&self, prior: &Gaussian, dt: f64) -> Gaussian;
+}
+
+/// EKF prediction with a motion model: `x⁻ = f(x)`, `P⁻ = F P Fᵀ + Q` (symmetrized).
+#[derive(Clone)]
+pub struct KalmanPredictor<M: MotionModel> {
+    pub model: M,
+}
+
+impl<M: MotionModel> KalmanPredictor<M> {
+    pub fn new(model: M) -> Self {
+        KalmanPredictor { model }
+    }
+}
+
+/// EKF prediction with any motion model (used by every built-in predictor).
+pub fn ekf_predict(model: &dyn MotionModel, prior: &Gaussian, dt: f64) -> Gaussian {
+    if dt == 0.0 {
+        return *prior;
+    }
+    let f = model.jacobian(&prior.x, dt);
+    let x = model.propagate(&prior.x, dt);
+    let p = add(&sandwich(&f, &prior.p), &model.process_noise(&prior.x, dt));
+    Gaussian { x, p: crate::linalg::symmetrize(&p) }
+}
+
+impl<M: MotionModel> Predictor for KalmanPredictor<M> {
+    fn predict(&self, prior: &Gaussian, dt: f64) -> Gaussian {
+        ekf_predict(&self.model, prior, dt)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dwna_and_cwna_match_filterpy() {
+        // filterpy Q_discrete_white_noise(dim=2, dt=2, var=9) = 9·[[4, 4], [4, 4]].
+        let q = ProcessNoise::Dwna { sigma_a_mps2: 3.0 }.q(2.0);
+        assert_eq!(q[0][0], 36.0);
+        assert_eq!(q[0][3], 36.0);
+        assert_eq!(q[3][3], 36.0);
+        assert_eq!(q[0][1], 0.0);
+        // Q_continuous_white_noise(dim=2, dt=2, spectral_density=3) = 3·[[8/3, 2], [2, 2]].
+        let q = ProcessNoise::Cwna { q_m2ps3: 3.0 }.q(2.0);
+        assert!((q[1][1] - 8.0).abs() < 1e-12);
+        assert!((q[1][4] - 6.0).abs() < 1e-12);
+        assert!((q[4][4] - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn turn_model_turns_and_reduces_to_cv() {
+        let ct = HorizontalTurn { omega_radps: 0.1, noise: ProcessNoise::Dwna { sigma_a_mps2: 1.0 } };
+        let x = [0.0, 0.0, 1000.0, 100.0, 0.0, 0.0];
+        // A quarter turn: velocity rotates by +90°, position ends at (R, R) with R = v/ω.
+        let y = ct.propagate(&x, std::f64::consts::FRAC_PI_2 / 0.1);
+        assert!((y[0] - 1000.0).abs() < 1e-9 && (y[1] - 1000.0).abs() < 1e-9);
+        assert!(y[3].abs() < 1e-9 && (y[4] - 100.0).abs() < 1e-9);
+        let small = HorizontalTurn { omega_radps: 1e-9, ..ct };
+        let a = small.propagate(&x, 3.0);
+        let b = Ncv::dwna(1.0).propagate(&x, 3.0);
+        for i in 0..6 {
+            assert!((a[i] - b[i]).abs() < 1e-6);
+        }
+    }
+}
