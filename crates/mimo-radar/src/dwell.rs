@@ -41,6 +41,7 @@ use mimo_core::records::{PrimitiveRow, VoltageRow};
 use mimo_core::rng::{Stream, domain};
 use mimo_core::{DVec3, SPEED_OF_LIGHT_MPS, db_to_lin};
 use num_complex::Complex64;
+use std::collections::BTreeSet;
 
 /// Two-way pattern power (relative to the peak) below which a target is not evaluated.
 pub const PATTERN_FLOOR: f64 = 1e-4;
@@ -65,7 +66,7 @@ pub struct Transmitter<'a> {
     /// Beam steering direction in the face's sine space.
     pub beam_u: f64,
     pub beam_v: f64,
-    /// Pulses coherently integrated (SNR = `n_pulses · SNR₁`).
+    /// Pulses coherently integrated (SNR = `n_pulses · SNR₁`; 0 transmits nothing).
     pub n_pulses: u32,
     /// Orthogonal waveform index (informational: channels are told apart by transmitter).
     pub waveform: u32,
@@ -84,13 +85,36 @@ pub struct Receiver<'a> {
     /// Σ/Δ beam steering direction in the face's sine space.
     pub beam_u: f64,
     pub beam_v: f64,
-    /// Range window in equivalent monostatic range `ρ` (m): search dwells use the whole
-    /// instrumented range, track dwells `ρ̂ ± max(5σ_ρ, 1 km)` (§4.4, §5.2).
-    pub rho_min_m: f64,
-    pub rho_max_m: f64,
+    /// Range window of the receiver's channels (§4.4, §5.2).
+    pub window: RangeWindow,
     /// The scheduler's predicted mean SNR (linear, summed over the cells used) of the return this
     /// dwell aims at, for the ML monopulse bias factor (§2.5). `None` for search dwells.
     pub predicted_snr: Option<f64>,
+}
+
+/// The range window a receiver processes, in equivalent monostatic range `ρ = R_B/2`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RangeWindow {
+    /// The same `[ρ_min, ρ_max]` (m) in every channel: search dwells use the whole instrumented
+    /// range.
+    Fixed { rho_min_m: f64, rho_max_m: f64 },
+    /// Per channel `(j → i)`: `ρ_ji(aim) ± half_width_m`, with `ρ_ji` the equivalent range of the
+    /// aim point for that transmitter and this receiver (§5.2: track and MIMO dwells use
+    /// `half_width = max(5σ_ρ, 1 km)`).
+    AroundAim { aim_ecef: DVec3, half_width_m: f64 },
+}
+
+impl RangeWindow {
+    /// `[ρ_min, ρ_max]` of the channel from a transmitter at `tx` to a receiver at `rx` (ECEF).
+    pub fn limits(&self, tx: DVec3, rx: DVec3) -> (f64, f64) {
+        match *self {
+            RangeWindow::Fixed { rho_min_m, rho_max_m } => (rho_min_m, rho_max_m),
+            RangeWindow::AroundAim { aim_ecef, half_width_m } => {
+                let rho = 0.5 * ((aim_ecef - tx).length() + (aim_ecef - rx).length());
+                (rho - half_width_m, rho + half_width_m)
+            }
+        }
+    }
 }
 
 /// A target at the dwell mid-time.
@@ -294,8 +318,8 @@ fn all_returns(d: &Dwell, targets: &[Target]) -> Vec<Vec<Vec<Return>>> {
                 if !(tg.rcs_m2 > 0.0 && tg.rcs_m2.is_finite()) {
                     continue;
                 }
-                let peak = f64::from(tx.n_pulses.max(1))
-                    * snr1(tx.params, rx.params, w_tx, w_rx, tg.rcs_m2, lt.range_m, lr.range_m);
+                let peak =
+                    f64::from(tx.n_pulses) * snr1(tx.params, rx.params, w_tx, w_rx, tg.rcs_m2, lt.range_m, lr.range_m);
                 if (peak * pattern).is_nan() || peak * pattern < SNR_FLOOR {
                     continue;
                 }
@@ -356,7 +380,8 @@ fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>])
     let rx = &d.receivers[i];
     let dr = rx.params.range_cell_m();
     let rets = &returns[j][i];
-    let window = cell_window(rx.rho_min_m, rx.rho_max_m, dr);
+    let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
+    let window = cell_window(lo, hi, dr);
     let mut ch =
         Channel { tx: j, rx: i, window, cells: Vec::new(), returns: rets.clone(), shortcut_cells: 0, false_alarms: 0 };
     let Some((kmin, kmax)) = window else { return ch };
@@ -458,14 +483,15 @@ fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>])
         if n_fa > 0 {
             let gamma = rx.params.threshold();
             // Floyd's algorithm: n_fa distinct uniform indices in [0, m).
-            let mut picks: Vec<u64> = Vec::with_capacity(n_fa as usize);
+            let mut chosen: BTreeSet<u64> = BTreeSet::new();
             for top in (m - n_fa)..m {
                 let t = fa.below(top + 1);
-                picks.push(if picks.contains(&t) { top } else { t });
+                if !chosen.insert(t) {
+                    chosen.insert(top);
+                }
             }
-            picks.sort_unstable();
-            // Map to cell indices, skipping the explicit segments.
-            let fa_cells: Vec<i64> = picks
+            // Map to cell indices (ascending), skipping the explicit segments.
+            let fa_cells: Vec<i64> = chosen
                 .iter()
                 .map(|&p| {
                     let mut k = kmin + p as i64;
@@ -480,6 +506,7 @@ fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>])
                 })
                 .collect();
             let below = 1.0 - (-gamma).exp();
+            let mut taken: BTreeSet<i64> = fa_cells.iter().copied().collect();
             let mut extra: Vec<Cell> = Vec::with_capacity(3 * fa_cells.len());
             for &k in &fa_cells {
                 let amp = (gamma + fa.exp1()).sqrt();
@@ -488,12 +515,7 @@ fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>])
             }
             for &k in &fa_cells {
                 for n in [k - 1, k + 1] {
-                    if n < kmin
-                        || n > kmax
-                        || in_segments(&segs, n)
-                        || fa_cells.binary_search(&n).is_ok()
-                        || extra.iter().any(|c| c.k == n)
-                    {
+                    if n < kmin || n > kmax || in_segments(&segs, n) || !taken.insert(n) {
                         continue;
                     }
                     // Noise conditioned below threshold: |Σ|² ~ Exp(1) truncated to [0, γ).

@@ -12,7 +12,7 @@ use mimo_core::geo::{
 use mimo_core::params::RadarParams;
 use mimo_core::{DMat3, DVec3};
 
-/// Largest bistatic angle for which a Tx–Rx pair is used (PHYSICS.md §5.1, [A]).
+/// Largest bistatic angle for which a Tx–Rx pair is used (PHYSICS.md §5.1, an engineering default).
 pub const MAX_BISTATIC_ANGLE_DEG: f64 = 150.0;
 
 /// Where a beam aimed at a point points, on the face that sees the point best (PHYSICS.md §1.5).

@@ -39,6 +39,18 @@
 //!   ([`dwell::Receiver::predicted_snr`]), never the truth, and is skipped above 20 dB or without a
 //!   prediction (search).
 //! * Monopulse estimates more than one beamwidth off the beam are rejected (§2.5).
+//! * Range windows ([`dwell::RangeWindow`]) are either fixed (search: the whole instrumented range)
+//!   or centred per channel on the aim point's `ρ_ji` (track and MIMO dwells, §5.2), since the
+//!   same aim point has a different equivalent range for each transmitter.
+//! * The reported range variance is recalibrated (§4.6 allows it): the §4.6 table gives the
+//!   estimator's RMS against the *mean* SNR (reproduced by a test within 10 %), but the reported
+//!   variance must be computed from what was *observed*; [`detect::range_sigma_m`] uses a Monte
+//!   Carlo table in the observed `A₀²` and centroid offset `x̂`, which keeps the range NEES near 1
+//!   (0.97–1.11) whatever the target's SNR distribution. [`detect::range_sigma_predicted_m`]
+//!   keeps the §4.6 table for predictions from a predicted SNR.
+//! * A bistatic channel's cell size is the receiver's `ΔR` (all waveforms share the bandwidth).
+//! * `n_pulses = 0` transmits nothing; targets with a non-finite position or a non-positive RCS and
+//!   empty or non-finite windows are skipped, never a panic.
 //! * Polarization (§3.2 option): all radars transmit and receive H, so the effective scattering
 //!   voltage is `s_HH`, whose default statistics are those of SW1; the switch has no effect until
 //!   radars carry polarization settings.
@@ -56,6 +68,6 @@ pub mod pattern;
 pub mod range;
 
 pub use detect::{Cell, Monopulse, Source};
-pub use dwell::{Channel, Dwell, DwellOutput, Receiver, Target, Transmitter, evaluate};
+pub use dwell::{Channel, Dwell, DwellOutput, RangeWindow, Receiver, Target, Transmitter, evaluate};
 pub use measure::measurements_from_primitives;
 pub use pattern::{Antenna, Gains};

@@ -6,7 +6,7 @@ use mimo_core::face::FaceFrame;
 use mimo_core::geo::Geodetic;
 use mimo_core::ids::RadarId;
 use mimo_core::params::{Fidelity, RadarParams};
-use mimo_radar::dwell::{Receiver, Transmitter};
+use mimo_radar::dwell::{RangeWindow, Receiver, Transmitter};
 use mimo_radar::equation::snr1;
 
 pub const SEED: u64 = 20_261_122;
@@ -58,8 +58,7 @@ impl Ship {
             frame: self.faces[face],
             beam_u: bu,
             beam_v: bv,
-            rho_min_m: rho.0,
-            rho_max_m: rho.1,
+            window: RangeWindow::Fixed { rho_min_m: rho.0, rho_max_m: rho.1 },
             predicted_snr: None,
         }
     }
