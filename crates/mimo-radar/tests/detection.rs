@@ -68,6 +68,14 @@ fn noise_only_cells_have_unit_power_and_the_false_alarm_rate() {
     let pfa = p.pfa;
     let sd = (pfa * (1.0 - pfa) / nf).sqrt();
     assert!(within(crossings as f64 / nf, pfa, sd, 4.5), "brute-force FA rate {}", crossings as f64 / nf);
+    eprintln!(
+        "noise: mean |Σ|² {:.4} {:.4} {:.4}; FA rate brute {:.3e} shortcut {:.3e} (P_FA {pfa:.1e}, sd {sd:.1e})",
+        s_sum / nf,
+        s_az / nf,
+        s_el / nf,
+        crossings as f64 / nf,
+        shortcut_fa as f64 / nf
+    );
     assert_eq!(shortcut_m, n);
     assert!(within(shortcut_fa as f64 / nf, pfa, sd, 4.5), "shortcut FA rate {}", shortcut_fa as f64 / nf);
 }
@@ -147,6 +155,7 @@ fn false_alarm_shortcut_matches_brute_force() {
                 (c[k] as f64 - e).powi(2) / e
             })
             .sum();
+        eprintln!("FA count chi2 mode {mode} (0 brute, 1 shortcut): {chi2:.2} (crit 20.5)");
         // 5 degrees of freedom: χ²₅(0.999) = 20.5.
         assert!(chi2 < 20.5, "mode {mode}: counts {c:?} chi2 {chi2}");
     }
@@ -155,6 +164,7 @@ fn false_alarm_shortcut_matches_brute_force() {
     let d = ks(powers[0].clone(), powers[1].clone());
     // KS critical value at α = 0.001: 1.95·√((n+m)/(nm)).
     let crit = 1.95 * ((na + nb) / (na * nb)).sqrt();
+    eprintln!("KS |Σ|² brute vs shortcut: {d:.4} (crit {crit:.4}, n {na}/{nb})");
     assert!(d < crit, "KS {d} >= {crit}");
     // Both are γ + Exp(1): mean excess 1.
     for (mode, v) in powers.iter().enumerate() {
@@ -207,6 +217,7 @@ fn detection_probability_follows_the_swerling_1_curve() {
         let pd = p.pfa.powf(1.0 / (1.0 + snr));
         let est = hits as f64 / trials as f64;
         let sd = (pd * (1.0 - pd) / trials as f64).sqrt();
+        eprintln!("P_D at {snr_db} dB: {est:.4} vs SW1 {pd:.4} (sd {sd:.4})");
         assert!(within(est, pd, sd, 4.0), "{snr_db} dB: P_D {est} vs {pd}");
     }
 }
@@ -241,6 +252,7 @@ fn range_centroid_rms_matches_the_table() {
             n += 1;
         }
         let rms = (se / n as f64).sqrt();
+        eprintln!("range centroid RMS at {snr_db} dB: {rms:.4} ΔR vs table {rms_table}");
         assert!((rms / rms_table - 1.0).abs() < 0.10, "{snr_db} dB: rms {rms} vs {rms_table}");
     }
 }
@@ -271,6 +283,14 @@ fn monopulse_deterministic_target() {
     assert!(within(m_a / nf, eta_a, sd_mean, 4.5), "mean η̂ {} vs {eta_a}", m_a / nf);
     // Normalized squared errors ~ χ²₁: sd of the mean √(2/n); allow 4.5σ plus the 1 % model error.
     let band = 4.5 * (2.0 / nf).sqrt() + 0.02;
+    eprintln!(
+        "SW0 monopulse: mean η̂ {:.4} (η {eta_a}), normalized var {:.4}/{:.4}, mean T {:.3}, P(T>9.21) {:.4}",
+        m_a / nf,
+        nv_a / nf,
+        nv_e / nf,
+        t_sum / nf,
+        t_exc as f64 / nf
+    );
     assert!((nv_a / nf - 1.0).abs() < band, "normalized var az {}", nv_a / nf);
     assert!((nv_e / nf - 1.0).abs() < band, "normalized var el {}", nv_e / nf);
     // T ~ χ²₂: mean 2 (sd of mean 2/√n), exceedance 1 % (binomial).
@@ -309,6 +329,15 @@ fn monopulse_rayleigh_target_conditional() {
     }
     let nf = n as f64;
     let sd = (var_sum / nf / nf).sqrt();
+    eprintln!(
+        "SW1 monopulse: raw mean {:.4} (ηc {:.4}), corrected {:.4} (η {eta}), normalized var {:.4}, mean T {:.3}, P(T>9.21) {:.4}",
+        raw / nf,
+        eta * c,
+        cor / nf,
+        nv / nf,
+        t_sum / nf,
+        t_exc as f64 / nf
+    );
     assert!(within(raw / nf, eta * c, sd, 4.5), "raw mean {} vs ηc {}", raw / nf, eta * c);
     assert!(within(cor / nf, eta, sd, 4.5), "corrected mean {} vs η {eta}", cor / nf);
     assert!((nv / nf - 1.0).abs() < 4.5 * (2.0 / nf).sqrt() + 0.03, "normalized var {}", nv / nf);
@@ -424,6 +453,7 @@ fn unresolved_pair_raises_the_merged_flag() {
         }
         rate[case] = merged as f64 / det as f64;
     }
+    eprintln!("merged rate: single {:.4}, unresolved pair {:.4}", rate[0], rate[1]);
     // Single target: about 1 % (χ²₂ tail); pair: many times that.
     assert!(rate[0] < 0.03, "single-target merged rate {}", rate[0]);
     assert!(rate[1] > 0.15 && rate[1] > 5.0 * rate[0], "pair merged rate {} vs single {}", rate[1], rate[0]);
