@@ -62,11 +62,7 @@ pub fn geodetic_to_ecef(g: Geodetic) -> DVec3 {
     let n = prime_vertical_radius_m(g.lat_rad);
     let (sl, cl) = g.lat_rad.sin_cos();
     let (so, co) = g.lon_rad.sin_cos();
-    DVec3::new(
-        (n + g.alt_m) * cl * co,
-        (n + g.alt_m) * cl * so,
-        (n * (1.0 - WGS84_E2) + g.alt_m) * sl,
-    )
+    DVec3::new((n + g.alt_m) * cl * co, (n + g.alt_m) * cl * so, (n * (1.0 - WGS84_E2) + g.alt_m) * sl)
 }
 
 /// ECEF → geodetic by fixed-point iteration (PHYSICS.md §1.1), with the polar form of the height
@@ -97,12 +93,8 @@ pub fn enu_from_ecef(lat_rad: f64, lon_rad: f64) -> DMat3 {
     let (sl, cl) = lat_rad.sin_cos();
     let (so, co) = lon_rad.sin_cos();
     // glam matrices are column-major: build from rows by transposing.
-    DMat3::from_cols(
-        DVec3::new(-so, co, 0.0),
-        DVec3::new(-sl * co, -sl * so, cl),
-        DVec3::new(cl * co, cl * so, sl),
-    )
-    .transpose()
+    DMat3::from_cols(DVec3::new(-so, co, 0.0), DVec3::new(-sl * co, -sl * so, cl), DVec3::new(cl * co, cl * so, sl))
+        .transpose()
 }
 
 /// A fixed local ENU frame at a site: ECEF rotated and translated.

@@ -136,7 +136,11 @@ impl RadarParams {
     /// Check physical sanity; returns the name of the first offending field and what was wanted.
     pub fn validate(&self) -> Result<(), (String, String)> {
         let pos = |name: &str, x: f64| -> Result<(), (String, String)> {
-            if x.is_finite() && x > 0.0 { Ok(()) } else { Err((name.to_string(), format!("a positive finite number, got {x}"))) }
+            if x.is_finite() && x > 0.0 {
+                Ok(())
+            } else {
+                Err((name.to_string(), format!("a positive finite number, got {x}")))
+            }
         };
         pos("frequency_hz", self.frequency_hz)?;
         pos("aperture_x_m", self.aperture_x_m)?;

@@ -1,1 +1,964 @@
-//! mimo-metrics
+//! # mimo-metrics
+//!
+//! Scores a run directory: truth–track assignment, track metrics, radar usage metrics and Monte
+//! Carlo averaging (DESIGN.md §6). [`score`] reads the `truth`, `dwells` and `tracks` Parquet
+//! tables (any number of files each, one per Monte Carlo run by convention) and returns a
+//! [`Score`]; [`write_outputs`] writes `score/track_metrics.parquet`, the other tables and
+//! `score/summary.json`. Charts are drawn by `mimo-report` from the plain Rust rows of [`Score`].
+//!
+//! ## Scoring times and intervals
+//!
+//! Scoring times are `t_k = k · interval_s` for `k = 1, 2, …, K`, where `K` is the last `k` with
+//! `t_k` not after the run's last truth sample. Scoring time `t_k` closes scoring interval
+//! `k = [t_k − interval_s, t_k)`: usage in interval `k` is normalized by the number of objects
+//! scorable at `t_k`. Runs are the run ids of the truth table; a `tracks` or `dwells` row of any
+//! other run is an input error.
+//!
+//! ## Truth and tracks at a scoring time
+//!
+//! * **Truth** at `t_k` comes from the truth samples: the sample itself when `t_k` falls on one
+//!   (the usual case: 10 Hz truth, 1 s interval), otherwise cubic Hermite interpolation of the
+//!   position using the sampled velocities (exact for constant velocity) and linear interpolation
+//!   of velocity and altitude. A target is *present* only inside its own sampled span.
+//! * A truth is **scorable** when the caller's predicate `(t_s, position ECEF, alt_m)` says so
+//!   (the CLI builds it from the scenario's radars: horizon, scan limit, instrumented range).
+//! * A **track** is live from the time of its first `confirmed` row (inclusive) until the time of
+//!   its `deleted` row (exclusive), or to the end if it has none. Its state at `t_k` is its latest
+//!   row at or before `t_k` extrapolated at constant velocity to `t_k`. Rows after the `deleted`
+//!   row are ignored; a track deleted before it was confirmed never counts.
+//!
+//! ## Assignment
+//!
+//! At each scoring time the scorable truths and the live tracks are paired one-to-one by an exact
+//! gated assignment ([`mimo_core::assign::assign_with_miss`]) on 3-D ECEF position distance. A
+//! pair is allowed when its distance is at most `gate_m`. Among all allowed pairings the one with
+//! the **most pairs** is chosen, and among those the one with the **least total distance**
+//! (implemented with a per-truth miss cost larger than any possible total distance). Maximum
+//! cardinality first is chosen because track completeness is the benchmark's headline figure: a
+//! truth is never left unassigned to make another pair a little tighter.
+//!
+//! ## Track metrics at one scoring time (table `track_metrics`, one row per run and time)
+//!
+//! With `N` scorable truths, `M` live tracks and `A` assigned pairs:
+//!
+//! | column | definition |
+//! |---|---|
+//! | `completeness` | `A / N`; **null when `N = 0`** |
+//! | `redundant_ratio` | unassigned tracks within the gate of some *scorable* truth ÷ `N`; null when `N = 0` |
+//! | `spurious_ratio` | tracks within the gate of *no* truth ÷ `M`; null when `M = 0`. Every present truth counts here, scorable or not: a track on a real target that no radar can currently see (e.g. coasting below the horizon) is not spurious |
+//! | `breaks` | truths assigned at the previous scoring time, scorable now and unassigned now. A truth that merely stops being scorable is not broken |
+//! | `switches` | truths assigned now to a track other than the one they were *last* assigned to (at any earlier time, across gaps): a drop followed by a pick-up by another track is one break and one switch |
+//! | `cum_breaks`, `cum_switches` | running sums within the run |
+//! | `position_rmse_m`, `velocity_rmse_mps` | RMS of ‖Δposition‖ and ‖Δvelocity‖ (ECEF) over the assigned pairs; null when `A = 0`. `position_sq_sum_m2` and `velocity_sq_sum_m2ps2` hold the sums of squares for pooling |
+//! | `ospa_m`, `gospa_m` | OSPA and GOSPA (α = 2) with cut-off `ospa_c_m` and order `ospa_p` between the scorable truths and all live tracks (see [`ospa`]); null when `N = M = 0` |
+//!
+//! Undefined values are nulls in Parquet and `null` in JSON (never a number that could be
+//! mistaken for a result), and they are left out of every average.
+//!
+//! ## Averages (table `track_metrics_mean` and `summary.json`)
+//!
+//! * Per scoring time over runs: mean of each ratio over the runs where it is defined; RMSE pooled
+//!   over all assigned pairs of all runs at that time; cumulative counts averaged over runs.
+//! * Summary `completeness` and `redundant_ratio`: mean over all (run, scoring time) with `N > 0`;
+//!   `spurious_ratio`: mean over all (run, time) with `M > 0`; `ospa`/`gospa` means over all
+//!   (run, time) where defined. `breaks` and `switches`: the per-run totals averaged over runs.
+//!   `position_rmse_m` and `velocity_rmse_mps`: pooled over every assigned pair of every time and
+//!   run (each pair weighs equally). Undefined summary figures are `null`; the challenge is `met`
+//!   only when `completeness` is defined and at least `completeness_required`.
+//!
+//! ## Usage (seed paper eqs. 1–6)
+//!
+//! Only transmit participation costs: rows with role `tx` or `txrx`; `rx` rows cost nothing even
+//! if they carry a duration. For radar `m`, interval `j` and run `k`, the raw sums are
+//! `S_T[m,j,k] = Σ duration_s` and `S_E[m,j,k] = Σ energy_j` over `m`'s transmit dwells whose
+//! start `t_s` lies in interval `j`; the seed paper's normalized figures are
+//! `T[m,j] = mean_k S_T[m,j,k] / N[j,k]` and `E[m,j]` likewise, with `N[j,k]` the scorable object
+//! count at `t_j` in run `k`.
+//!
+//! * An interval with **no scorable object** (`N = 0`) has a **null normalized value** in that run
+//!   (left out of the mean over runs; null if every run has `N = 0` there); its **raw sums are still
+//!   reported** and still count in every total.
+//! * Table `usage`: per radar and interval, the raw sums averaged over runs (`dwell_time_s`,
+//!   `energy_j`), the normalized figures (`dwell_time_per_object_s`, `energy_per_object_j`), the
+//!   cumulative raw sums (`cum_*`), each also for TA-requested dwells alone (`ta_*`).
+//! * Table `usage_total`: the same summed over radars per interval (the paper's `T[j]`, `E[j]`).
+//! * Table `usage_radar` and `summary.json` `usage.per_radar`: sensor totals `T[m]`, `E[m]` over
+//!   the whole run (not normalized; every dwell, including any after the last scoring time),
+//!   averaged over runs. `total_*` sum them over radars.
+//! * Radars: every radar named in the dwells table (any role) plus [`ScoreOptions::radars`];
+//!   a radar without transmit dwells reports zeros.
+//!
+//! ## Errors
+//!
+//! Input problems are [`MetricsError`] variants naming the file, the column, the row and what was
+//! expected: missing table, missing column, wrong column type, null, NaN/∞ (positions,
+//! velocities, times, durations, energies), unknown enumeration value, unknown run.
+
+mod error;
+pub mod ospa;
+mod output;
+mod read;
+mod track;
+mod usage;
+
+pub use error::MetricsError;
+pub use output::{NamedList, write_outputs};
+pub use polars;
+
+use glam::DVec3;
+use mimo_core::records::TrackStatus;
+use polars::prelude::*;
+use read::{Check, Want, col as rcol, list_parquet, read_table};
+use serde::Serialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use track::{RunInput, TargetTally, TargetTruth, TrackLife, TrackState, TruthSample};
+
+/// Decides whether a truth is scorable: `(t_s, position ECEF (m), altitude (m)) → bool`.
+pub type ScorablePredicate = Box<dyn Fn(f64, DVec3, f64) -> bool + Send + Sync>;
+
+/// A predicate that makes every present truth scorable (for tests and quick looks).
+pub fn always_scorable() -> ScorablePredicate {
+    Box::new(|_, _, _| true)
+}
+
+/// Where the input tables are, and which truths are scorable.
+pub struct ScoreInput {
+    /// Truth table files (`truth/*.parquet`).
+    pub truth: Vec<PathBuf>,
+    /// Dwell table files (`dwells/*.parquet`).
+    pub dwells: Vec<PathBuf>,
+    /// Track table files (`tracks/*.parquet`).
+    pub tracks: Vec<PathBuf>,
+    /// Scorability of a truth at a time.
+    pub scorable: ScorablePredicate,
+}
+
+impl ScoreInput {
+    /// Every `*.parquet` file of the three table directories, sorted by name. A directory that is
+    /// missing or holds no Parquet file is [`MetricsError::MissingTable`].
+    pub fn from_dirs(
+        truth_dir: &Path,
+        dwells_dir: &Path,
+        tracks_dir: &Path,
+        scorable: ScorablePredicate,
+    ) -> Result<ScoreInput, MetricsError> {
+        Ok(ScoreInput {
+            truth: list_parquet("truth", truth_dir)?,
+            dwells: list_parquet("dwells", dwells_dir)?,
+            tracks: list_parquet("tracks", tracks_dir)?,
+            scorable,
+        })
+    }
+
+    /// `run_dir/truth`, `run_dir/dwells` and `run_dir/tracks`.
+    pub fn from_run_dir(run_dir: &Path, scorable: ScorablePredicate) -> Result<ScoreInput, MetricsError> {
+        Self::from_dirs(&run_dir.join("truth"), &run_dir.join("dwells"), &run_dir.join("tracks"), scorable)
+    }
+}
+
+/// Scoring options (the `mimo score` flags).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ScoreOptions {
+    /// Scenario name, copied to the summary.
+    pub scenario: String,
+    /// Scoring interval (s), default 1.
+    pub interval_s: f64,
+    /// Assignment gate (m), default 1000.
+    pub gate_m: f64,
+    /// OSPA/GOSPA cut-off c (m), default 1000.
+    pub ospa_c_m: f64,
+    /// OSPA/GOSPA order p, default 2.
+    pub ospa_p: f64,
+    /// Track completeness the challenge requires, default 0.98.
+    pub completeness_required: f64,
+    /// Radars to report even if they have no dwell (e.g. the scenario's radars). Radars found in
+    /// the dwells table are always reported.
+    pub radars: Vec<String>,
+    /// Worker threads for the per-run assignment loop (0 = all cores).
+    pub threads: usize,
+}
+
+impl Default for ScoreOptions {
+    fn default() -> Self {
+        ScoreOptions {
+            scenario: String::new(),
+            interval_s: 1.0,
+            gate_m: 1000.0,
+            ospa_c_m: 1000.0,
+            ospa_p: 2.0,
+            completeness_required: 0.98,
+            radars: Vec::new(),
+            threads: 0,
+        }
+    }
+}
+
+impl ScoreOptions {
+    fn validate(&self) -> Result<(), MetricsError> {
+        let bad = |option: &'static str, value: f64, expected: &'static str| {
+            Err(MetricsError::InvalidOption { option, value: value.to_string(), expected })
+        };
+        if !(self.interval_s.is_finite() && self.interval_s > 0.0) {
+            return bad("interval_s", self.interval_s, "a positive number of seconds");
+        }
+        if !(self.gate_m.is_finite() && self.gate_m > 0.0) {
+            return bad("gate_m", self.gate_m, "a positive number of metres");
+        }
+        if !(self.ospa_c_m.is_finite() && self.ospa_c_m > 0.0) {
+            return bad("ospa_c_m", self.ospa_c_m, "a positive number of metres");
+        }
+        if !(self.ospa_p.is_finite() && self.ospa_p >= 1.0) {
+            return bad("ospa_p", self.ospa_p, "a number >= 1");
+        }
+        if !(0.0..=1.0).contains(&self.completeness_required) {
+            return bad("completeness_required", self.completeness_required, "a fraction between 0 and 1");
+        }
+        for r in &self.radars {
+            if mimo_core::ids::RadarId::parse(r).is_none() {
+                return Err(MetricsError::InvalidOption {
+                    option: "radars",
+                    value: r.clone(),
+                    expected: "radar ids R1, R2, …",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Track metrics of one run at one scoring time (see the crate docs for each definition).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrackMetricsRow {
+    pub run: u32,
+    /// Scoring time index k (1-based); `t_s = k · interval_s`.
+    pub k: u32,
+    pub t_s: f64,
+    /// Truths present (inside their sampled span), scorable or not.
+    pub n_truths: u32,
+    pub n_scorable: u32,
+    /// Live (confirmed, not deleted) tracks.
+    pub n_tracks: u32,
+    pub n_assigned: u32,
+    pub n_redundant: u32,
+    pub n_spurious: u32,
+    pub completeness: Option<f64>,
+    pub redundant_ratio: Option<f64>,
+    pub spurious_ratio: Option<f64>,
+    pub breaks: u32,
+    pub switches: u32,
+    pub cum_breaks: u32,
+    pub cum_switches: u32,
+    pub position_sq_sum_m2: f64,
+    pub velocity_sq_sum_m2ps2: f64,
+    pub position_rmse_m: Option<f64>,
+    pub velocity_rmse_mps: Option<f64>,
+    pub ospa_m: Option<f64>,
+    pub gospa_m: Option<f64>,
+}
+
+/// Track metrics at one scoring time averaged over runs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrackMetricsMeanRow {
+    pub k: u32,
+    pub t_s: f64,
+    /// Runs that reach this scoring time.
+    pub runs: u32,
+    pub n_scorable_mean: f64,
+    pub n_tracks_mean: f64,
+    pub completeness: Option<f64>,
+    pub redundant_ratio: Option<f64>,
+    pub spurious_ratio: Option<f64>,
+    pub cum_breaks_mean: f64,
+    pub cum_switches_mean: f64,
+    /// Pooled over the assigned pairs of every run at this time.
+    pub position_rmse_m: Option<f64>,
+    pub velocity_rmse_mps: Option<f64>,
+    pub ospa_m: Option<f64>,
+    pub gospa_m: Option<f64>,
+}
+
+/// One scorable truth at one scoring time and the track assigned to it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AssignmentRow {
+    pub run: u32,
+    pub t_s: f64,
+    pub target: String,
+    /// `None` when the truth is unassigned.
+    pub track_id: Option<u64>,
+    pub position_error_m: Option<f64>,
+    pub velocity_error_mps: Option<f64>,
+}
+
+/// Usage of one radar in one scoring interval, averaged over runs.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UsageRow {
+    pub radar: String,
+    /// Interval index j (1-based), covering `[t_start_s, t_end_s)`.
+    pub interval: u32,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    /// Runs that reach this interval.
+    pub runs: u32,
+    /// Scorable objects at the interval's scoring time, averaged over runs.
+    pub n_scorable_mean: f64,
+    /// Σ τ_dwell of transmit dwells starting in the interval (s), mean over runs.
+    pub dwell_time_s: f64,
+    /// Σ emitted energy (J), mean over runs.
+    pub energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+    /// T[m,j]: dwell time per scorable object (s); null when no run has a scorable object.
+    pub dwell_time_per_object_s: Option<f64>,
+    /// E[m,j]: energy per scorable object (J).
+    pub energy_per_object_j: Option<f64>,
+    pub ta_dwell_time_per_object_s: Option<f64>,
+    pub ta_energy_per_object_j: Option<f64>,
+    /// Cumulative raw sums up to and including this interval.
+    pub cum_dwell_time_s: f64,
+    pub cum_energy_j: f64,
+    pub cum_ta_dwell_time_s: f64,
+    pub cum_ta_energy_j: f64,
+}
+
+/// Usage of all radars in one scoring interval (the sums over radars of [`UsageRow`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct UsageTotalRow {
+    pub interval: u32,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub runs: u32,
+    pub n_scorable_mean: f64,
+    pub dwell_time_s: f64,
+    pub energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+    pub dwell_time_per_object_s: Option<f64>,
+    pub energy_per_object_j: Option<f64>,
+    pub ta_dwell_time_per_object_s: Option<f64>,
+    pub ta_energy_per_object_j: Option<f64>,
+    pub cum_dwell_time_s: f64,
+    pub cum_energy_j: f64,
+    pub cum_ta_dwell_time_s: f64,
+    pub cum_ta_energy_j: f64,
+}
+
+/// Sensor totals of one radar over a whole run, averaged over runs (T[m], E[m]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RadarUsage {
+    pub radar: String,
+    pub dwell_time_s: f64,
+    pub energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+}
+
+/// Sensor totals of one radar in one run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunRadarUsage {
+    pub run: u32,
+    pub radar: String,
+    pub dwell_time_s: f64,
+    pub energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+}
+
+/// `summary.json` `track`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TrackSummary {
+    pub completeness: Option<f64>,
+    pub redundant_ratio: Option<f64>,
+    pub spurious_ratio: Option<f64>,
+    /// Track breaks per run (total over the run, mean over runs).
+    pub breaks: f64,
+    /// Track switches per run (total over the run, mean over runs).
+    pub switches: f64,
+    pub position_rmse_m: Option<f64>,
+    pub velocity_rmse_mps: Option<f64>,
+}
+
+/// `summary.json` `usage.per_radar.Rn`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RadarUsageSummary {
+    pub dwell_time_s: f64,
+    pub energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+}
+
+/// `summary.json` `usage`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UsageSummary {
+    pub per_radar: NamedList<RadarUsageSummary>,
+    pub total_dwell_time_s: f64,
+    pub total_energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+}
+
+/// `summary.json` `challenge`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Challenge {
+    pub completeness_required: f64,
+    pub met: bool,
+}
+
+/// `summary.json` `ospa` / `gospa` (extras).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DistanceSummary {
+    pub c_m: f64,
+    pub p: f64,
+    /// Only for GOSPA: 2.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// Mean over (run, scoring time) where defined (m).
+    pub mean_m: Option<f64>,
+}
+
+/// One run's figures (extra `per_run` list in `summary.json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RunSummary {
+    pub run: u32,
+    pub scoring_times: u32,
+    pub completeness: Option<f64>,
+    pub redundant_ratio: Option<f64>,
+    pub spurious_ratio: Option<f64>,
+    pub breaks: u32,
+    pub switches: u32,
+    pub position_rmse_m: Option<f64>,
+    pub velocity_rmse_mps: Option<f64>,
+    pub ospa_m: Option<f64>,
+    pub gospa_m: Option<f64>,
+    pub total_dwell_time_s: f64,
+    pub total_energy_j: f64,
+    pub ta_dwell_time_s: f64,
+    pub ta_energy_j: f64,
+}
+
+/// One target's figures over all runs (extra `per_target` map in `summary.json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TargetSummary {
+    /// (run, scoring time) pairs at which the target was scorable.
+    pub scorable_times: u64,
+    /// Assigned ÷ scorable over those pairs; null if never scorable.
+    pub completeness: Option<f64>,
+    /// Breaks and switches of this target per run (mean over runs).
+    pub breaks: f64,
+    pub switches: f64,
+}
+
+/// How the score was computed (extra `scoring` object in `summary.json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ScoringInfo {
+    pub run_ids: Vec<u32>,
+    /// Scoring times per run (the largest over runs).
+    pub scoring_times: u32,
+    pub assignment: &'static str,
+    pub scorable_note: &'static str,
+}
+
+/// `summary.json`: the DESIGN.md §6 keys first, then extras.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Summary {
+    pub scenario: String,
+    pub runs: u32,
+    pub interval_s: f64,
+    pub gate_m: f64,
+    pub track: TrackSummary,
+    pub usage: UsageSummary,
+    pub challenge: Challenge,
+    pub ospa: DistanceSummary,
+    pub gospa: DistanceSummary,
+    pub scoring: ScoringInfo,
+    pub per_run: Vec<RunSummary>,
+    pub per_target: NamedList<TargetSummary>,
+}
+
+/// The result of [`score`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Score {
+    pub options: ScoreOptions,
+    /// Run ids (from the truth table), ascending.
+    pub runs: Vec<u32>,
+    /// Radars reported, in id order.
+    pub radars: Vec<String>,
+    /// Per run and scoring time.
+    pub track_metrics: Vec<TrackMetricsRow>,
+    /// Per scoring time, averaged over runs.
+    pub track_metrics_mean: Vec<TrackMetricsMeanRow>,
+    /// Per run, scoring time and scorable truth.
+    pub assignments: Vec<AssignmentRow>,
+    /// Per radar and interval, averaged over runs.
+    pub usage: Vec<UsageRow>,
+    /// Per interval, summed over radars.
+    pub usage_total: Vec<UsageTotalRow>,
+    /// Per radar over the whole run, averaged over runs.
+    pub usage_radar: Vec<RadarUsage>,
+    /// Per run and radar over the whole run.
+    pub usage_run: Vec<RunRadarUsage>,
+    pub summary: Summary,
+}
+
+const TRACK_STATUSES: &[&str] = &["tentative", "confirmed", "deleted"];
+const ROLES: &[&str] = &["tx", "rx", "txrx"];
+const REQUESTERS: &[&str] = &["radar", "ta"];
+const KINDS: &[&str] = &["search", "confirm", "track", "mimo"];
+
+fn u32s(df: &DataFrame, name: &str) -> Result<Vec<u32>, MetricsError> {
+    let c = df.column(name).map_err(error::internal("column"))?;
+    Ok(c.u32().map_err(error::internal("column"))?.no_null_iter().collect())
+}
+fn u64s(df: &DataFrame, name: &str) -> Result<Vec<u64>, MetricsError> {
+    let c = df.column(name).map_err(error::internal("column"))?;
+    Ok(c.u64().map_err(error::internal("column"))?.no_null_iter().collect())
+}
+fn f64s(df: &DataFrame, name: &str) -> Result<Vec<f64>, MetricsError> {
+    let c = df.column(name).map_err(error::internal("column"))?;
+    Ok(c.f64().map_err(error::internal("column"))?.no_null_iter().collect())
+}
+fn vec3s(df: &DataFrame, names: [&str; 3]) -> Result<Vec<DVec3>, MetricsError> {
+    let (x, y, z) = (f64s(df, names[0])?, f64s(df, names[1])?, f64s(df, names[2])?);
+    Ok(x.iter().zip(&y).zip(&z).map(|((&x, &y), &z)| DVec3::new(x, y, z)).collect())
+}
+
+/// Truth grouped by run and target.
+struct Truth {
+    runs: Vec<u32>,
+    target_names: Vec<String>,
+    per_run: BTreeMap<u32, Vec<TargetTruth>>,
+    t_end: BTreeMap<u32, f64>,
+}
+
+fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
+    use Check::*;
+    use Want::*;
+    let cols = [
+        rcol("run", U32, Any),
+        rcol("t_s", F64, Finite),
+        rcol("target", Utf8, Any),
+        rcol("x_m", F64, Finite),
+        rcol("y_m", F64, Finite),
+        rcol("z_m", F64, Finite),
+        rcol("vx_mps", F64, Finite),
+        rcol("vy_mps", F64, Finite),
+        rcol("vz_mps", F64, Finite),
+        rcol("alt_m", F64, Finite),
+    ];
+    let df = read_table("truth", paths, &cols)?;
+    let df = df
+        .sort(["run", "target", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
+        .map_err(error::internal("sorting truth"))?;
+    let run = u32s(&df, "run")?;
+    let t = f64s(&df, "t_s")?;
+    let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
+    let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
+    let alt = f64s(&df, "alt_m")?;
+    let target_col = df.column("target").map_err(error::internal("truth target"))?;
+    let targets = target_col.str().map_err(error::internal("truth target"))?;
+
+    let mut names: BTreeSet<String> = BTreeSet::new();
+    for s in targets.no_null_iter() {
+        if !names.contains(s) {
+            names.insert(s.to_string());
+        }
+    }
+    let target_names: Vec<String> = names.into_iter().collect();
+    let index: BTreeMap<&str, usize> = target_names.iter().enumerate().map(|(i, s)| (s.as_str(), i)).collect();
+
+    let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();
+    let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
+    let mut current: Option<(u32, &str)> = None;
+    for (i, name) in targets.no_null_iter().enumerate() {
+        let key = (run[i], name);
+        let list = per_run.entry(run[i]).or_default();
+        if current != Some(key) {
+            let target = index.get(name).copied().unwrap_or(0);
+            list.push(TargetTruth { target, samples: Vec::new() });
+            current = Some(key);
+        }
+        if let Some(tt) = list.last_mut() {
+            tt.samples.push(TruthSample { t: t[i], p: p[i], v: v[i], alt: alt[i] });
+        }
+        let e = t_end.entry(run[i]).or_insert(f64::NEG_INFINITY);
+        *e = e.max(t[i]);
+    }
+    Ok(Truth { runs: per_run.keys().copied().collect(), target_names, per_run, t_end })
+}
+
+fn load_tracks(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
+    use Check::*;
+    use Want::*;
+    let cols = [
+        rcol("run", U32, RunIn(runs)),
+        rcol("t_s", F64, Finite),
+        rcol("track_id", U64, Any),
+        rcol("status", Utf8, OneOf(TRACK_STATUSES)),
+        rcol("x_m", F64, Finite),
+        rcol("y_m", F64, Finite),
+        rcol("z_m", F64, Finite),
+        rcol("vx_mps", F64, Finite),
+        rcol("vy_mps", F64, Finite),
+        rcol("vz_mps", F64, Finite),
+    ];
+    let df = read_table("tracks", paths, &cols)?;
+    let df = df
+        .sort(["run", "track_id", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
+        .map_err(error::internal("sorting tracks"))?;
+    let run = u32s(&df, "run")?;
+    let id = u64s(&df, "track_id")?;
+    let t = f64s(&df, "t_s")?;
+    let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
+    let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
+    let status_col = df.column("status").map_err(error::internal("track status"))?;
+    let status = status_col.str().map_err(error::internal("track status"))?;
+
+    let mut out: BTreeMap<u32, Vec<TrackLife>> = BTreeMap::new();
+    let mut current: Option<(u32, u64)> = None;
+    let mut ended = false;
+    for (i, s) in status.no_null_iter().enumerate() {
+        let key = (run[i], id[i]);
+        let list = out.entry(run[i]).or_default();
+        if current != Some(key) {
+            list.push(TrackLife { id: id[i], t_confirm: f64::INFINITY, t_delete: f64::INFINITY, states: Vec::new() });
+            current = Some(key);
+            ended = false;
+        }
+        let Some(tr) = list.last_mut() else { continue };
+        if ended {
+            continue;
+        }
+        match TrackStatus::parse(s) {
+            Some(TrackStatus::Deleted) => {
+                tr.t_delete = t[i];
+                ended = true;
+            }
+            Some(TrackStatus::Confirmed) => {
+                if !tr.t_confirm.is_finite() {
+                    tr.t_confirm = t[i];
+                }
+                tr.states.push(TrackState { t: t[i], p: p[i], v: v[i] });
+            }
+            _ => tr.states.push(TrackState { t: t[i], p: p[i], v: v[i] }),
+        }
+    }
+    Ok(out)
+}
+
+fn load_dwells(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<DataFrame, MetricsError> {
+    use Check::*;
+    use Want::*;
+    let cols = [
+        rcol("run", U32, RunIn(runs)),
+        rcol("radar", Utf8, Radar),
+        rcol("role", Utf8, OneOf(ROLES)),
+        rcol("kind", Utf8, OneOf(KINDS)),
+        rcol("requested_by", Utf8, OneOf(REQUESTERS)),
+        rcol("t_s", F64, FiniteNonNeg),
+        rcol("duration_s", F64, FiniteNonNeg),
+        rcol("energy_j", F64, FiniteNonNeg),
+    ];
+    read_table("dwells", paths, &cols)
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
+    let (s, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    (n > 0).then(|| s / n as f64)
+}
+
+/// Score the tables of `input` with `opts`. See the crate docs for every definition.
+pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsError> {
+    opts.validate()?;
+    let truth = load_truth(&input.truth)?;
+    let run_set: BTreeSet<u32> = truth.runs.iter().copied().collect();
+    let tracks = load_tracks(&input.tracks, &run_set)?;
+    let dwells = load_dwells(&input.dwells, &run_set)?;
+
+    // Per-run track metrics, runs in parallel.
+    let empty_tracks: Vec<TrackLife> = Vec::new();
+    let empty_targets: Vec<TargetTruth> = Vec::new();
+    let run_inputs: Vec<RunInput<'_>> = truth
+        .runs
+        .iter()
+        .map(|&run| RunInput {
+            run,
+            n_times: track::n_scoring_times(truth.t_end.get(&run).copied().unwrap_or(0.0), opts.interval_s),
+            interval_s: opts.interval_s,
+            gate_m: opts.gate_m,
+            ospa_c_m: opts.ospa_c_m,
+            ospa_p: opts.ospa_p,
+            targets: truth.per_run.get(&run).unwrap_or(&empty_targets),
+            target_names: &truth.target_names,
+            tracks: tracks.get(&run).unwrap_or(&empty_tracks),
+            scorable: &*input.scorable,
+        })
+        .collect();
+    let threads = if opts.threads == 0 {
+        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+    } else {
+        opts.threads
+    }
+    .clamp(1, run_inputs.len().max(1));
+    let outputs = run_parallel(&run_inputs, threads);
+
+    let mut track_metrics = Vec::new();
+    let mut assignments = Vec::new();
+    let mut tally = vec![TargetTally::default(); truth.target_names.len()];
+    let mut n_scorable: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
+    for (inp, out) in run_inputs.iter().zip(outputs) {
+        n_scorable.insert(inp.run, out.rows.iter().map(|r| r.n_scorable).collect());
+        track_metrics.extend(out.rows);
+        assignments.extend(out.assignments);
+        for (acc, t) in tally.iter_mut().zip(out.tally) {
+            acc.scorable += t.scorable;
+            acc.assigned += t.assigned;
+            acc.breaks += t.breaks;
+            acc.switches += t.switches;
+        }
+    }
+    let track_metrics_mean = mean_over_runs(&track_metrics)?;
+
+    // Usage.
+    let mut radars: BTreeSet<String> = opts.radars.iter().cloned().collect();
+    {
+        let c = dwells.column("radar").map_err(error::internal("dwell radars"))?;
+        let u = c.unique().map_err(error::internal("dwell radars"))?;
+        radars.extend(u.str().map_err(error::internal("dwell radars"))?.no_null_iter().map(str::to_string));
+    }
+    let mut radars: Vec<String> = radars.into_iter().collect();
+    usage::sort_radars(&mut radars);
+    let u = usage::usage(
+        &dwells,
+        &usage::UsageInput { interval_s: opts.interval_s, runs: &truth.runs, radars: &radars, n_scorable: &n_scorable },
+    )?;
+
+    let summary = summarize(opts, &truth, &track_metrics, &tally, &u)?;
+    Ok(Score {
+        options: opts.clone(),
+        runs: truth.runs.clone(),
+        radars,
+        track_metrics,
+        track_metrics_mean,
+        assignments,
+        usage: u.per_interval,
+        usage_total: u.total,
+        usage_radar: u.per_radar,
+        usage_run: u.per_run,
+        summary,
+    })
+}
+
+fn run_parallel(inputs: &[RunInput<'_>], threads: usize) -> Vec<track::RunOutput> {
+    if threads <= 1 || inputs.len() <= 1 {
+        return inputs.iter().map(track::score_run).collect();
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, track::RunOutput)> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(inp) = inputs.get(i) else { break };
+                        done.push((i, track::score_run(inp)));
+                    }
+                    done
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| match h.join() {
+                Ok(v) => v,
+                Err(panic) => std::panic::resume_unwind(panic),
+            })
+            .collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    results.into_iter().map(|(_, o)| o).collect()
+}
+
+/// Average the per-run rows over runs at each scoring time (polars group-by on `k`).
+fn mean_over_runs(rows: &[TrackMetricsRow]) -> Result<Vec<TrackMetricsMeanRow>, MetricsError> {
+    if rows.is_empty() {
+        return Ok(Vec::new());
+    }
+    let df = output::track_metrics_frame(rows)?;
+    let ratios = ["completeness", "redundant_ratio", "spurious_ratio", "ospa_m", "gospa_m"];
+    let mut aggs: Vec<Expr> = ratios.iter().map(|c| col(*c).mean()).collect();
+    aggs.extend([
+        col("t_s").first(),
+        col("run").count().alias("runs"),
+        col("n_scorable").cast(DataType::Float64).mean().alias("n_scorable_mean"),
+        col("n_tracks").cast(DataType::Float64).mean().alias("n_tracks_mean"),
+        col("cum_breaks").cast(DataType::Float64).mean().alias("cum_breaks_mean"),
+        col("cum_switches").cast(DataType::Float64).mean().alias("cum_switches_mean"),
+        col("position_sq_sum_m2").sum(),
+        col("velocity_sq_sum_m2ps2").sum(),
+        col("n_assigned").cast(DataType::Float64).sum().alias("n_assigned_sum"),
+    ]);
+    let m = df
+        .lazy()
+        .group_by([col("k")])
+        .agg(aggs)
+        .sort(["k"], SortMultipleOptions::default())
+        .collect()
+        .map_err(error::internal("mean over runs"))?;
+    let get = |name: &str| -> Result<Vec<Option<f64>>, MetricsError> {
+        let c = m.column(name).map_err(error::internal("mean over runs"))?;
+        let c = c.cast(&DataType::Float64).map_err(error::internal("mean over runs"))?;
+        Ok(c.f64().map_err(error::internal("mean over runs"))?.iter().collect())
+    };
+    let (k, t, runs) = (get("k")?, get("t_s")?, get("runs")?);
+    let (ns, nt, cb, cs) = (get("n_scorable_mean")?, get("n_tracks_mean")?, get("cum_breaks_mean")?, get("cum_switches_mean")?);
+    let (ps, vs, na) = (get("position_sq_sum_m2")?, get("velocity_sq_sum_m2ps2")?, get("n_assigned_sum")?);
+    let r: Vec<Vec<Option<f64>>> = ratios.iter().map(|c| get(c)).collect::<Result<_, _>>()?;
+    let rmse = |sq: Option<f64>, n: Option<f64>| match (sq, n) {
+        (Some(sq), Some(n)) if n > 0.0 => Some((sq / n).sqrt()),
+        _ => None,
+    };
+    Ok((0..m.height())
+        .map(|i| TrackMetricsMeanRow {
+            k: k[i].unwrap_or(0.0) as u32,
+            t_s: t[i].unwrap_or(f64::NAN),
+            runs: runs[i].unwrap_or(0.0) as u32,
+            n_scorable_mean: ns[i].unwrap_or(0.0),
+            n_tracks_mean: nt[i].unwrap_or(0.0),
+            completeness: r[0][i],
+            redundant_ratio: r[1][i],
+            spurious_ratio: r[2][i],
+            ospa_m: r[3][i],
+            gospa_m: r[4][i],
+            cum_breaks_mean: cb[i].unwrap_or(0.0),
+            cum_switches_mean: cs[i].unwrap_or(0.0),
+            position_rmse_m: rmse(ps[i], na[i]),
+            velocity_rmse_mps: rmse(vs[i], na[i]),
+        })
+        .collect())
+}
+
+fn summarize(
+    opts: &ScoreOptions,
+    truth: &Truth,
+    rows: &[TrackMetricsRow],
+    tally: &[TargetTally],
+    u: &usage::UsageOutput,
+) -> Result<Summary, MetricsError> {
+    let n_runs = truth.runs.len().max(1) as f64;
+    let pooled_rmse = |rows: &[&TrackMetricsRow], sq: fn(&TrackMetricsRow) -> f64| {
+        let n: u64 = rows.iter().map(|r| u64::from(r.n_assigned)).sum();
+        (n > 0).then(|| (rows.iter().map(|r| sq(r)).sum::<f64>() / n as f64).sqrt())
+    };
+    let all: Vec<&TrackMetricsRow> = rows.iter().collect();
+    let per_run_breaks = |run: u32| rows.iter().filter(|r| r.run == run).map(|r| r.breaks).sum::<u32>();
+    let per_run_switches = |run: u32| rows.iter().filter(|r| r.run == run).map(|r| r.switches).sum::<u32>();
+    let completeness = mean(all.iter().filter_map(|r| r.completeness));
+    let track = TrackSummary {
+        completeness,
+        redundant_ratio: mean(all.iter().filter_map(|r| r.redundant_ratio)),
+        spurious_ratio: mean(all.iter().filter_map(|r| r.spurious_ratio)),
+        breaks: truth.runs.iter().map(|&r| f64::from(per_run_breaks(r))).sum::<f64>() / n_runs,
+        switches: truth.runs.iter().map(|&r| f64::from(per_run_switches(r))).sum::<f64>() / n_runs,
+        position_rmse_m: pooled_rmse(&all, |r| r.position_sq_sum_m2),
+        velocity_rmse_mps: pooled_rmse(&all, |r| r.velocity_sq_sum_m2ps2),
+    };
+    let per_radar = NamedList(
+        u.per_radar
+            .iter()
+            .map(|r| {
+                (
+                    r.radar.clone(),
+                    RadarUsageSummary {
+                        dwell_time_s: r.dwell_time_s,
+                        energy_j: r.energy_j,
+                        ta_dwell_time_s: r.ta_dwell_time_s,
+                        ta_energy_j: r.ta_energy_j,
+                    },
+                )
+            })
+            .collect(),
+    );
+    let usage = UsageSummary {
+        total_dwell_time_s: u.per_radar.iter().map(|r| r.dwell_time_s).sum(),
+        total_energy_j: u.per_radar.iter().map(|r| r.energy_j).sum(),
+        ta_dwell_time_s: u.per_radar.iter().map(|r| r.ta_dwell_time_s).sum(),
+        ta_energy_j: u.per_radar.iter().map(|r| r.ta_energy_j).sum(),
+        per_radar,
+    };
+    let per_run = truth
+        .runs
+        .iter()
+        .map(|&run| {
+            let rr: Vec<&TrackMetricsRow> = rows.iter().filter(|r| r.run == run).collect();
+            let usage_of = |f: fn(&RunRadarUsage) -> f64| u.per_run.iter().filter(|x| x.run == run).map(f).sum::<f64>();
+            RunSummary {
+                run,
+                scoring_times: rr.len() as u32,
+                completeness: mean(rr.iter().filter_map(|r| r.completeness)),
+                redundant_ratio: mean(rr.iter().filter_map(|r| r.redundant_ratio)),
+                spurious_ratio: mean(rr.iter().filter_map(|r| r.spurious_ratio)),
+                breaks: per_run_breaks(run),
+                switches: per_run_switches(run),
+                position_rmse_m: pooled_rmse(&rr, |r| r.position_sq_sum_m2),
+                velocity_rmse_mps: pooled_rmse(&rr, |r| r.velocity_sq_sum_m2ps2),
+                ospa_m: mean(rr.iter().filter_map(|r| r.ospa_m)),
+                gospa_m: mean(rr.iter().filter_map(|r| r.gospa_m)),
+                total_dwell_time_s: usage_of(|x| x.dwell_time_s),
+                total_energy_j: usage_of(|x| x.energy_j),
+                ta_dwell_time_s: usage_of(|x| x.ta_dwell_time_s),
+                ta_energy_j: usage_of(|x| x.ta_energy_j),
+            }
+        })
+        .collect();
+    let per_target = NamedList(
+        truth
+            .target_names
+            .iter()
+            .zip(tally)
+            .map(|(name, t)| {
+                (
+                    name.clone(),
+                    TargetSummary {
+                        scorable_times: t.scorable,
+                        completeness: (t.scorable > 0).then(|| t.assigned as f64 / t.scorable as f64),
+                        breaks: t.breaks as f64 / n_runs,
+                        switches: t.switches as f64 / n_runs,
+                    },
+                )
+            })
+            .collect(),
+    );
+    Ok(Summary {
+        scenario: opts.scenario.clone(),
+        runs: truth.runs.len() as u32,
+        interval_s: opts.interval_s,
+        gate_m: opts.gate_m,
+        track,
+        usage,
+        challenge: Challenge {
+            completeness_required: opts.completeness_required,
+            met: completeness.is_some_and(|c| c >= opts.completeness_required),
+        },
+        ospa: DistanceSummary {
+            c_m: opts.ospa_c_m,
+            p: opts.ospa_p,
+            alpha: None,
+            mean_m: mean(all.iter().filter_map(|r| r.ospa_m)),
+        },
+        gospa: DistanceSummary {
+            c_m: opts.ospa_c_m,
+            p: opts.ospa_p,
+            alpha: Some(2.0),
+            mean_m: mean(all.iter().filter_map(|r| r.gospa_m)),
+        },
+        scoring: ScoringInfo {
+            run_ids: truth.runs.clone(),
+            scoring_times: rows.iter().map(|r| r.k).max().unwrap_or(0),
+            assignment: "exact gated one-to-one assignment on ECEF position distance: maximum number of pairs, then minimum total distance",
+            scorable_note: "undefined figures (no scorable truth, no track) are null and left out of averages",
+        },
+        per_run,
+        per_target,
+    })
+}

@@ -34,20 +34,9 @@ fn run() -> Result<(), ScenarioError> {
                 let vis: String = sc
                     .ships
                     .iter()
-                    .map(|sh| {
-                        if sh.sees(t, s.pos_ecef, s.geodetic.alt_m) {
-                            '1'
-                        } else {
-                            '0'
-                        }
-                    })
+                    .map(|sh| if sh.sees(t, s.pos_ecef, s.geodetic.alt_m) { '1' } else { '0' })
                     .collect();
-                println!(
-                    "{t},{id},{:.3},{:.3},{:.1},{vis}",
-                    enu.x / 1000.0,
-                    enu.y / 1000.0,
-                    s.geodetic.alt_m
-                );
+                println!("{t},{id},{:.3},{:.3},{:.1},{vis}", enu.x / 1000.0, enu.y / 1000.0, s.geodetic.alt_m);
             }
         }
         return Ok(());
@@ -68,11 +57,7 @@ fn run() -> Result<(), ScenarioError> {
         let t = j as f64 * fine;
         for i in 0..traj.len() {
             let s = traj.state_at(i, t);
-            let vis: Vec<bool> = sc
-                .ships
-                .iter()
-                .map(|sh| sh.sees(t, s.pos_ecef, s.geodetic.alt_m))
-                .collect();
+            let vis: Vec<bool> = sc.ships.iter().map(|sh| sh.sees(t, s.pos_ecef, s.geodetic.alt_m)).collect();
             if vis.iter().any(|&v| v) {
                 seen_any[i] += 1;
             }
@@ -99,17 +84,8 @@ fn run() -> Result<(), ScenarioError> {
             let enu: DVec3 = centre.to_enu(s.pos_ecef);
             let range_km = (enu.x.hypot(enu.y)) / 1000.0;
             let brg = enu.x.atan2(enu.y).to_degrees().rem_euclid(360.0);
-            let vis: String = sc
-                .ships
-                .iter()
-                .map(|sh| {
-                    if sh.sees(t, s.pos_ecef, s.geodetic.alt_m) {
-                        '#'
-                    } else {
-                        '.'
-                    }
-                })
-                .collect();
+            let vis: String =
+                sc.ships.iter().map(|sh| if sh.sees(t, s.pos_ecef, s.geodetic.alt_m) { '#' } else { '.' }).collect();
             print!(
                 " | {:5.0},{:5.0} {range_km:4.0}km {brg:3.0}° {:5.0}m {:3.0} {vis}",
                 enu.x / 1000.0,

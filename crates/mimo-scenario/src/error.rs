@@ -21,12 +21,7 @@ pub enum ScenarioError {
 
     /// The file is not valid TOML.
     #[error("{file}:{line}:{column}: TOML syntax error: {message}")]
-    Syntax {
-        file: String,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    Syntax { file: String, line: usize, column: usize, message: String },
 
     /// A key the scenario format does not know (typos are never silently ignored).
     #[error("{file}:{line}:{column}: {message}")]
@@ -42,12 +37,7 @@ pub enum ScenarioError {
 
     /// Valid TOML of the wrong shape: a wrong type, a missing field, an unknown variant.
     #[error("{file}:{line}:{column}: {message}")]
-    Schema {
-        file: String,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    Schema { file: String, line: usize, column: usize, message: String },
 
     /// A value that parses but is impossible or inconsistent (latitude 95°, negative speed, no
     /// targets, an unknown target id, overlapping manoeuvres, …).
@@ -61,33 +51,17 @@ pub enum ScenarioError {
 
     /// An `include` entry that cannot be followed (missing built-in, cycle).
     #[error("{file}: include `{include}`: {reason}")]
-    Include {
-        file: String,
-        include: String,
-        reason: String,
-    },
+    Include { file: String, include: String, reason: String },
 
     /// A trajectory leaves its aircraft type's flight envelope (speed or acceleration), found
     /// when the trajectories are built.
     #[error("target {target} leaves its flight envelope at t = {t_s:.2} s: {what}")]
-    Envelope {
-        target: String,
-        t_s: f64,
-        what: String,
-    },
+    Envelope { target: String, t_s: f64, what: String },
 }
 
 impl ScenarioError {
-    pub(crate) fn invalid(
-        file: &str,
-        field: impl Into<String>,
-        expected: impl Into<String>,
-    ) -> ScenarioError {
-        ScenarioError::Invalid {
-            file: file.to_string(),
-            field: field.into(),
-            expected: expected.into(),
-        }
+    pub(crate) fn invalid(file: &str, field: impl Into<String>, expected: impl Into<String>) -> ScenarioError {
+        ScenarioError::Invalid { file: file.to_string(), field: field.into(), expected: expected.into() }
     }
 }
 
@@ -103,48 +77,23 @@ pub(crate) fn line_column(text: &str, offset: usize) -> (usize, usize) {
 
 /// Turn a `toml` deserialization error into one of our variants. `syntax` says whether the error
 /// came from parsing the document (grammar) or from mapping it onto the scenario format.
-pub(crate) fn from_toml(
-    file: &str,
-    text: &str,
-    err: &toml::de::Error,
-    syntax: bool,
-) -> ScenarioError {
+pub(crate) fn from_toml(file: &str, text: &str, err: &toml::de::Error, syntax: bool) -> ScenarioError {
     let (line, column) = err.span().map_or((1, 1), |s| line_column(text, s.start));
     let message = one_line(err.message());
     let file = file.to_string();
     if syntax {
-        return ScenarioError::Syntax {
-            file,
-            line,
-            column,
-            message,
-        };
+        return ScenarioError::Syntax { file, line, column, message };
     }
     if let Some(rest) = message.strip_prefix("unknown field `") {
         let field = rest.split('`').next().unwrap_or_default().to_string();
-        return ScenarioError::UnknownField {
-            file,
-            line,
-            column,
-            field,
-            message,
-        };
+        return ScenarioError::UnknownField { file, line, column, field, message };
     }
-    ScenarioError::Schema {
-        file,
-        line,
-        column,
-        message,
-    }
+    ScenarioError::Schema { file, line, column, message }
 }
 
 /// Collapse a possibly multi-line message onto one line.
 pub(crate) fn one_line(s: &str) -> String {
-    s.lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join("; ")
+    s.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ")
 }
 
 #[cfg(test)]

@@ -20,10 +20,7 @@ pub(crate) struct Ctx {
 
 impl Ctx {
     pub fn new(file: &str, path: impl Into<String>) -> Ctx {
-        Ctx {
-            file: file.to_string(),
-            path: path.into(),
-        }
+        Ctx { file: file.to_string(), path: path.into() }
     }
 
     /// A context for a sub-field (`a.b`) or element (`a[3]`).
@@ -35,19 +32,12 @@ impl Ctx {
         } else {
             format!("{}.{part}", self.path)
         };
-        Ctx {
-            file: self.file.clone(),
-            path,
-        }
+        Ctx { file: self.file.clone(), path }
     }
 
     /// An [`ScenarioError::Invalid`] for `field` under this context.
     pub fn err(&self, field: &str, expected: impl Into<String>) -> ScenarioError {
-        let f = if field.is_empty() {
-            self.path.clone()
-        } else {
-            self.sub(field).path
-        };
+        let f = if field.is_empty() { self.path.clone() } else { self.sub(field).path };
         ScenarioError::invalid(&self.file, f, expected)
     }
 }
@@ -146,9 +136,7 @@ impl Controls {
             let ramp = m.ramp_s();
             if !(at.is_finite() && at >= free_from - 1e-9) {
                 let why = if i == 0 {
-                    format!(
-                        "a start time at or after {free_from} s (when this path begins), got {at}"
-                    )
+                    format!("a start time at or after {free_from} s (when this path begins), got {at}")
                 } else {
                     format!(
                         "a start time at or after {free_from:.3} s, when manoeuvre {} ends \
@@ -163,11 +151,7 @@ impl Controls {
             }
             let (v_before, h_before) = (v, h);
             let (channel, amp, plateau) = match *m {
-                Manoeuvre::Turn {
-                    turn_deg,
-                    load_factor,
-                    ..
-                } => {
+                Manoeuvre::Turn { turn_deg, load_factor, .. } => {
                     if !(turn_deg.is_finite() && turn_deg.abs() <= 3600.0) {
                         let why = format!("a turn angle within ±3600°, got {turn_deg}");
                         return Err(c.err("turn_deg", why));
@@ -181,9 +165,7 @@ impl Controls {
                     let (a, p) = full_or_reduced(dpsi * v, a, ramp);
                     (Channel::Lateral, a.copysign(turn_deg), p)
                 }
-                Manoeuvre::Climb {
-                    to_alt_m, rate_mps, ..
-                } => {
+                Manoeuvre::Climb { to_alt_m, rate_mps, .. } => {
                     if !(to_alt_m.is_finite() && (-100.0..=30_000.0).contains(&to_alt_m)) {
                         let why = format!("an altitude between -100 and 30000 m, got {to_alt_m}");
                         return Err(c.err("to_alt_m", why));
@@ -197,9 +179,7 @@ impl Controls {
                     h = to_alt_m;
                     (Channel::Vertical, r.copysign(dh), p)
                 }
-                Manoeuvre::Speed {
-                    to_mps, accel_mps2, ..
-                } => {
+                Manoeuvre::Speed { to_mps, accel_mps2, .. } => {
                     if !(to_mps.is_finite() && to_mps > 0.0 && to_mps <= 1500.0) {
                         let why = format!("a speed in (0, 1500] m/s, got {to_mps}");
                         return Err(c.err("to_mps", why));
@@ -214,15 +194,7 @@ impl Controls {
                     (Channel::Longitudinal, a.copysign(dv), p)
                 }
             };
-            let pulse = Pulse {
-                start: at,
-                ramp,
-                plateau,
-                amp,
-                channel,
-                v_before,
-                h_before,
-            };
+            let pulse = Pulse { start: at, ramp, plateau, amp, channel, v_before, h_before };
             free_from = pulse.end();
             pulses.push(pulse);
         }
@@ -231,11 +203,7 @@ impl Controls {
 
     /// The commands at time `t`.
     pub fn eval(&self, t: f64) -> Command {
-        let mut cmd = Command {
-            speed_mps: self.v0,
-            lateral_mps2: 0.0,
-            climb_mps: 0.0,
-        };
+        let mut cmd = Command { speed_mps: self.v0, lateral_mps2: 0.0, climb_mps: 0.0 };
         for p in &self.pulses {
             if t < p.start {
                 break;
@@ -254,11 +222,7 @@ impl Controls {
     /// integrator's rounding).
     pub fn altitude(&self, t: f64) -> f64 {
         let mut h = self.h0;
-        for p in self
-            .pulses
-            .iter()
-            .filter(|p| p.channel == Channel::Vertical)
-        {
+        for p in self.pulses.iter().filter(|p| p.channel == Channel::Vertical) {
             if t < p.start {
                 break;
             }
@@ -277,21 +241,14 @@ impl Controls {
 /// length, or a lower peak with no plateau when `total` is too small for the full peak.
 fn full_or_reduced(total: f64, peak: f64, ramp: f64) -> (f64, f64) {
     let plateau = total / peak - ramp;
-    if plateau >= 0.0 {
-        (peak, plateau)
-    } else {
-        (total / ramp, 0.0)
-    }
+    if plateau >= 0.0 { (peak, plateau) } else { (total / ramp, 0.0) }
 }
 
 /// Quintic smoothstep s(x) and its derivative.
 fn smoothstep(x: f64) -> (f64, f64) {
     let x = x.clamp(0.0, 1.0);
     let x2 = x * x;
-    (
-        x2 * x * (10.0 - 15.0 * x + 6.0 * x2),
-        30.0 * x2 * (1.0 - 2.0 * x + x2),
-    )
+    (x2 * x * (10.0 - 15.0 * x + 6.0 * x2), 30.0 * x2 * (1.0 - 2.0 * x + x2))
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -352,13 +309,8 @@ pub(crate) fn compile_offsets(
     t_begin: f64,
     ctx: &Ctx,
 ) -> Result<Vec<OffsetTrack>, ScenarioError> {
-    let mut tracks: Vec<OffsetTrack> = members
-        .iter()
-        .map(|(_, o)| OffsetTrack {
-            base: *o,
-            changes: Vec::new(),
-        })
-        .collect();
+    let mut tracks: Vec<OffsetTrack> =
+        members.iter().map(|(_, o)| OffsetTrack { base: *o, changes: Vec::new() }).collect();
     let mut current: Vec<Offset> = members.iter().map(|(_, o)| *o).collect();
     let mut free_from = t_begin;
     for (i, x) in crossovers.iter().enumerate() {
@@ -374,10 +326,7 @@ pub(crate) fn compile_offsets(
             ));
         }
         if !(x.duration_s.is_finite() && x.duration_s >= 1.0 && x.duration_s <= 3600.0) {
-            return Err(c.err(
-                "duration_s",
-                format!("a duration in [1, 3600] s, got {}", x.duration_s),
-            ));
+            return Err(c.err("duration_s", format!("a duration in [1, 3600] s, got {}", x.duration_s)));
         }
         if x.moves.is_empty() {
             return Err(c.err("moves", "at least one move"));
@@ -388,30 +337,13 @@ pub(crate) fn compile_offsets(
             let cm = c.sub(&format!("moves[{j}]"));
             let Some(q) = members.iter().position(|(id, _)| *id == mv.id) else {
                 let ids: Vec<&str> = members.iter().map(|(id, _)| id.as_str()).collect();
-                return Err(cm.err(
-                    "id",
-                    format!(
-                        "a member of this group ({}), got `{}`",
-                        ids.join(", "),
-                        mv.id
-                    ),
-                ));
+                return Err(cm.err("id", format!("a member of this group ({}), got `{}`", ids.join(", "), mv.id)));
             };
             if seen.contains(&q) {
-                return Err(cm.err(
-                    "id",
-                    format!(
-                        "each member at most once per crossover, `{}` repeats",
-                        mv.id
-                    ),
-                ));
+                return Err(cm.err("id", format!("each member at most once per crossover, `{}` repeats", mv.id)));
             }
             seen.push(q);
-            for (name, v) in [
-                ("along_m", mv.along_m),
-                ("right_m", mv.right_m),
-                ("up_m", mv.up_m),
-            ] {
+            for (name, v) in [("along_m", mv.along_m), ("right_m", mv.right_m), ("up_m", mv.up_m)] {
                 if let Some(v) = v
                     && !(v.is_finite() && v.abs() <= 100_000.0)
                 {
@@ -419,10 +351,7 @@ pub(crate) fn compile_offsets(
                 }
             }
             if !(mv.pass_up_m.is_finite() && mv.pass_up_m.abs() <= 10_000.0) {
-                return Err(cm.err(
-                    "pass_up_m",
-                    format!("a pass height within ±10000 m, got {}", mv.pass_up_m),
-                ));
+                return Err(cm.err("pass_up_m", format!("a pass height within ±10000 m, got {}", mv.pass_up_m)));
             }
             let from = current[q];
             let to = Offset {
@@ -481,12 +410,7 @@ fn rates(cmd: Command, y: RefState) -> [f64; 4] {
 }
 
 fn add(y: RefState, k: [f64; 4], h: f64) -> RefState {
-    RefState {
-        lat: y.lat + h * k[0],
-        lon: y.lon + h * k[1],
-        alt: y.alt + h * k[2],
-        psi: y.psi + h * k[3],
-    }
+    RefState { lat: y.lat + h * k[0], lon: y.lon + h * k[1], alt: y.alt + h * k[2], psi: y.psi + h * k[3] }
 }
 
 /// One classical RK4 step of size `h` from `t`.
@@ -506,14 +430,7 @@ pub(crate) fn rk4(c: &Controls, t: f64, y: RefState, h: f64) -> RefState {
 pub(crate) fn node(c: &Controls, t: f64, y: RefState) -> RefNode {
     let cmd = c.eval(t);
     let r = rates(cmd, y);
-    RefNode {
-        s: y,
-        v: cmd.speed_mps,
-        lat_dot: r[0],
-        lon_dot: r[1],
-        alt_dot: r[2],
-        psi_dot: r[3],
-    }
+    RefNode { s: y, v: cmd.speed_mps, lat_dot: r[0], lon_dot: r[1], alt_dot: r[2], psi_dot: r[3] }
 }
 
 /// ECEF position and velocity of a point at `offset` (changing at `rate`) from a reference
@@ -538,16 +455,10 @@ pub(crate) fn member_state(n: &RefNode, o: Offset, rate: Offset) -> (DVec3, DVec
     let x_n = o.along_m * cp - o.right_m * sp;
     let x_u = o.up_m;
     // d/dt of the ENU offset: heading rotation plus the offset's own rate.
-    let xd_e =
-        n.psi_dot * (o.along_m * cp - o.right_m * sp) + rate.along_m * sp + rate.right_m * cp;
-    let xd_n =
-        n.psi_dot * (-o.along_m * sp - o.right_m * cp) + rate.along_m * cp - rate.right_m * sp;
+    let xd_e = n.psi_dot * (o.along_m * cp - o.right_m * sp) + rate.along_m * sp + rate.right_m * cp;
+    let xd_n = n.psi_dot * (-o.along_m * sp - o.right_m * cp) + rate.along_m * cp - rate.right_m * sp;
     let xd_u = rate.up_m;
-    let g = Geodetic {
-        lat_rad: lat,
-        lon_rad: lon,
-        alt_m: alt,
-    };
+    let g = Geodetic { lat_rad: lat, lon_rad: lon, alt_m: alt };
     let p_ref = g.to_ecef();
     let v_ref = e * (n.v * sp) + nn * (n.v * cp) + u * n.alt_dot;
     let p = p_ref + e * x_e + nn * x_n + u * x_u;
@@ -588,9 +499,7 @@ mod tests {
             let (_, f) = trapezoid(tau, r, p);
             let m = 20_000;
             let hh = tau / m as f64;
-            let num: f64 = (0..m)
-                .map(|i| trapezoid((i as f64 + 0.5) * hh, r, p).0 * hh)
-                .sum();
+            let num: f64 = (0..m).map(|i| trapezoid((i as f64 + 0.5) * hh, r, p).0 * hh).sum();
             assert!((f - num).abs() < 1e-6, "tau {tau}: {f} vs {num}");
         }
     }
@@ -606,49 +515,24 @@ mod tests {
 
     #[test]
     fn turn_pulse_turns_through_the_angle() {
-        let m = [Manoeuvre::Turn {
-            at_s: 10.0,
-            turn_deg: -90.0,
-            load_factor: 3.0,
-            ramp_s: 2.0,
-        }];
+        let m = [Manoeuvre::Turn { at_s: 10.0, turn_deg: -90.0, load_factor: 3.0, ramp_s: 2.0 }];
         let c = Controls::compile(&m, 0.0, 250.0, 6000.0, &Ctx::new("t", "x")).expect("valid");
         let end = c.last_end().expect("one pulse");
         let n = 200_000;
         let h = (end - 10.0) / n as f64;
-        let turned: f64 = (0..n)
-            .map(|i| c.eval(10.0 + (i as f64 + 0.5) * h).lateral_mps2 / 250.0 * h)
-            .sum();
-        assert!(
-            (turned.to_degrees() + 90.0).abs() < 1e-6,
-            "{}",
-            turned.to_degrees()
-        );
+        let turned: f64 = (0..n).map(|i| c.eval(10.0 + (i as f64 + 0.5) * h).lateral_mps2 / 250.0 * h).sum();
+        assert!((turned.to_degrees() + 90.0).abs() < 1e-6, "{}", turned.to_degrees());
         assert!(c.eval(9.0).lateral_mps2 == 0.0 && c.eval(end + 0.1).lateral_mps2 == 0.0);
     }
 
     #[test]
     fn overlapping_manoeuvres_are_rejected() {
         let m = [
-            Manoeuvre::Turn {
-                at_s: 10.0,
-                turn_deg: 90.0,
-                load_factor: 2.0,
-                ramp_s: 1.0,
-            },
-            Manoeuvre::Speed {
-                at_s: 12.0,
-                to_mps: 300.0,
-                accel_mps2: 5.0,
-                ramp_s: 1.0,
-            },
+            Manoeuvre::Turn { at_s: 10.0, turn_deg: 90.0, load_factor: 2.0, ramp_s: 1.0 },
+            Manoeuvre::Speed { at_s: 12.0, to_mps: 300.0, accel_mps2: 5.0, ramp_s: 1.0 },
         ];
-        let e = Controls::compile(&m, 0.0, 250.0, 6000.0, &Ctx::new("f.toml", "aircraft[0]"))
-            .expect_err("overlap");
+        let e = Controls::compile(&m, 0.0, 250.0, 6000.0, &Ctx::new("f.toml", "aircraft[0]")).expect_err("overlap");
         let msg = e.to_string();
-        assert!(
-            msg.contains("f.toml: aircraft[0].manoeuvres[1].at_s"),
-            "{msg}"
-        );
+        assert!(msg.contains("f.toml: aircraft[0].manoeuvres[1].at_s"), "{msg}");
     }
 }

@@ -47,9 +47,8 @@ pub use error::ScenarioError;
 pub use flight::STEP_S;
 pub use load::BUILTIN_PREFIX;
 pub use model::{
-    Aircraft, AircraftType, Crossover, DEFAULT_ARRAY_HEIGHT_M, DEFAULT_DURATION_S, DEFAULT_RAMP_S,
-    Envelope, Formation, Group, LatLonAlt, Manoeuvre, Member, Move, Offset, Scenario, Ship, Split,
-    Target,
+    Aircraft, AircraftType, Crossover, DEFAULT_ARRAY_HEIGHT_M, DEFAULT_DURATION_S, DEFAULT_RAMP_S, Envelope, Formation,
+    Group, LatLonAlt, Manoeuvre, Member, Move, Offset, Scenario, Ship, Split, Target,
 };
 pub use trajectory::{MARGIN_S, TargetState, Trajectories};
 pub use validate::MAX_DURATION_S;
@@ -65,10 +64,7 @@ pub const STANDARD_SCENARIOS: std::ops::RangeInclusive<u32> = 1..=7;
 /// with airliners A, B and C).
 pub fn load_standard(n: u32) -> Result<Scenario, ScenarioError> {
     if !STANDARD_SCENARIOS.contains(&n) {
-        return Err(ScenarioError::UnknownScenario {
-            number: n,
-            max: *STANDARD_SCENARIOS.end(),
-        });
+        return Err(ScenarioError::UnknownScenario { number: n, max: *STANDARD_SCENARIOS.end() });
     }
     load::load_builtin(&format!("{n}.toml"), &format!("scenario-{n}"))
 }
@@ -82,19 +78,13 @@ pub fn load_path(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
 
 /// Load a scenario from TOML text, as if it were the file `name` in `include_dir` (where its
 /// relative includes are looked up; with `None`, only `builtin:` includes work).
-pub fn load_str(
-    text: &str,
-    name: &str,
-    include_dir: Option<&Path>,
-) -> Result<Scenario, ScenarioError> {
+pub fn load_str(text: &str, name: &str, include_dir: Option<&Path>) -> Result<Scenario, ScenarioError> {
     load::load_string(text, name, include_dir)
 }
 
 /// Every standard scenario with its number, for `mimo scenarios`.
 pub fn list_standard() -> Result<Vec<(u32, Scenario)>, ScenarioError> {
-    STANDARD_SCENARIOS
-        .map(|n| load_standard(n).map(|s| (n, s)))
-        .collect()
+    STANDARD_SCENARIOS.map(|n| load_standard(n).map(|s| (n, s))).collect()
 }
 
 impl Scenario {
@@ -113,11 +103,7 @@ impl Scenario {
     /// (PHYSICS.md §6.1) and for plots.
     pub fn centre(&self) -> Geodetic {
         let n = self.ships.len().max(1) as f64;
-        let sum = self
-            .ships
-            .iter()
-            .map(|s| s.start_position().to_ecef())
-            .fold(glam::DVec3::ZERO, |a, b| a + b);
+        let sum = self.ships.iter().map(|s| s.start_position().to_ecef()).fold(glam::DVec3::ZERO, |a, b| a + b);
         let mut g = ecef_to_geodetic(sum / n);
         g.alt_m = 0.0;
         g

@@ -4,12 +4,11 @@
 use crate::error::{ScenarioError, from_toml, line_column, one_line};
 use crate::flight::Ctx;
 use crate::model::{
-    Aircraft, AircraftType, DEFAULT_ARRAY_HEIGHT_M, DEFAULT_DURATION_S, Formation, Scenario, Ship,
-    Target,
+    Aircraft, AircraftType, DEFAULT_ARRAY_HEIGHT_M, DEFAULT_DURATION_S, Formation, Scenario, Ship, Target,
 };
 use crate::validate::{
-    fix_references, prune_formation, validate_aircraft, validate_duration, validate_fidelity,
-    validate_formation, validate_ship, validate_type,
+    fix_references, prune_formation, validate_aircraft, validate_duration, validate_fidelity, validate_formation,
+    validate_ship, validate_type,
 };
 use mimo_core::ids::RadarId;
 use mimo_core::params::{Fidelity, RadarParams};
@@ -24,14 +23,8 @@ pub const BUILTIN_PREFIX: &str = "builtin:";
 /// The standard scenario files, embedded so the binary works from any directory.
 pub(crate) const BUILTIN: &[(&str, &str)] = &[
     ("ships.toml", include_str!("../../../scenarios/ships.toml")),
-    (
-        "fighters.toml",
-        include_str!("../../../scenarios/fighters.toml"),
-    ),
-    (
-        "airliners.toml",
-        include_str!("../../../scenarios/airliners.toml"),
-    ),
+    ("fighters.toml", include_str!("../../../scenarios/fighters.toml")),
+    ("airliners.toml", include_str!("../../../scenarios/airliners.toml")),
     ("1.toml", include_str!("../../../scenarios/1.toml")),
     ("2.toml", include_str!("../../../scenarios/2.toml")),
     ("3.toml", include_str!("../../../scenarios/3.toml")),
@@ -137,10 +130,7 @@ impl Collected {
                 return Err(ScenarioError::invalid(
                     &s.file,
                     format!("ships[{}].id", s.index),
-                    format!(
-                        "a ship id not defined before, `{}` is also defined in {}",
-                        s.item.id, prev.file
-                    ),
+                    format!("a ship id not defined before, `{}` is also defined in {}", s.item.id, prev.file),
                 ));
             }
             self.ships.push(s);
@@ -160,10 +150,7 @@ impl Collected {
                 return Err(ScenarioError::invalid(
                     &f.file,
                     format!("formations[{}].name", f.index),
-                    format!(
-                        "a formation name not used before, `{}` is also defined in {}",
-                        f.item.name, prev.file
-                    ),
+                    format!("a formation name not used before, `{}` is also defined in {}", f.item.name, prev.file),
                 ));
             }
             self.formations.push(f);
@@ -193,18 +180,11 @@ struct Loader {
 }
 
 impl Loader {
-    fn file(
-        &mut self,
-        key: String,
-        display: String,
-        text: String,
-        base: Base,
-    ) -> Result<Collected, ScenarioError> {
+    fn file(&mut self, key: String, display: String, text: String, base: Base) -> Result<Collected, ScenarioError> {
         if let Err(e) = text.parse::<toml::Table>() {
             return Err(from_toml(&display, &text, &e, true));
         }
-        let raw: RawFile =
-            toml::from_str(&text).map_err(|e| from_toml(&display, &text, &e, false))?;
+        let raw: RawFile = toml::from_str(&text).map_err(|e| from_toml(&display, &text, &e, false))?;
         self.texts.insert(display.clone(), text);
         self.done.insert(key.clone());
         self.stack.push(key);
@@ -215,8 +195,7 @@ impl Loader {
                 return Err(ScenarioError::Include {
                     file: display,
                     include: inc.clone(),
-                    reason: "include cycle (the file includes itself, directly or indirectly)"
-                        .into(),
+                    reason: "include cycle (the file includes itself, directly or indirectly)".into(),
                 });
             }
             if self.done.contains(&k) {
@@ -234,11 +213,7 @@ impl Loader {
             fidelity: raw.fidelity.map(|f| (f, display.clone())),
             radar: raw.radar.map(|r| (r, display.clone())),
             ships: tag(raw.ships, &display),
-            types: raw
-                .aircraft_types
-                .into_iter()
-                .map(|(k, v)| (k, (v, display.clone())))
-                .collect(),
+            types: raw.aircraft_types.into_iter().map(|(k, v)| (k, (v, display.clone()))).collect(),
             formations: tag(raw.formations, &display),
             aircraft: tag(raw.aircraft, &display),
         };
@@ -247,12 +222,7 @@ impl Loader {
     }
 
     /// Find an included file: (key, display name, text, base for its own includes).
-    fn resolve(
-        &self,
-        from: &str,
-        base: &Base,
-        inc: &str,
-    ) -> Result<(String, String, String, Base), ScenarioError> {
+    fn resolve(&self, from: &str, base: &Base, inc: &str) -> Result<(String, String, String, Base), ScenarioError> {
         let builtin_name = match (inc.strip_prefix(BUILTIN_PREFIX), base) {
             (Some(name), _) => Some(name),
             (None, Base::Builtin) => Some(inc),
@@ -286,92 +256,49 @@ impl Loader {
         };
         let path = dir.join(inc);
         let display = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| ScenarioError::Io {
-            file: display.clone(),
-            message: format!("{e} (included from {from})"),
-        })?;
-        let key = std::fs::canonicalize(&path)
-            .unwrap_or(path.clone())
-            .display()
-            .to_string();
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| ScenarioError::Io { file: display.clone(), message: format!("{e} (included from {from})") })?;
+        let key = std::fs::canonicalize(&path).unwrap_or(path.clone()).display().to_string();
         let parent = path.parent().map(Path::to_path_buf).unwrap_or_default();
         Ok((key, display, text, Base::Dir(parent)))
     }
 
     /// Line and column of a span in a file read earlier.
     fn place(&self, file: &str, span: std::ops::Range<usize>) -> (usize, usize) {
-        self.texts
-            .get(file)
-            .map_or((1, 1), |t| line_column(t, span.start))
+        self.texts.get(file).map_or((1, 1), |t| line_column(t, span.start))
     }
 }
 
 fn tag<T>(items: Vec<T>, file: &str) -> Vec<From<T>> {
-    items
-        .into_iter()
-        .enumerate()
-        .map(|(index, item)| From {
-            item,
-            file: file.to_string(),
-            index,
-        })
-        .collect()
+    items.into_iter().enumerate().map(|(index, item)| From { item, file: file.to_string(), index }).collect()
 }
 
 /// Load the built-in file `name` (e.g. `7.toml`).
 pub(crate) fn load_builtin(name: &str, default_name: &str) -> Result<Scenario, ScenarioError> {
     let display = format!("{BUILTIN_PREFIX}{name}");
     let Some(text) = builtin(name) else {
-        return Err(ScenarioError::Io {
-            file: display,
-            message: "no such built-in file".into(),
-        });
+        return Err(ScenarioError::Io { file: display, message: "no such built-in file".into() });
     };
-    load_text(
-        text.to_string(),
-        display.clone(),
-        display,
-        Base::Builtin,
-        default_name,
-    )
+    load_text(text.to_string(), display.clone(), display, Base::Builtin, default_name)
 }
 
 /// Load a scenario file from disk.
 pub(crate) fn load_file(path: &Path) -> Result<Scenario, ScenarioError> {
     let display = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io {
-        file: display.clone(),
-        message: e.to_string(),
-    })?;
-    let key = std::fs::canonicalize(path)
-        .unwrap_or(path.to_path_buf())
-        .display()
-        .to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ScenarioError::Io { file: display.clone(), message: e.to_string() })?;
+    let key = std::fs::canonicalize(path).unwrap_or(path.to_path_buf()).display().to_string();
     let base = Base::Dir(path.parent().map(Path::to_path_buf).unwrap_or_default());
-    let stem = path
-        .file_stem()
-        .map_or("scenario".into(), |s| s.to_string_lossy().into_owned());
+    let stem = path.file_stem().map_or("scenario".into(), |s| s.to_string_lossy().into_owned());
     load_text(text, key, display, base, &stem)
 }
 
 /// Load a scenario from text, as if read from a file called `name` in `include_dir` (relative
 /// includes are looked up there; without a directory only `builtin:` includes work).
-pub(crate) fn load_string(
-    text: &str,
-    name: &str,
-    include_dir: Option<&Path>,
-) -> Result<Scenario, ScenarioError> {
+pub(crate) fn load_string(text: &str, name: &str, include_dir: Option<&Path>) -> Result<Scenario, ScenarioError> {
     let base = include_dir.map_or(Base::Nowhere, |d| Base::Dir(d.to_path_buf()));
-    let stem = Path::new(name)
-        .file_stem()
-        .map_or("scenario".into(), |s| s.to_string_lossy().into_owned());
-    load_text(
-        text.to_string(),
-        format!("<text>{name}"),
-        name.to_string(),
-        base,
-        &stem,
-    )
+    let stem = Path::new(name).file_stem().map_or("scenario".into(), |s| s.to_string_lossy().into_owned());
+    load_text(text.to_string(), format!("<text>{name}"), name.to_string(), base, &stem)
 }
 
 fn load_text(
@@ -404,23 +331,16 @@ fn radar_params(
         merged.extend(t.get_ref().clone());
     }
     let (line, column) = own.map_or((1, 1), |t| loader.place(file, t.span()));
-    toml::Value::Table(merged)
-        .try_into()
-        .map_err(|e| ScenarioError::Schema {
-            file: file.to_string(),
-            line,
-            column,
-            message: format!("{path}.radar: {}", one_line(e.message())),
-        })
+    toml::Value::Table(merged).try_into().map_err(|e| ScenarioError::Schema {
+        file: file.to_string(),
+        line,
+        column,
+        message: format!("{path}.radar: {}", one_line(e.message())),
+    })
 }
 
 /// Check one radar table on its own, so an error names the file and line it is in.
-fn parse_radar(
-    loader: &Loader,
-    t: &Spanned<toml::Table>,
-    file: &str,
-    path: &str,
-) -> Result<(), ScenarioError> {
+fn parse_radar(loader: &Loader, t: &Spanned<toml::Table>, file: &str, path: &str) -> Result<(), ScenarioError> {
     let r: Result<RadarParams, _> = toml::Value::Table(t.get_ref().clone()).try_into();
     let Err(e) = r else {
         return Ok(());
@@ -436,20 +356,10 @@ fn parse_radar(
             message,
         });
     }
-    Err(ScenarioError::Schema {
-        file: file.to_string(),
-        line,
-        column,
-        message,
-    })
+    Err(ScenarioError::Schema { file: file.to_string(), line, column, message })
 }
 
-fn resolve(
-    loader: &Loader,
-    acc: Collected,
-    top: &str,
-    default_name: &str,
-) -> Result<Scenario, ScenarioError> {
+fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Result<Scenario, ScenarioError> {
     let top_ctx = Ctx::new(top, "");
     // Settings.
     let duration_s = match &acc.duration_s {
@@ -473,13 +383,7 @@ fn resolve(
         let Some(id) = RadarId::parse(&s.item.id) else {
             return Err(ctx.err("id", format!("a radar id R1, R2, …, got `{}`", s.item.id)));
         };
-        let radar = radar_params(
-            loader,
-            acc.radar.as_ref(),
-            s.item.radar.as_ref(),
-            &s.file,
-            &ctx.path,
-        )?;
+        let radar = radar_params(loader, acc.radar.as_ref(), s.item.radar.as_ref(), &s.file, &ctx.path)?;
         let ship = Ship {
             id,
             lat_deg: s.item.lat_deg,
@@ -493,10 +397,7 @@ fn resolve(
         ships.push(ship);
     }
     if ships.is_empty() {
-        return Err(top_ctx.err(
-            "ships",
-            "at least one ship (define `[[ships]]` or include a file that does)",
-        ));
+        return Err(top_ctx.err("ships", "at least one ship (define `[[ships]]` or include a file that does)"));
     }
     // Aircraft types.
     for (name, (t, file)) in &acc.types {
@@ -505,13 +406,7 @@ fn resolve(
     let type_of = |kind: &str, ctx: &Ctx| -> Result<AircraftType, ScenarioError> {
         acc.types.get(kind).map(|(t, _)| *t).ok_or_else(|| {
             let names: Vec<&str> = acc.types.keys().map(String::as_str).collect();
-            ctx.err(
-                "type",
-                format!(
-                    "one of the aircraft types defined ({}), got `{kind}`",
-                    names.join(", ")
-                ),
-            )
+            ctx.err("type", format!("one of the aircraft types defined ({}), got `{kind}`", names.join(", ")))
         })
     };
     // Flights, and every target they define, in definition order.
@@ -561,10 +456,7 @@ fn resolve(
             return Err(ScenarioError::invalid(
                 &d.file,
                 &d.path,
-                format!(
-                    "a target id not defined before, `{}` is also defined in {prev}",
-                    d.id
-                ),
+                format!("a target id not defined before, `{}` is also defined in {prev}", d.id),
             ));
         }
     }
@@ -582,16 +474,12 @@ fn resolve(
     for (i, id) in selected.iter().enumerate() {
         let Some(d) = defs.iter().find(|d| d.id == *id) else {
             let ids: Vec<&str> = defs.iter().map(|d| d.id.as_str()).collect();
-            return Err(sel_ctx.err(
-                &format!("targets[{i}]"),
-                format!("a defined target ({}), got `{id}`", ids.join(", ")),
-            ));
+            return Err(
+                sel_ctx.err(&format!("targets[{i}]"), format!("a defined target ({}), got `{id}`", ids.join(", ")))
+            );
         };
         if !keep.insert(id) {
-            return Err(sel_ctx.err(
-                &format!("targets[{i}]"),
-                format!("each target once, `{id}` repeats"),
-            ));
+            return Err(sel_ctx.err(&format!("targets[{i}]"), format!("each target once, `{id}` repeats")));
         }
         let ty = type_of(&d.kind, &sel_ctx)?;
         targets.push(Target {
@@ -601,14 +489,8 @@ fn resolve(
             envelope: ty.envelope(),
         });
     }
-    let formations = formations
-        .iter()
-        .filter_map(|f| prune_formation(f, &keep))
-        .collect();
-    let aircraft = aircraft
-        .into_iter()
-        .filter(|a| keep.contains(a.id.as_str()))
-        .collect();
+    let formations = formations.iter().filter_map(|f| prune_formation(f, &keep)).collect();
+    let aircraft = aircraft.into_iter().filter(|a| keep.contains(a.id.as_str())).collect();
     let scenario = Scenario {
         name: acc.name.unwrap_or_else(|| default_name.to_string()),
         description: acc.description.unwrap_or_default(),

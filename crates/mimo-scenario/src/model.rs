@@ -107,11 +107,7 @@ pub struct AircraftType {
 impl AircraftType {
     /// The type's envelope.
     pub fn envelope(&self) -> Envelope {
-        Envelope {
-            min_speed_mps: self.min_speed_mps,
-            max_speed_mps: self.max_speed_mps,
-            max_accel_g: self.max_accel_g,
-        }
+        Envelope { min_speed_mps: self.min_speed_mps, max_speed_mps: self.max_speed_mps, max_accel_g: self.max_accel_g }
     }
 }
 
@@ -147,11 +143,7 @@ pub struct Offset {
 impl std::ops::Sub for Offset {
     type Output = Offset;
     fn sub(self, o: Offset) -> Offset {
-        Offset {
-            along_m: self.along_m - o.along_m,
-            right_m: self.right_m - o.right_m,
-            up_m: self.up_m - o.up_m,
-        }
+        Offset { along_m: self.along_m - o.along_m, right_m: self.right_m - o.right_m, up_m: self.up_m - o.up_m }
     }
 }
 
@@ -206,11 +198,7 @@ pub struct Member {
 impl Member {
     /// The member's offset at t = 0.
     pub fn offset(&self) -> Offset {
-        Offset {
-            along_m: self.along_m,
-            right_m: self.right_m,
-            up_m: self.up_m,
-        }
+        Offset { along_m: self.along_m, right_m: self.right_m, up_m: self.up_m }
     }
 }
 
@@ -258,18 +246,16 @@ impl Manoeuvre {
     /// Start time (s).
     pub fn at_s(&self) -> f64 {
         match self {
-            Manoeuvre::Turn { at_s, .. }
-            | Manoeuvre::Climb { at_s, .. }
-            | Manoeuvre::Speed { at_s, .. } => *at_s,
+            Manoeuvre::Turn { at_s, .. } | Manoeuvre::Climb { at_s, .. } | Manoeuvre::Speed { at_s, .. } => *at_s,
         }
     }
 
     /// Ramp time (s).
     pub fn ramp_s(&self) -> f64 {
         match self {
-            Manoeuvre::Turn { ramp_s, .. }
-            | Manoeuvre::Climb { ramp_s, .. }
-            | Manoeuvre::Speed { ramp_s, .. } => *ramp_s,
+            Manoeuvre::Turn { ramp_s, .. } | Manoeuvre::Climb { ramp_s, .. } | Manoeuvre::Speed { ramp_s, .. } => {
+                *ramp_s
+            }
         }
     }
 
@@ -371,7 +357,6 @@ mod radar_id_string {
 
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<RadarId, D::Error> {
         let s = String::deserialize(d)?;
-        RadarId::parse(&s)
-            .ok_or_else(|| D::Error::custom(format!("expected a radar id R1, R2, …, got `{s}`")))
+        RadarId::parse(&s).ok_or_else(|| D::Error::custom(format!("expected a radar id R1, R2, …, got `{s}`")))
     }
 }

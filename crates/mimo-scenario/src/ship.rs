@@ -17,8 +17,7 @@ impl Ship {
         let g = self.start_position();
         let p0 = g.to_ecef();
         let psi = self.heading_deg.to_radians();
-        let dir =
-            enu_from_ecef(g.lat_rad, g.lon_rad).transpose() * DVec3::new(psi.sin(), psi.cos(), 0.0);
+        let dir = enu_from_ecef(g.lat_rad, g.lon_rad).transpose() * DVec3::new(psi.sin(), psi.cos(), 0.0);
         let axis = p0.cross(dir).normalize();
         (g, p0, axis, self.speed_mps / p0.length())
     }
@@ -59,9 +58,7 @@ impl Ship {
         }
         let (here, heading) = self.pose_at(t_s);
         let psi = heading.to_radians();
-        enu_from_ecef(here.lat_rad, here.lon_rad).transpose()
-            * DVec3::new(psi.sin(), psi.cos(), 0.0)
-            * self.speed_mps
+        enu_from_ecef(here.lat_rad, here.lon_rad).transpose() * DVec3::new(psi.sin(), psi.cos(), 0.0) * self.speed_mps
     }
 
     /// The array faces at `t_s`: boresight azimuth = heading + face azimuth, tilt from the
@@ -113,8 +110,7 @@ impl Ship {
         if !visible_effective_earth(s, site.alt_m, p_ecef, alt_m) {
             return false;
         }
-        self.best_of(&self.faces_for(site, heading), p_ecef)
-            .is_some()
+        self.best_of(&self.faces_for(site, heading), p_ecef).is_some()
     }
 }
 
@@ -151,8 +147,7 @@ mod tests {
                 let v = (p - prev).length() / 10.0;
                 assert!((v - 9.0).abs() < 9.0 * 1e-4, "speed {v}");
                 // Velocity agrees with the position's finite difference.
-                let fd =
-                    (s.position_at(t + 0.5).to_ecef() - s.position_at(t - 0.5).to_ecef()) / 1.0;
+                let fd = (s.position_at(t + 0.5).to_ecef() - s.position_at(t - 0.5).to_ecef()) / 1.0;
                 assert!((fd - s.velocity_at(t)).length() < 0.01);
                 prev = p;
             }

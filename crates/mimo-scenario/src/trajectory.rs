@@ -3,8 +3,7 @@
 
 use crate::error::ScenarioError;
 use crate::flight::{
-    Controls, Ctx, RefState, STEP_S, compile_offsets, direction_of, heading_of, member_state, node,
-    rk4,
+    Controls, Ctx, RefState, STEP_S, compile_offsets, direction_of, heading_of, member_state, node, rk4,
 };
 use crate::model::{Crossover, Manoeuvre, Offset, Scenario, Split};
 use glam::DVec3;
@@ -77,15 +76,8 @@ impl Builder {
     ) -> Result<(), ScenarioError> {
         let controls = Controls::compile(g.manoeuvres, t_begin, v0, y0.alt, ctx)?;
         let tracks = compile_offsets(&g.members, g.crossovers, t_begin, ctx)?;
-        let slots: Vec<Option<usize>> = g
-            .members
-            .iter()
-            .map(|(id, _)| self.index.get(id).copied())
-            .collect();
-        let k_end = g
-            .split
-            .map_or(self.n_nodes, |s| first_node_at_or_after(s.at_s))
-            .min(self.n_nodes);
+        let slots: Vec<Option<usize>> = g.members.iter().map(|(id, _)| self.index.get(id).copied()).collect();
+        let k_end = g.split.map_or(self.n_nodes, |s| first_node_at_or_after(s.at_s)).min(self.n_nodes);
         let (mut t, mut y) = (t_begin, y0);
         for k in k_first..k_end {
             let tk = k as f64 * STEP_S;
@@ -128,12 +120,7 @@ impl Builder {
             let (p_ref, _) = member_state(&nd, reference, Offset::default());
             let geo = ecef_to_geodetic(p_ref);
             let psi = heading_of(geo, dir);
-            let y_child = RefState {
-                lat: geo.lat_rad,
-                lon: geo.lon_rad,
-                alt: geo.alt_m,
-                psi,
-            };
+            let y_child = RefState { lat: geo.lat_rad, lon: geo.lon_rad, alt: geo.alt_m, psi };
             // Each member's offset in the group's own frame, from its actual position, so that
             // positions are exactly continuous across the split.
             let enu = enu_from_ecef(geo.lat_rad, geo.lon_rad);
@@ -144,11 +131,7 @@ impl Builder {
                 .zip(&offsets)
                 .map(|(id, o)| {
                     let d = enu * (member_state(&nd, *o, Offset::default()).0 - p_ref);
-                    let rel = Offset {
-                        along_m: d.x * sp + d.y * cp,
-                        right_m: d.x * cp - d.y * sp,
-                        up_m: d.z,
-                    };
+                    let rel = Offset { along_m: d.x * sp + d.y * cp, right_m: d.x * cp - d.y * sp, up_m: d.z };
                     (id.clone(), rel)
                 })
                 .collect();
@@ -186,36 +169,20 @@ impl Scenario {
         let n_targets = self.targets.len();
         let mut b = Builder {
             n_nodes,
-            index: self
-                .targets
-                .iter()
-                .enumerate()
-                .map(|(i, t)| (t.id.clone(), i))
-                .collect(),
+            index: self.targets.iter().enumerate().map(|(i, t)| (t.id.clone(), i)).collect(),
             pos: vec![vec![DVec3::NAN; n_nodes]; n_targets],
             vel: vec![vec![DVec3::NAN; n_nodes]; n_targets],
         };
         let ctx = Ctx::new("scenario", "");
         for (i, f) in self.formations.iter().enumerate() {
             let view = GroupView {
-                members: f
-                    .members
-                    .iter()
-                    .map(|m| (m.id.clone(), m.offset()))
-                    .collect(),
+                members: f.members.iter().map(|m| (m.id.clone(), m.offset())).collect(),
                 manoeuvres: &f.manoeuvres,
                 crossovers: &f.crossovers,
                 split: f.split.as_ref(),
             };
             let y0 = start_state(f.start.to_geodetic(), f.heading_deg);
-            b.fly(
-                &view,
-                0.0,
-                0,
-                y0,
-                f.speed_mps,
-                &ctx.sub(&format!("formations[{i}]")),
-            )?;
+            b.fly(&view, 0.0, 0, y0, f.speed_mps, &ctx.sub(&format!("formations[{i}]")))?;
         }
         for (i, a) in self.aircraft.iter().enumerate() {
             let view = GroupView {
@@ -225,14 +192,7 @@ impl Scenario {
                 split: None,
             };
             let y0 = start_state(a.start.to_geodetic(), a.heading_deg);
-            b.fly(
-                &view,
-                0.0,
-                0,
-                y0,
-                a.speed_mps,
-                &ctx.sub(&format!("aircraft[{i}]")),
-            )?;
+            b.fly(&view, 0.0, 0, y0, a.speed_mps, &ctx.sub(&format!("aircraft[{i}]")))?;
         }
         let traj = Trajectories {
             duration_s: self.duration_s,
@@ -249,12 +209,7 @@ impl Scenario {
 }
 
 fn start_state(g: Geodetic, heading_deg: f64) -> RefState {
-    RefState {
-        lat: g.lat_rad,
-        lon: g.lon_rad,
-        alt: g.alt_m,
-        psi: heading_deg.to_radians(),
-    }
+    RefState { lat: g.lat_rad, lon: g.lon_rad, alt: g.alt_m, psi: heading_deg.to_radians() }
 }
 
 impl Trajectories {
@@ -268,19 +223,13 @@ impl Trajectories {
         };
         for (k, (p, v)) in pos.iter().zip(vel).enumerate() {
             if !(p.is_finite() && v.is_finite()) {
-                return Err(fail(
-                    k,
-                    "its position is undefined (is it a member of a flight?)".into(),
-                ));
+                return Err(fail(k, "its position is undefined (is it a member of a flight?)".into()));
             }
             let speed = v.length();
             if speed < env.min_speed_mps - 1e-6 || speed > env.max_speed_mps + 1e-6 {
                 return Err(fail(
                     k,
-                    format!(
-                        "speed {speed:.1} m/s outside [{}, {}] m/s",
-                        env.min_speed_mps, env.max_speed_mps
-                    ),
+                    format!("speed {speed:.1} m/s outside [{}, {}] m/s", env.min_speed_mps, env.max_speed_mps),
                 ));
             }
         }
@@ -290,11 +239,7 @@ impl Trajectories {
             if a > limit {
                 return Err(fail(
                     k,
-                    format!(
-                        "acceleration {:.2} g above max_accel_g {}",
-                        a / G0_MPS2,
-                        env.max_accel_g
-                    ),
+                    format!("acceleration {:.2} g above max_accel_g {}", a / G0_MPS2, env.max_accel_g),
                 ));
             }
         }
@@ -348,10 +293,8 @@ impl Trajectories {
         let (m0, m1) = (vel[k] * STEP_S, vel[k + 1] * STEP_S);
         let s2 = s * s;
         let s3 = s2 * s;
-        let p = p0 * (2.0 * s3 - 3.0 * s2 + 1.0)
-            + m0 * (s3 - 2.0 * s2 + s)
-            + p1 * (3.0 * s2 - 2.0 * s3)
-            + m1 * (s3 - s2);
+        let p =
+            p0 * (2.0 * s3 - 3.0 * s2 + 1.0) + m0 * (s3 - 2.0 * s2 + s) + p1 * (3.0 * s2 - 2.0 * s3) + m1 * (s3 - s2);
         let v = (p0 * (6.0 * s2 - 6.0 * s)
             + m0 * (3.0 * s2 - 4.0 * s + 1.0)
             + p1 * (6.0 * s - 6.0 * s2)
@@ -368,12 +311,7 @@ impl Trajectories {
     /// Full state of target `i` at `t_s`. Panics if `i >= self.len()`.
     pub fn state_at(&self, i: usize, t_s: f64) -> TargetState {
         let (pos_ecef, vel_ecef) = self.pos_vel_at(i, t_s);
-        TargetState {
-            pos_ecef,
-            vel_ecef,
-            geodetic: ecef_to_geodetic(pos_ecef),
-            rcs_m2: self.rcs[i],
-        }
+        TargetState { pos_ecef, vel_ecef, geodetic: ecef_to_geodetic(pos_ecef), rcs_m2: self.rcs[i] }
     }
 
     /// Truth table rows for Monte Carlo run `run`, sampled at `rate_hz` from t = 0 to the

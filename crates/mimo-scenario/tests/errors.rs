@@ -41,11 +41,7 @@ fn err(text: &str) -> ScenarioError {
 
 fn invalid(text: &str, field: &str, expected: &str) {
     match err(text) {
-        ScenarioError::Invalid {
-            field: f,
-            expected: e,
-            ..
-        } => {
+        ScenarioError::Invalid { field: f, expected: e, .. } => {
             assert_eq!(f, field);
             assert!(e.contains(expected), "{e:?} should contain {expected:?}");
         }
@@ -63,14 +59,8 @@ fn a_minimal_inline_scenario_loads_and_flies() {
     let t = s.build_trajectories().expect("flies");
     assert_eq!(t.truth_rows(0, 10.0).len(), 1001);
     // Without a duration the default is 1000 s; without a name, the file stem.
-    let s = load_str(
-        &BASE
-            .replace("duration_s = 100.0", "")
-            .replace("name = \"inline\"", ""),
-        "dir/custom.toml",
-        None,
-    )
-    .expect("valid");
+    let s = load_str(&BASE.replace("duration_s = 100.0", "").replace("name = \"inline\"", ""), "dir/custom.toml", None)
+        .expect("valid");
     assert_eq!((s.duration_s, s.name.as_str()), (1000.0, "custom"));
 }
 
@@ -101,22 +91,10 @@ fn unknown_fields_are_rejected_with_their_place() {
     }
     // Also at the top level, in an aircraft, in the fidelity table and in a radar table.
     for (from, to, field) in [
-        (
-            "name = \"inline\"",
-            "name = \"inline\"\nduraton_s = 5",
-            "duraton_s",
-        ),
+        ("name = \"inline\"", "name = \"inline\"\nduraton_s = 5", "duraton_s"),
         ("speed_mps = 200.0", "speed_mps = 200.0\nmach = 0.8", "mach"),
-        (
-            "speed_mps = 200.0",
-            "speed_mps = 200.0\n[fidelity]\nrefractoin = true",
-            "refractoin",
-        ),
-        (
-            "heading_deg = 0.0\n",
-            "heading_deg = 0.0\nradar = { frequncy_hz = 3e9 }\n",
-            "frequncy_hz",
-        ),
+        ("speed_mps = 200.0", "speed_mps = 200.0\n[fidelity]\nrefractoin = true", "refractoin"),
+        ("heading_deg = 0.0\n", "heading_deg = 0.0\nradar = { frequncy_hz = 3e9 }\n", "frequncy_hz"),
     ] {
         match err(&BASE.replace(from, to)) {
             ScenarioError::UnknownField { field: f, .. } => assert_eq!(f, field),
@@ -128,9 +106,7 @@ fn unknown_fields_are_rejected_with_their_place() {
 #[test]
 fn wrong_types_and_missing_fields_are_schema_errors() {
     match err(&BASE.replace("duration_s = 100.0", "duration_s = \"long\"")) {
-        ScenarioError::Schema {
-            line: 3, message, ..
-        } => assert!(message.contains("invalid type"), "{message}"),
+        ScenarioError::Schema { line: 3, message, .. } => assert!(message.contains("invalid type"), "{message}"),
         other => panic!("{other:?}"),
     }
     match err(&BASE.replace("lat_deg = 36.0\n", "")) {
@@ -139,10 +115,7 @@ fn wrong_types_and_missing_fields_are_schema_errors() {
         }
         other => panic!("{other:?}"),
     }
-    let text = BASE.replace(
-        "speed_mps = 200.0",
-        "speed_mps = 200.0\nmanoeuvres = [{ kind = \"loop\", at_s = 1.0 }]",
-    );
+    let text = BASE.replace("speed_mps = 200.0", "speed_mps = 200.0\nmanoeuvres = [{ kind = \"loop\", at_s = 1.0 }]");
     assert!(matches!(err(&text), ScenarioError::Schema { .. }));
 }
 
@@ -154,109 +127,43 @@ fn impossible_values_are_rejected() {
         "a latitude between -90 and 90 degrees, got 95",
     );
     let msg = err(&BASE.replace("lat_deg = 36.0", "lat_deg = 95.0")).to_string();
-    assert_eq!(
-        msg,
-        "my.toml: ships[0].lat_deg: expected a latitude between -90 and 90 degrees, got 95"
-    );
+    assert_eq!(msg, "my.toml: ships[0].lat_deg: expected a latitude between -90 and 90 degrees, got 95");
+    invalid(&BASE.replace("heading_deg = 0.0", "heading_deg = 0.0\nspeed_mps = -3.0"), "ships[0].speed_mps", "got -3");
+    invalid(&BASE.replace("speed_mps = 200.0", "speed_mps = -200.0"), "aircraft[0].speed_mps", "got -200");
     invalid(
-        &BASE.replace("heading_deg = 0.0", "heading_deg = 0.0\nspeed_mps = -3.0"),
-        "ships[0].speed_mps",
-        "got -3",
-    );
-    invalid(
-        &BASE.replace("speed_mps = 200.0", "speed_mps = -200.0"),
-        "aircraft[0].speed_mps",
-        "got -200",
-    );
-    invalid(
-        &BASE.replace(
-            "heading_deg = 0.0\n",
-            "heading_deg = 0.0\nradar = { aperture_x_m = 0.0 }\n",
-        ),
+        &BASE.replace("heading_deg = 0.0\n", "heading_deg = 0.0\nradar = { aperture_x_m = 0.0 }\n"),
         "ships[0].radar.aperture_x_m",
         "positive",
     );
     invalid(
-        &BASE.replace(
-            "heading_deg = 0.0\n",
-            "heading_deg = 0.0\nradar = { beamwidth_factor = 0.0 }\n",
-        ),
+        &BASE.replace("heading_deg = 0.0\n", "heading_deg = 0.0\nradar = { beamwidth_factor = 0.0 }\n"),
         "ships[0].radar.beamwidth_factor",
         "positive",
     );
     invalid(
-        &BASE.replace(
-            "heading_deg = 0.0\n",
-            "heading_deg = 0.0\nradar = { peak_power_w = -1e5 }\n",
-        ),
+        &BASE.replace("heading_deg = 0.0\n", "heading_deg = 0.0\nradar = { peak_power_w = -1e5 }\n"),
         "ships[0].radar.peak_power_w",
         "positive",
     );
-    invalid(
-        &BASE.replace("duration_s = 100.0", "duration_s = 0.0"),
-        "duration_s",
-        "duration",
-    );
-    invalid(
-        &BASE.replace("alt_m = 5000.0", "alt_m = 50000.0"),
-        "aircraft[0].start.alt_m",
-        "altitude",
-    );
-    invalid(
-        &BASE.replace("rcs_m2 = 5.0", "rcs_m2 = -5.0"),
-        "aircraft_types.jet.rcs_m2",
-        "RCS",
-    );
-    invalid(
-        &BASE.replace("id = \"R1\"", "id = \"R2\""),
-        "ships[0].id",
-        "R1",
-    );
-    invalid(
-        &BASE.replace("id = \"R1\"", "id = \"radar one\""),
-        "ships[0].id",
-        "radar id",
-    );
-    invalid(
-        &BASE.replace("type = \"jet\"", "type = \"glider\""),
-        "aircraft[0].type",
-        "jet",
-    );
-    invalid(
-        &format!("{BASE}\n[fidelity]\ntruth_rate_hz = 0.0\n"),
-        "fidelity.truth_rate_hz",
-        "rate",
-    );
+    invalid(&BASE.replace("duration_s = 100.0", "duration_s = 0.0"), "duration_s", "duration");
+    invalid(&BASE.replace("alt_m = 5000.0", "alt_m = 50000.0"), "aircraft[0].start.alt_m", "altitude");
+    invalid(&BASE.replace("rcs_m2 = 5.0", "rcs_m2 = -5.0"), "aircraft_types.jet.rcs_m2", "RCS");
+    invalid(&BASE.replace("id = \"R1\"", "id = \"R2\""), "ships[0].id", "R1");
+    invalid(&BASE.replace("id = \"R1\"", "id = \"radar one\""), "ships[0].id", "radar id");
+    invalid(&BASE.replace("type = \"jet\"", "type = \"glider\""), "aircraft[0].type", "jet");
+    invalid(&format!("{BASE}\n[fidelity]\ntruth_rate_hz = 0.0\n"), "fidelity.truth_rate_hz", "rate");
 }
 
 #[test]
 fn zero_or_unknown_targets_are_rejected() {
-    invalid(
-        &BASE.replace("name = \"inline\"", "name = \"inline\"\ntargets = []"),
-        "targets",
-        "at least one target",
-    );
-    invalid(
-        &BASE.replace("name = \"inline\"", "name = \"inline\"\ntargets = [\"Y\"]"),
-        "targets[0]",
-        "`Y`",
-    );
-    invalid(
-        &BASE.replace(
-            "name = \"inline\"",
-            "name = \"inline\"\ntargets = [\"X\", \"X\"]",
-        ),
-        "targets[1]",
-        "once",
-    );
+    invalid(&BASE.replace("name = \"inline\"", "name = \"inline\"\ntargets = []"), "targets", "at least one target");
+    invalid(&BASE.replace("name = \"inline\"", "name = \"inline\"\ntargets = [\"Y\"]"), "targets[0]", "`Y`");
+    invalid(&BASE.replace("name = \"inline\"", "name = \"inline\"\ntargets = [\"X\", \"X\"]"), "targets[1]", "once");
     // No aircraft at all.
     let no_aircraft = &BASE[..BASE.find("[[aircraft]]").expect("has aircraft")];
     invalid(no_aircraft, "targets", "at least one target");
     // No ships.
-    let no_ships = BASE.replace(
-        "[[ships]]\nid = \"R1\"\nlat_deg = 36.0\nlon_deg = -70.0\nheading_deg = 0.0\n",
-        "",
-    );
+    let no_ships = BASE.replace("[[ships]]\nid = \"R1\"\nlat_deg = 36.0\nlon_deg = -70.0\nheading_deg = 0.0\n", "");
     invalid(&no_ships, "ships", "at least one ship");
 }
 
@@ -265,26 +172,16 @@ fn unknown_standard_scenario_number() {
     for n in [0, 8, 99] {
         let e = load_standard(n).expect_err("not a standard scenario");
         assert_eq!(e, ScenarioError::UnknownScenario { number: n, max: 7 });
-        assert!(e.to_string().starts_with(&format!(
-            "unknown standard scenario {n}: expected a number from 1 to 7"
-        )));
+        assert!(e.to_string().starts_with(&format!("unknown standard scenario {n}: expected a number from 1 to 7")));
     }
 }
 
 #[test]
 fn manoeuvre_and_formation_mistakes_are_caught() {
     let turns = "speed_mps = 200.0\nmanoeuvres = [\n  { kind = \"turn\", at_s = 10.0, turn_deg = 90.0, load_factor = 2.0 },\n  { kind = \"turn\", at_s = 12.0, turn_deg = 90.0, load_factor = 2.0 },\n]";
-    invalid(
-        &BASE.replace("speed_mps = 200.0", turns),
-        "aircraft[0].manoeuvres[1].at_s",
-        "do not overlap",
-    );
+    invalid(&BASE.replace("speed_mps = 200.0", turns), "aircraft[0].manoeuvres[1].at_s", "do not overlap");
     let weak = "speed_mps = 200.0\nmanoeuvres = [{ kind = \"turn\", at_s = 10.0, turn_deg = 90.0, load_factor = 1.0 }]";
-    invalid(
-        &BASE.replace("speed_mps = 200.0", weak),
-        "aircraft[0].manoeuvres[0].load_factor",
-        "(1, 12]",
-    );
+    invalid(&BASE.replace("speed_mps = 200.0", weak), "aircraft[0].manoeuvres[0].load_factor", "(1, 12]");
     // A turn the airframe cannot fly is found when the trajectories are built.
     let hard = "speed_mps = 200.0\nmanoeuvres = [{ kind = \"turn\", at_s = 10.0, turn_deg = 90.0, load_factor = 6.0 }]";
     let s = load(&BASE.replace("speed_mps = 200.0", hard)).expect("loads");
@@ -298,10 +195,7 @@ fn manoeuvre_and_formation_mistakes_are_caught() {
     }
     let slow = "speed_mps = 200.0\nmanoeuvres = [{ kind = \"speed\", at_s = 10.0, to_mps = 50.0, accel_mps2 = 5.0 }]";
     let s = load(&BASE.replace("speed_mps = 200.0", slow)).expect("loads");
-    assert!(matches!(
-        s.build_trajectories(),
-        Err(ScenarioError::Envelope { .. })
-    ));
+    assert!(matches!(s.build_trajectories(), Err(ScenarioError::Envelope { .. })));
     // A split whose groups miss a member, and a crossover moving a stranger.
     let formation = r#"
 [[formations]]
@@ -313,29 +207,21 @@ speed_mps = 200.0
 members = [{ id = "P1", right_m = -100.0 }, { id = "P2", right_m = 100.0 }]
 crossovers = [{ start_s = 10.0, duration_s = 20.0, moves = [{ id = "P3", right_m = 100.0 }] }]
 "#;
-    invalid(
-        &format!("{BASE}{formation}"),
-        "formations[0].crossovers[0].moves[0].id",
-        "P1, P2",
-    );
+    invalid(&format!("{BASE}{formation}"), "formations[0].crossovers[0].moves[0].id", "P1, P2");
     let split = formation.replace(
         "crossovers = [{ start_s = 10.0, duration_s = 20.0, moves = [{ id = \"P3\", right_m = 100.0 }] }]",
         "split = { at_s = 50.0, groups = [{ name = \"one\", members = [\"P1\"] }] }",
     );
-    invalid(
-        &format!("{BASE}{split}"),
-        "formations[0].split.groups",
-        "missing: P2",
-    );
-    let ok = split.replace(
-        "members = [\"P1\"] }]",
-        "members = [\"P1\"] }, { name = \"two\", members = [\"P2\"] }]",
-    );
+    invalid(&format!("{BASE}{split}"), "formations[0].split.groups", "missing: P2");
+    let ok = split.replace("members = [\"P1\"] }]", "members = [\"P1\"] }, { name = \"two\", members = [\"P2\"] }]");
     let s = load(&format!("{BASE}{ok}")).expect("valid");
     assert_eq!(s.target_ids(), ["P1", "P2", "X"]);
     s.build_trajectories().expect("flies");
     // Duplicate target ids across flights.
-    let dup = formation.replace("\"P1\"", "\"X\"").replace("crossovers = [{ start_s = 10.0, duration_s = 20.0, moves = [{ id = \"P3\", right_m = 100.0 }] }]", "");
+    let dup = formation.replace("\"P1\"", "\"X\"").replace(
+        "crossovers = [{ start_s = 10.0, duration_s = 20.0, moves = [{ id = \"P3\", right_m = 100.0 }] }]",
+        "",
+    );
     invalid(&format!("{BASE}{dup}"), "aircraft[0].id", "also defined");
 }
 
@@ -343,18 +229,13 @@ crossovers = [{ start_s = 10.0, duration_s = 20.0, moves = [{ id = "P3", right_m
 fn includes_resolve_beside_the_file_and_from_builtins() {
     let dir = tempfile::tempdir().expect("temp dir");
     let d = dir.path();
-    write(
-        d,
-        "fleet.toml",
-        &BASE[BASE.find("[[ships]]").expect("ships")..BASE.find("[[aircraft]]").expect("aircraft")],
-    );
+    write(d, "fleet.toml", &BASE[BASE.find("[[ships]]").expect("ships")..BASE.find("[[aircraft]]").expect("aircraft")]);
     write(
         d,
         "sub/jets.toml",
         &format!(
             "{}\n{}",
-            &BASE[BASE.find("[aircraft_types.jet]").expect("types")
-                ..BASE.find("[[ships]]").expect("ships")],
+            &BASE[BASE.find("[aircraft_types.jet]").expect("types")..BASE.find("[[ships]]").expect("ships")],
             &BASE[BASE.find("[[aircraft]]").expect("aircraft")..]
         ),
     );
@@ -368,48 +249,20 @@ fn includes_resolve_beside_the_file_and_from_builtins() {
     assert_eq!(s.target_ids(), ["X", "F-2"]);
     s.build_trajectories().expect("flies");
     // Overriding a standard scenario's settings by including it.
-    write(
-        d,
-        "short7.toml",
-        "include = [\"builtin:7.toml\"]\nduration_s = 200.0\nname = \"short\"\n",
-    );
+    write(d, "short7.toml", "include = [\"builtin:7.toml\"]\nduration_s = 200.0\nname = \"short\"\n");
     let s = load_path(d.join("short7.toml")).expect("loads");
-    assert_eq!(
-        (s.name.as_str(), s.duration_s, s.targets.len()),
-        ("short", 200.0, 7)
-    );
+    assert_eq!((s.name.as_str(), s.duration_s, s.targets.len()), ("short", 200.0, 7));
     // Errors in an included file name that file.
-    write(
-        d,
-        "bad.toml",
-        "include = [\"fleet.toml\", \"broken.toml\"]\n",
-    );
-    write(
-        d,
-        "broken.toml",
-        "[[ships]]\nid = \"R2\"\nlat_deg = 95.0\nlon_deg = 0.0\nheading_deg = 0.0\n",
-    );
+    write(d, "bad.toml", "include = [\"fleet.toml\", \"broken.toml\"]\n");
+    write(d, "broken.toml", "[[ships]]\nid = \"R2\"\nlat_deg = 95.0\nlon_deg = 0.0\nheading_deg = 0.0\n");
     let e = load_path(d.join("bad.toml")).expect_err("bad latitude");
-    assert!(
-        e.to_string()
-            .contains("broken.toml: ships[0].lat_deg: expected a latitude"),
-        "{e}"
-    );
+    assert!(e.to_string().contains("broken.toml: ships[0].lat_deg: expected a latitude"), "{e}");
     // Missing files, missing built-ins and cycles.
     write(d, "missing.toml", "include = [\"nope.toml\"]\n");
-    assert!(matches!(
-        load_path(d.join("missing.toml")),
-        Err(ScenarioError::Io { .. })
-    ));
-    assert!(matches!(
-        load_path(d.join("absent.toml")),
-        Err(ScenarioError::Io { .. })
-    ));
+    assert!(matches!(load_path(d.join("missing.toml")), Err(ScenarioError::Io { .. })));
+    assert!(matches!(load_path(d.join("absent.toml")), Err(ScenarioError::Io { .. })));
     write(d, "nobuiltin.toml", "include = [\"builtin:ships2.toml\"]\n");
-    assert!(matches!(
-        load_path(d.join("nobuiltin.toml")),
-        Err(ScenarioError::Include { .. })
-    ));
+    assert!(matches!(load_path(d.join("nobuiltin.toml")), Err(ScenarioError::Include { .. })));
     write(d, "a.toml", "include = [\"b.toml\"]\n");
     write(d, "b.toml", "include = [\"a.toml\"]\n");
     match load_path(d.join("a.toml")) {
@@ -423,11 +276,7 @@ fn includes_resolve_beside_the_file_and_from_builtins() {
         "include = [\"fleet.toml\", \"sub/jets.toml\"]\n[[ships]]\nid = \"R1\"\nlat_deg = 36.0\nlon_deg = -70.0\nheading_deg = 0.0\n",
     );
     let e = load_path(d.join("twice.toml")).expect_err("duplicate ship");
-    assert!(
-        e.to_string()
-            .contains("twice.toml: ships[0].id: expected a ship id not defined before"),
-        "{e}"
-    );
+    assert!(e.to_string().contains("twice.toml: ships[0].id: expected a ship id not defined before"), "{e}");
 }
 
 fn write(dir: &Path, name: &str, text: &str) {
@@ -447,8 +296,7 @@ fn text_without_a_directory_can_only_include_builtins() {
         }
         other => panic!("{other:?}"),
     }
-    let text =
-        "include = [\"builtin:ships.toml\", \"builtin:airliners.toml\"]\ntargets = [\"B\"]\n";
+    let text = "include = [\"builtin:ships.toml\", \"builtin:airliners.toml\"]\ntargets = [\"B\"]\n";
     let s = load_str(text, "t.toml", None).expect("loads");
     assert_eq!(s.target_ids(), ["B"]);
     assert_eq!(s.ships.len(), 4);

@@ -42,11 +42,7 @@ fn every_standard_scenario_has_the_table_1_targets_and_four_ships() {
         let ids: Vec<String> = s.ships.iter().map(|x| x.id.to_string()).collect();
         assert_eq!(ids, ["R1", "R2", "R3", "R4"]);
         for t in &s.targets {
-            let (rcs, kind) = if t.id.starts_with("F-") {
-                (2.0, "fighter")
-            } else {
-                (30.0, "airliner")
-            };
+            let (rcs, kind) = if t.id.starts_with("F-") { (2.0, "fighter") } else { (30.0, "airliner") };
             assert_eq!((t.rcs_m2, t.kind.as_str()), (rcs, kind), "{}", t.id);
         }
         s.validate().expect("valid");
@@ -67,8 +63,7 @@ fn every_standard_scenario_has_the_table_1_targets_and_four_ships() {
     assert_eq!(faces, [4, 2, 4, 3]);
     let steaming: Vec<bool> = s.ships.iter().map(|x| x.speed_mps > 0.0).collect();
     assert_eq!(steaming, [true, false, true, false]);
-    let moved =
-        (s.ships[0].position_at(1000.0).to_ecef() - s.ships[0].start_position().to_ecef()).length();
+    let moved = (s.ships[0].position_at(1000.0).to_ecef() - s.ships[0].start_position().to_ecef()).length();
     assert!((moved - 9000.0).abs() < 1.0, "R1 moved {moved} m");
 }
 
@@ -104,11 +99,7 @@ fn speeds_and_accelerations_stay_inside_each_envelope() {
         let mut worst_v_err = 0.0f64;
         for k in 1..n {
             let tk = k as f64 * h;
-            let (pm, p0, pp) = (
-                t.position_at(i, tk - h),
-                t.position_at(i, tk),
-                t.position_at(i, tk + h),
-            );
+            let (pm, p0, pp) = (t.position_at(i, tk - h), t.position_at(i, tk), t.position_at(i, tk + h));
             let v = t.state_at(i, tk).vel_ecef;
             let a = (pp - 2.0 * p0 + pm) / (h * h);
             let lat = a - v.normalize() * a.dot(v.normalize());
@@ -118,24 +109,9 @@ fn speeds_and_accelerations_stay_inside_each_envelope() {
             vmax = vmax.max(v.length());
             worst_v_err = worst_v_err.max(((pp - pm) / (2.0 * h) - v).length());
         }
-        assert!(
-            max_a <= limit,
-            "{}: |a| {} g > {}",
-            target.id,
-            max_a / G0_MPS2,
-            env.max_accel_g
-        );
-        assert!(
-            max_lat <= limit,
-            "{}: a_lat {} g",
-            target.id,
-            max_lat / G0_MPS2
-        );
-        assert!(
-            vmin >= env.min_speed_mps && vmax <= env.max_speed_mps,
-            "{}: {vmin}..{vmax}",
-            target.id
-        );
+        assert!(max_a <= limit, "{}: |a| {} g > {}", target.id, max_a / G0_MPS2, env.max_accel_g);
+        assert!(max_lat <= limit, "{}: a_lat {} g", target.id, max_lat / G0_MPS2);
+        assert!(vmin >= env.min_speed_mps && vmax <= env.max_speed_mps, "{}: {vmin}..{vmax}", target.id);
         eprintln!(
             "{}: speed {vmin:.1}..{vmax:.1} m/s, max |a| {:.2} g, max lateral {:.2} g",
             target.id,
@@ -146,28 +122,14 @@ fn speeds_and_accelerations_stay_inside_each_envelope() {
         // is exact to O(h²) except where the acceleration steps, by ΔA·h/4: the only step is the
         // start and end of the sin² vertical pass of a crossover (PHYSICS.md §8.2), ΔA =
         // 2π²·150 m / (20 s)² = 7.4 m/s², which gives 0.093 m/s.
-        assert!(
-            worst_v_err < 0.1,
-            "{}: velocity vs positions {worst_v_err} m/s",
-            target.id
-        );
+        assert!(worst_v_err < 0.1, "{}: velocity vs positions {worst_v_err} m/s", target.id);
         if target.id.starts_with("F-") {
             // The turns really happen (n = 2–3), so the bound above is not vacuous.
-            assert!(
-                max_a > 2.5 * G0_MPS2,
-                "{}: max {} g",
-                target.id,
-                max_a / G0_MPS2
-            );
+            assert!(max_a > 2.5 * G0_MPS2, "{}: max {} g", target.id, max_a / G0_MPS2);
             // In the rigid formation turn the outer aircraft fly faster, the inner slower.
             assert!(vmax - vmin > 20.0, "{}: {vmin}..{vmax}", target.id);
         } else {
-            assert!(
-                max_a < 0.01 * G0_MPS2,
-                "{} flies straight: {} g",
-                target.id,
-                max_a / G0_MPS2
-            );
+            assert!(max_a < 0.01 * G0_MPS2, "{} flies straight: {} g", target.id, max_a / G0_MPS2);
             assert!((vmin - 230.0).abs() < 0.01 && (vmax - 230.0).abs() < 0.01);
         }
     }
@@ -213,9 +175,7 @@ fn lateral(t: &Trajectories, ids: &[&str], at: f64) -> Vec<f64> {
     let v = frame.vec_to_enu(mean_v);
     let psi = v.x.atan2(v.y);
     let right = frame.vec_to_ecef(DVec3::new(psi.cos(), -psi.sin(), 0.0));
-    st.iter()
-        .map(|s| (s.pos_ecef - mean_p).dot(right))
-        .collect()
+    st.iter().map(|s| (s.pos_ecef - mean_p).dot(right)).collect()
 }
 
 #[test]
@@ -230,25 +190,16 @@ fn crossovers_swap_sides() {
     assert_eq!(order(99.0), ["F-1", "F-2", "F-3", "F-4"]);
     assert_eq!(order(121.0), ["F-3", "F-4", "F-1", "F-2"]);
     let mid = lateral(t, &FIGHTERS, 110.0);
-    assert!(
-        (mid[0] - mid[2]).abs() < 1.0 && (mid[1] - mid[3]).abs() < 1.0,
-        "{mid:?}"
-    );
+    assert!((mid[0] - mid[2]).abs() < 1.0 && (mid[1] - mid[3]).abs() < 1.0, "{mid:?}");
     // Line abreast 300 m apart before and after.
     let before = lateral(t, &FIGHTERS, 99.0);
     for q in 0..3 {
-        assert!(
-            (before[q + 1] - before[q] - 300.0).abs() < 1.0,
-            "{before:?}"
-        );
+        assert!((before[q + 1] - before[q] - 300.0).abs() < 1.0, "{before:?}");
     }
     // The second crossover: pair A swaps sides within the pair at 450–470 s.
     let a_before = lateral(t, &["F-1", "F-2"], 449.0);
     let a_after = lateral(t, &["F-1", "F-2"], 471.0);
-    assert!(
-        a_before[0] < a_before[1] && a_after[0] > a_after[1],
-        "{a_before:?} {a_after:?}"
-    );
+    assert!(a_before[0] < a_before[1] && a_after[0] > a_after[1], "{a_before:?} {a_after:?}");
 }
 
 #[test]
@@ -260,28 +211,11 @@ fn at_mid_crossover_the_crossing_aircraft_are_unresolved() {
         for (a, b) in [("F-1", "F-3"), ("F-2", "F-4")] {
             let pa = t.state_at(idx(t, a), tm);
             let pb = t.state_at(idx(t, b), tm);
-            assert!(
-                ship.sees(tm, pa.pos_ecef, pa.geodetic.alt_m),
-                "{} sees {a}",
-                ship.id
-            );
+            assert!(ship.sees(tm, pa.pos_ecef, pa.geodetic.alt_m), "{} sees {a}", ship.id);
             let (ra, rb) = ((pa.pos_ecef - site).length(), (pb.pos_ecef - site).length());
-            assert!(
-                (ra - rb).abs() <= ship.radar.range_cell_m(),
-                "{}: {a}/{b} Δr {}",
-                ship.id,
-                ra - rb
-            );
-            let angle = (pa.pos_ecef - site)
-                .normalize()
-                .dot((pb.pos_ecef - site).normalize())
-                .min(1.0)
-                .acos();
-            assert!(
-                angle <= ship.radar.beamwidth_u(),
-                "{}: {a}/{b} angle {angle}",
-                ship.id
-            );
+            assert!((ra - rb).abs() <= ship.radar.range_cell_m(), "{}: {a}/{b} Δr {}", ship.id, ra - rb);
+            let angle = (pa.pos_ecef - site).normalize().dot((pb.pos_ecef - site).normalize()).min(1.0).acos();
+            assert!(angle <= ship.radar.beamwidth_u(), "{}: {a}/{b} angle {angle}", ship.id);
             // And in the sine space of the face that would track them.
             let (f, _) = ship.best_face(tm, pa.pos_ecef).expect("in a face");
             let face = ship.faces_at(tm)[f];
@@ -298,9 +232,8 @@ fn level_airliners_hold_their_altitude_within_a_metre() {
     for a in &s.aircraft {
         let i = idx(t, &a.id);
         let n = (s.duration_s / 0.125) as usize;
-        let worst = (0..=n)
-            .map(|j| (t.state_at(i, j as f64 * 0.125).geodetic.alt_m - a.start.alt_m).abs())
-            .fold(0.0, f64::max);
+        let worst =
+            (0..=n).map(|j| (t.state_at(i, j as f64 * 0.125).geodetic.alt_m - a.start.alt_m).abs()).fold(0.0, f64::max);
         assert!(worst < 1.0, "{}: altitude off by {worst} m", a.id);
     }
     let alts: Vec<f64> = s.aircraft.iter().map(|a| a.start.alt_m).collect();
@@ -314,10 +247,7 @@ fn visibility(s: &Scenario, t: &Trajectories) -> Vec<Vec<Vec<bool>>> {
             (0..=s.duration_s as usize)
                 .map(|j| {
                     let st = t.state_at(i, j as f64);
-                    s.ships
-                        .iter()
-                        .map(|sh| sh.sees(j as f64, st.pos_ecef, st.geodetic.alt_m))
-                        .collect()
+                    s.ships.iter().map(|sh| sh.sees(j as f64, st.pos_ecef, st.geodetic.alt_m)).collect()
                 })
                 .collect()
         })
@@ -331,12 +261,8 @@ fn targets_leave_and_enter_radars_while_mostly_seen_by_another() {
     let mut leaves = 0;
     let mut enters = 0;
     for (i, id) in t.ids().iter().enumerate() {
-        let seen_by_some =
-            vis[i].iter().filter(|v| v.iter().any(|&x| x)).count() as f64 / vis[i].len() as f64;
-        assert!(
-            seen_by_some >= 0.95,
-            "{id} seen by some radar only {seen_by_some}"
-        );
+        let seen_by_some = vis[i].iter().filter(|v| v.iter().any(|&x| x)).count() as f64 / vis[i].len() as f64;
+        assert!(seen_by_some >= 0.95, "{id} seen by some radar only {seen_by_some}");
         let mut both_on_one_radar = false;
         let mut any = false;
         for r in 0..s.ships.len() {
@@ -355,16 +281,10 @@ fn targets_leave_and_enter_radars_while_mostly_seen_by_another() {
         }
         assert!(any, "{id} never leaves or enters any radar's coverage");
         if id.starts_with("F-") {
-            assert!(
-                both_on_one_radar,
-                "{id} should both leave and re-enter some radar's coverage"
-            );
+            assert!(both_on_one_radar, "{id} should both leave and re-enter some radar's coverage");
         }
     }
-    assert!(
-        leaves >= 7 && enters >= 7,
-        "{leaves} leaves, {enters} enters"
-    );
+    assert!(leaves >= 7 && enters >= 7, "{leaves} leaves, {enters} enters");
 }
 
 #[test]
@@ -431,11 +351,7 @@ fn break_up_keeps_positions_and_velocities_continuous() {
         for &ts in &[170.0, 169.95, 170.05] {
             let (a, b) = (t.state_at(i, ts - h), t.state_at(i, ts));
             let predicted = a.pos_ecef + (a.vel_ecef + b.vel_ecef) * (h / 2.0);
-            assert!(
-                (predicted - b.pos_ecef).length() < 0.05,
-                "{f} at {ts}: {}",
-                (predicted - b.pos_ecef).length()
-            );
+            assert!((predicted - b.pos_ecef).length() < 0.05, "{f} at {ts}: {}", (predicted - b.pos_ecef).length());
             assert!((a.vel_ecef - b.vel_ecef).length() < 0.5, "{f} at {ts}");
         }
     }
@@ -453,7 +369,6 @@ fn resolved_scenario_round_trips_through_json() {
     assert_eq!(rows, t.truth_rows(0, 2.0));
     // A subset scenario round trips too (pruned formation with explicit split references).
     let s1 = load_standard(1).expect("loads");
-    let back1: Scenario =
-        serde_json::from_str(&serde_json::to_string(&s1).expect("ser")).expect("de");
+    let back1: Scenario = serde_json::from_str(&serde_json::to_string(&s1).expect("ser")).expect("de");
     assert_eq!(back1, s1);
 }

@@ -106,7 +106,10 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
     match md.get(schema::META_TABLE) {
         Some(t) if t == spec.name => {}
         Some(t) => {
-            return Err(StoreError::BadTable { file: path.into(), why: format!("holds table '{t}', expected '{}'", spec.name) });
+            return Err(StoreError::BadTable {
+                file: path.into(),
+                why: format!("holds table '{t}', expected '{}'", spec.name),
+            });
         }
         None => {
             return Err(StoreError::BadTable {
@@ -121,12 +124,16 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
         v => {
             return Err(StoreError::BadTable {
                 file: path.into(),
-                why: format!("schema version {} does not match this mimo's {want}", v.map(String::as_str).unwrap_or("(none)")),
+                why: format!(
+                    "schema version {} does not match this mimo's {want}",
+                    v.map(String::as_str).unwrap_or("(none)")
+                ),
             });
         }
     }
     let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-    let table_spec = schema::table(spec.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", spec.name)))?;
+    let table_spec =
+        schema::table(spec.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", spec.name)))?;
     let mut out = Vec::new();
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;

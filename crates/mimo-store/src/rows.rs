@@ -7,8 +7,8 @@
 use crate::StoreError;
 use crate::schema::{self, ColType, TableSpec};
 use arrow::array::{
-    Array, ArrayRef, BooleanArray, FixedSizeListArray, Float64Array, Int64Array, RecordBatch, StringArray,
-    UInt8Array, UInt32Array, UInt64Array,
+    Array, ArrayRef, BooleanArray, FixedSizeListArray, Float64Array, Int64Array, RecordBatch, StringArray, UInt8Array,
+    UInt32Array, UInt64Array,
 };
 use arrow::datatypes::{Field, SchemaRef};
 use mimo_core::ids::RadarId;
@@ -145,7 +145,9 @@ impl<'a> Batch<'a> {
         self.str(name)?
             .iter()
             .enumerate()
-            .map(|(i, s)| RadarId::parse(s).ok_or_else(|| self.bad(name, format!("row {i}: '{s}' is not a radar id like R1"))))
+            .map(|(i, s)| {
+                RadarId::parse(s).ok_or_else(|| self.bad(name, format!("row {i}: '{s}' is not a radar id like R1")))
+            })
             .collect()
     }
 
@@ -159,12 +161,16 @@ impl<'a> Batch<'a> {
 
     pub fn cov21(&self, name: &str) -> Result<Vec<[f64; 21]>, StoreError> {
         let a = self.col(name);
-        let a = a.as_any().downcast_ref::<FixedSizeListArray>().ok_or_else(|| self.bad(name, "is not a fixed-size list"))?;
+        let a = a
+            .as_any()
+            .downcast_ref::<FixedSizeListArray>()
+            .ok_or_else(|| self.bad(name, "is not a fixed-size list"))?;
         if a.null_count() > 0 {
             return Err(self.bad(name, "has null values"));
         }
         let vals = a.values();
-        let vals = vals.as_any().downcast_ref::<Float64Array>().ok_or_else(|| self.bad(name, "items are not float64"))?;
+        let vals =
+            vals.as_any().downcast_ref::<Float64Array>().ok_or_else(|| self.bad(name, "items are not float64"))?;
         let mut out = Vec::with_capacity(a.len());
         for i in 0..a.len() {
             let mut c = [0.0; 21];
@@ -380,7 +386,8 @@ impl TableRow for PrimitiveRow {
     }
     fn from_batch(b: &Batch<'_>) -> Result<Vec<Self>, StoreError> {
         let (run, id, t, rx, tx) = (b.u32("run")?, b.u64("dwell_id")?, b.f64("t_s")?, b.radar("rx")?, b.radar("tx")?);
-        let (face, cell, r, u, v) = (b.u8("rx_face")?, b.i64("range_cell")?, b.f64("range_m")?, b.f64("u")?, b.f64("v")?);
+        let (face, cell, r, u, v) =
+            (b.u8("rx_face")?, b.i64("range_cell")?, b.f64("range_m")?, b.f64("u")?, b.f64("v")?);
         let (snr, eq, merged) = (b.f64("snr_db")?, b.f64("eta_q")?, b.bool("merged")?);
         let (bu, bv) = (b.f64("beam_u")?, b.f64("beam_v")?);
         let (vr, vu, vv) = (b.f64("var_range_m2")?, b.f64("var_u")?, b.f64("var_v")?);

@@ -91,10 +91,7 @@ impl Drop for RunDirWriter {
 
 /// Replace a derived directory (such as `RUN/score/`) atomically: `build` writes into a staging
 /// directory, which then replaces `target`. Returns whether an old directory was replaced.
-pub fn replace_dir<E: From<StoreError>>(
-    target: &Path,
-    build: impl FnOnce(&Path) -> Result<(), E>,
-) -> Result<bool, E> {
+pub fn replace_dir<E: From<StoreError>>(target: &Path, build: impl FnOnce(&Path) -> Result<(), E>) -> Result<bool, E> {
     let staging = staging_for(target, "partial");
     if staging.exists() {
         std::fs::remove_dir_all(&staging).map_err(io_err(&staging))?;

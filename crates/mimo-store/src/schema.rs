@@ -259,7 +259,12 @@ pub const TRACKS: TableSpec = TableSpec {
         col("vx_mps", F64, "m/s", "ECEF x velocity"),
         col("vy_mps", F64, "m/s", "ECEF y velocity"),
         col("vz_mps", F64, "m/s", "ECEF z velocity"),
-        col("cov", Cov21, "m^2, m^2/s, m^2/s^2", "upper triangle of the 6×6 ECEF position-velocity covariance, row-major"),
+        col(
+            "cov",
+            Cov21,
+            "m^2, m^2/s, m^2/s^2",
+            "upper triangle of the 6×6 ECEF position-velocity covariance, row-major",
+        ),
         col("n_updates", U32, "", "measurement updates so far"),
         opt("last_meas_id", U64, "", "last measurement used; null if none"),
     ],

@@ -1,0 +1,212 @@
+//! `mimo simulate`.
+
+use crate::CliError;
+use mimo_core::records::RunTables;
+use mimo_scenario::Scenario;
+use mimo_sim::{EngineConfig, RunStats, SearchConfig, World};
+use mimo_store::manifest::{Manifest, ScenarioInfo, TableFile, TrackerInfo};
+use mimo_store::rundir::RunDirWriter;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Default master seed: runs are reproducible unless a seed is given.
+pub const DEFAULT_SEED: u64 = 20_261_122;
+
+/// Run the closed-loop simulation of a scenario.
+///
+/// Every radar searches on its own; the test article (--tracker) receives every dwell's
+/// detections, forms tracks and orders monostatic and MIMO dwells. Each Monte Carlo run is
+/// written to its own files (truth, dwells, primitives, measurements, tracks, and voltages
+/// with --record voltages) under OUT, with OUT/manifest.json written last.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Standard scenario number 1–7, or the path of a scenario TOML file.
+    #[arg(long, value_name = "N|PATH")]
+    pub scenario: String,
+    /// Number of Monte Carlo runs.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub runs: u32,
+    /// Master random seed (every draw is keyed by seed, run, radar and dwell).
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Simulated duration of each run in seconds [default: the scenario's, 1000 s for 1–7].
+    #[arg(long, value_name = "SECONDS")]
+    pub duration: Option<f64>,
+    /// Worker threads for Monte Carlo runs [default: all cores]. Results do not depend on it.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Extra tables to record: `voltages` (complex I/Q per range cell; large).
+    #[arg(long, value_name = "TABLE")]
+    pub record: Vec<String>,
+    /// Test article: default (EKF), imm, cued (truth-cued fixed schedule, no tracking), none.
+    #[arg(long, default_value = "default", value_name = "NAME")]
+    pub tracker: String,
+    /// Pulses per background search dwell.
+    #[arg(long, default_value_t = SearchConfig::default().n_pulses, value_name = "N")]
+    pub search_pulses: u32,
+    /// Output run directory (must not exist unless --force).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Replace OUT if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Print nothing but errors.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Resolve `--scenario`: a number 1–7 or a path.
+pub fn load_scenario(arg: &str) -> Result<Scenario, CliError> {
+    match arg.trim().parse::<u32>() {
+        Ok(n) => Ok(mimo_scenario::load_standard(n)?),
+        Err(_) => Ok(mimo_scenario::load_path(arg)?),
+    }
+}
+
+pub fn run(a: Args) -> Result<(), CliError> {
+    let t_start = Instant::now();
+    // Validate everything before anything is written.
+    let mut scenario = load_scenario(&a.scenario)?;
+    if a.runs == 0 {
+        return Err(CliError::input("--runs: expected at least 1 run"));
+    }
+    if let Some(d) = a.duration {
+        if !(d.is_finite() && d > 0.0 && d <= mimo_scenario::MAX_DURATION_S) {
+            return Err(CliError::input(format!(
+                "--duration: expected seconds in (0, {}], got {d}",
+                mimo_scenario::MAX_DURATION_S
+            )));
+        }
+        scenario.duration_s = d;
+    }
+    if a.threads == Some(0) {
+        return Err(CliError::input("--threads: expected at least 1"));
+    }
+    let record_voltages = match a.record.as_slice() {
+        [] => false,
+        r if r.iter().all(|x| x == "voltages") => true,
+        r => {
+            let bad: Vec<&String> = r.iter().filter(|x| *x != "voltages").collect();
+            return Err(CliError::input(format!("--record: unknown table '{}', expected 'voltages'", bad[0])));
+        }
+    };
+    if !mimo_sim::TRACKERS.contains(&a.tracker.as_str()) {
+        return Err(CliError::input(format!(
+            "--tracker: unknown tracker '{}', expected one of {}",
+            a.tracker,
+            mimo_sim::TRACKERS.join(", ")
+        )));
+    }
+    if a.search_pulses == 0 {
+        return Err(CliError::input("--search-pulses: expected at least 1"));
+    }
+    let world = World::new(scenario)?;
+    let t_setup = t_start.elapsed().as_secs_f64();
+    let writer = RunDirWriter::create(&a.out, a.force)?;
+
+    let cfg = EngineConfig {
+        seed: a.seed,
+        duration_s: world.scenario.duration_s,
+        record_voltages,
+        search: SearchConfig { n_pulses: a.search_pulses, ..SearchConfig::default() },
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| CliError::Other(format!("thread pool: {e}")))?;
+    let runs: Vec<u32> = (0..a.runs).collect();
+    let pb = crate::progress::bar(u64::from(a.runs), "simulate", a.quiet);
+    let files: Mutex<BTreeMap<String, Vec<TableFile>>> = Mutex::new(BTreeMap::new());
+    let totals: Mutex<RunStats> = Mutex::new(RunStats::default());
+    let tracker_name = a.tracker.clone();
+    let probe = mimo_sim::builtin_ta(&tracker_name, &world)
+        .ok_or_else(|| CliError::input(format!("--tracker: unknown tracker '{tracker_name}'")))?;
+    let tracker_info = TrackerInfo { name: probe.name().to_string(), config: probe.config() };
+    drop(probe);
+    let t_sim = Instant::now();
+    let world_ref = &world;
+    let make_ta = |_run: u32| -> Box<dyn mimo_sim::TestArticle + '_> {
+        // The name was checked above.
+        mimo_sim::builtin_ta(&tracker_name, world_ref).unwrap_or_else(|| Box::new(mimo_sim::default_ta::Passive))
+    };
+    let sink = |run: u32, t: RunTables, s: RunStats| -> Result<(), CliError> {
+        let mut written = vec![
+            ("truth", writer.write_run_table("truth", run, &t.truth)?),
+            ("dwells", writer.write_run_table("dwells", run, &t.dwells)?),
+            ("primitives", writer.write_run_table("primitives", run, &t.primitives)?),
+            ("measurements", writer.write_run_table("measurements", run, &t.measurements)?),
+            ("tracks", writer.write_run_table("tracks", run, &t.tracks)?),
+        ];
+        if record_voltages {
+            written.push(("voltages", writer.write_run_table("voltages", run, &t.voltages)?));
+        }
+        let mut f = files.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
+        for (name, tf) in written {
+            f.entry(name.to_string()).or_default().push(tf);
+        }
+        let mut tot = totals.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
+        add_stats(&mut tot, &s);
+        pb.inc(1);
+        Ok(())
+    };
+    pool.install(|| mimo_sim::run_monte_carlo(&world, &cfg, &runs, &make_ta, &sink))?;
+    pb.finish_and_clear();
+    let sim_s = t_sim.elapsed().as_secs_f64();
+
+    let mut tables = files.into_inner().map_err(|_| CliError::Other("lock poisoned".into()))?;
+    for v in tables.values_mut() {
+        v.sort_by(|x, y| x.file.cmp(&y.file));
+    }
+    let stats = totals.into_inner().map_err(|_| CliError::Other("lock poisoned".into()))?;
+    let mut timing = BTreeMap::new();
+    timing.insert("setup".to_string(), t_setup);
+    timing.insert("simulate_and_write".to_string(), sim_s);
+    timing.insert("total".to_string(), t_start.elapsed().as_secs_f64());
+    let resolved = serde_json::to_value(&world.scenario).map_err(|e| CliError::Other(e.to_string()))?;
+    let mut fidelity = serde_json::to_value(&world.scenario.fidelity).map_err(|e| CliError::Other(e.to_string()))?;
+    if let Some(obj) = fidelity.as_object_mut() {
+        obj.insert("search".into(), serde_json::to_value(&cfg.search).unwrap_or_default());
+    }
+    let manifest = Manifest {
+        mimo_version: env!("CARGO_PKG_VERSION").to_string(),
+        schema_version: mimo_store::schema::SCHEMA_VERSION,
+        scenario: ScenarioInfo { name: world.scenario.name.clone(), resolved },
+        seed: a.seed,
+        runs: a.runs,
+        duration_s: world.scenario.duration_s,
+        fidelity,
+        tracker: Some(tracker_info),
+        schedule: mimo_sim::schedule_description(&a.tracker),
+        parent: None,
+        tables,
+        timing_s: timing,
+    };
+    let out = writer.finish(&manifest)?;
+    if !a.quiet {
+        println!(
+            "simulated {} × {} s of {} in {:.1} s: {} dwells ({} search, {} TA), {} measurements -> {}",
+            a.runs,
+            world.scenario.duration_s,
+            world.scenario.name,
+            sim_s,
+            stats.dwells,
+            stats.search_dwells,
+            stats.ta_dwells,
+            stats.measurements,
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+fn add_stats(t: &mut RunStats, s: &RunStats) {
+    t.dwells += s.dwells;
+    t.search_dwells += s.search_dwells;
+    t.ta_dwells += s.ta_dwells;
+    t.rejected_requests += s.rejected_requests;
+    t.primitives += s.primitives;
+    t.measurements += s.measurements;
+    t.stop_local_tracking_orders += s.stop_local_tracking_orders;
+}

@@ -1,0 +1,48 @@
+//! CLI errors: input errors exit with status 2, everything else with 1.
+
+use std::fmt;
+
+/// An error of a command.
+#[derive(Debug)]
+pub enum CliError {
+    /// Bad input or usage: a file, a field or a flag value (exit status 2).
+    Input(String),
+    /// Anything else (exit status 1).
+    Other(String),
+}
+
+impl CliError {
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Other(_) => 1,
+        }
+    }
+    pub fn input(msg: impl Into<String>) -> CliError {
+        CliError::Input(msg.into())
+    }
+}
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = match self {
+            CliError::Input(s) | CliError::Other(s) => s,
+        };
+        // One line, always.
+        write!(f, "{}", s.replace('\n', " "))
+    }
+}
+
+impl std::error::Error for CliError {}
+
+impl From<mimo_store::StoreError> for CliError {
+    fn from(e: mimo_store::StoreError) -> CliError {
+        if e.is_input_error() { CliError::Input(e.to_string()) } else { CliError::Other(e.to_string()) }
+    }
+}
+
+impl From<mimo_scenario::ScenarioError> for CliError {
+    fn from(e: mimo_scenario::ScenarioError) -> CliError {
+        CliError::Input(e.to_string())
+    }
+}

@@ -1,0 +1,68 @@
+//! Errors of the metrics engine. Each names the file, the column and what was expected, so the
+//! CLI can print it on one `error:` line.
+
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Everything that can go wrong while scoring.
+#[derive(Debug, Error)]
+pub enum MetricsError {
+    /// A table has no Parquet file at all (directory missing or empty, or a listed file absent).
+    #[error("missing {table} table: {}: {detail}", path.display())]
+    MissingTable { table: &'static str, path: PathBuf, detail: String },
+
+    /// A file could not be opened or is not readable Parquet.
+    #[error("{}: cannot read the {table} table as Parquet: {detail}", path.display())]
+    Read { table: &'static str, path: PathBuf, detail: String },
+
+    /// A required column is absent.
+    #[error("{}: {table} table has no column `{column}` (expected {expected})", path.display())]
+    MissingColumn { table: &'static str, path: PathBuf, column: &'static str, expected: &'static str },
+
+    /// A column has a type that cannot hold what the column means.
+    #[error("{}: {table} column `{column}` has type {found}, expected {expected}", path.display())]
+    ColumnType { table: &'static str, path: PathBuf, column: &'static str, expected: &'static str, found: String },
+
+    /// A required value is null.
+    #[error("{}: {table} column `{column}` is null at row {row}", path.display())]
+    Null { table: &'static str, path: PathBuf, column: &'static str, row: usize },
+
+    /// A float is NaN or infinite where a finite number is required (positions, velocities, times).
+    #[error("{}: {table} column `{column}` is {value} at row {row} (expected a finite number)", path.display())]
+    NonFinite { table: &'static str, path: PathBuf, column: &'static str, row: usize, value: f64 },
+
+    /// A value is out of its domain (unknown status, negative energy, run absent from truth, …).
+    #[error("{}: {table} column `{column}` has the invalid value `{value}` at row {row} (expected {expected})", path.display())]
+    InvalidValue {
+        table: &'static str,
+        path: PathBuf,
+        column: &'static str,
+        row: usize,
+        value: String,
+        expected: String,
+    },
+
+    /// A scoring option is out of range.
+    #[error("invalid scoring option {option} = {value}: {expected}")]
+    InvalidOption { option: &'static str, value: String, expected: &'static str },
+
+    /// Writing an output failed.
+    #[error("cannot write {}: {detail}", path.display())]
+    Write { path: PathBuf, detail: String },
+
+    /// An internal table operation failed (a bug, not bad input).
+    #[error("internal table operation failed ({context}): {detail}")]
+    Internal { context: &'static str, detail: String },
+}
+
+impl MetricsError {
+    /// Is this error caused by the input (exit status 2) rather than by the machine (exit status 1)?
+    pub fn is_bad_input(&self) -> bool {
+        !matches!(self, MetricsError::Write { .. } | MetricsError::Internal { .. })
+    }
+}
+
+/// Wrap a polars error from an internal (not input-caused) operation.
+pub(crate) fn internal(context: &'static str) -> impl FnOnce(polars::error::PolarsError) -> MetricsError {
+    move |e| MetricsError::Internal { context, detail: e.to_string() }
+}

@@ -1,0 +1,355 @@
+//! Truth–track assignment and the track metrics at each scoring time (one Monte Carlo run).
+//!
+//! Linear in the number of scoring times: truth states are found with a forward cursor per
+//! target, and each track's live states are laid out over its own scoring times once
+//! (Σ over tracks of rows + live scoring times), so nothing is rescanned per time.
+
+use crate::ospa::ospa_gospa;
+use crate::{AssignmentRow, TrackMetricsRow};
+use glam::DVec3;
+use mimo_core::assign::assign_with_miss;
+
+/// Time tolerance (s) when comparing a scoring time with sample times.
+const T_EPS: f64 = 1e-9;
+
+/// One truth sample.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TruthSample {
+    pub t: f64,
+    pub p: DVec3,
+    pub v: DVec3,
+    pub alt: f64,
+}
+
+/// One target's truth in one run, samples sorted by time.
+#[derive(Debug, Clone)]
+pub(crate) struct TargetTruth {
+    /// Index into the scenario-wide target name list.
+    pub target: usize,
+    pub samples: Vec<TruthSample>,
+}
+
+/// One track state row.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TrackState {
+    pub t: f64,
+    pub p: DVec3,
+    pub v: DVec3,
+}
+
+/// One track of one run: its rows before its `deleted` row (sorted), when it was first
+/// confirmed, and when it was deleted (∞ if never).
+#[derive(Debug, Clone)]
+pub(crate) struct TrackLife {
+    pub id: u64,
+    pub t_confirm: f64,
+    pub t_delete: f64,
+    pub states: Vec<TrackState>,
+}
+
+/// Everything the per-run loop needs.
+pub(crate) struct RunInput<'a> {
+    pub run: u32,
+    pub n_times: usize,
+    pub interval_s: f64,
+    pub gate_m: f64,
+    pub ospa_c_m: f64,
+    pub ospa_p: f64,
+    pub targets: &'a [TargetTruth],
+    pub target_names: &'a [String],
+    pub tracks: &'a [TrackLife],
+    pub scorable: &'a (dyn Fn(f64, DVec3, f64) -> bool + Sync),
+}
+
+/// Per-target tallies of one run (indexed by scenario-wide target index).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct TargetTally {
+    pub scorable: u64,
+    pub assigned: u64,
+    pub breaks: u64,
+    pub switches: u64,
+}
+
+/// The result of one run.
+pub(crate) struct RunOutput {
+    pub rows: Vec<TrackMetricsRow>,
+    pub assignments: Vec<AssignmentRow>,
+    pub tally: Vec<TargetTally>,
+}
+
+/// Scoring time `k` (1-based): `k · interval_s`.
+pub(crate) fn scoring_time(k: usize, interval_s: f64) -> f64 {
+    k as f64 * interval_s
+}
+
+/// Number of scoring times `1..=K` such that `K · interval_s <= t_end` (with a tolerance).
+pub(crate) fn n_scoring_times(t_end: f64, interval_s: f64) -> usize {
+    if !(t_end >= interval_s - T_EPS) {
+        return 0;
+    }
+    let mut k = (t_end / interval_s).floor() as usize;
+    while scoring_time(k + 1, interval_s) <= t_end + T_EPS {
+        k += 1;
+    }
+    while k > 0 && scoring_time(k, interval_s) > t_end + T_EPS {
+        k -= 1;
+    }
+    k
+}
+
+/// Truth state at `t` by cubic Hermite interpolation of position (with the sampled velocities)
+/// and linear interpolation of velocity and altitude. `None` outside the sampled span.
+fn truth_at(samples: &[TruthSample], cursor: &mut usize, t: f64) -> Option<(DVec3, DVec3, f64)> {
+    let first = samples.first()?;
+    let last = samples.last()?;
+    if t < first.t - T_EPS || t > last.t + T_EPS {
+        return None;
+    }
+    while *cursor + 1 < samples.len() && samples[*cursor + 1].t <= t {
+        *cursor += 1;
+    }
+    let a = samples[*cursor];
+    if *cursor + 1 >= samples.len() || (t - a.t).abs() <= T_EPS {
+        return Some((a.p, a.v, a.alt));
+    }
+    let b = samples[*cursor + 1];
+    let h = b.t - a.t;
+    if h <= 0.0 {
+        return Some((a.p, a.v, a.alt));
+    }
+    let s = ((t - a.t) / h).clamp(0.0, 1.0);
+    let (s2, s3) = (s * s, s * s * s);
+    let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+    let h10 = s3 - 2.0 * s2 + s;
+    let h01 = -2.0 * s3 + 3.0 * s2;
+    let h11 = s3 - s2;
+    let p = a.p * h00 + a.v * (h10 * h) + b.p * h01 + b.v * (h11 * h);
+    let v = a.v + (b.v - a.v) * s;
+    let alt = a.alt + (b.alt - a.alt) * s;
+    Some((p, v, alt))
+}
+
+#[derive(Debug, Clone, Copy)]
+struct LiveTrack {
+    id: u64,
+    p: DVec3,
+    v: DVec3,
+}
+
+/// Lay every track's extrapolated state out over the scoring times at which it is live.
+fn live_tracks(tracks: &[TrackLife], n_times: usize, interval_s: f64) -> Vec<Vec<LiveTrack>> {
+    let mut live: Vec<Vec<LiveTrack>> = vec![Vec::new(); n_times + 1];
+    for tr in tracks {
+        if tr.states.is_empty() || !tr.t_confirm.is_finite() {
+            continue;
+        }
+        // First scoring time at or after confirmation.
+        let mut k = ((tr.t_confirm / interval_s).ceil().max(1.0)) as usize;
+        while k > 1 && scoring_time(k - 1, interval_s) >= tr.t_confirm {
+            k -= 1;
+        }
+        while scoring_time(k, interval_s) < tr.t_confirm {
+            k += 1;
+        }
+        let mut r = 0;
+        while k <= n_times {
+            let t = scoring_time(k, interval_s);
+            if t >= tr.t_delete {
+                break;
+            }
+            while r + 1 < tr.states.len() && tr.states[r + 1].t <= t {
+                r += 1;
+            }
+            let s = tr.states[r];
+            live[k].push(LiveTrack { id: tr.id, p: s.p + s.v * (t - s.t), v: s.v });
+            k += 1;
+        }
+    }
+    live
+}
+
+fn ratio(num: u32, den: u32) -> Option<f64> {
+    (den > 0).then(|| f64::from(num) / f64::from(den))
+}
+
+/// Score one run.
+pub(crate) fn score_run(input: &RunInput<'_>) -> RunOutput {
+    let n_targets_total = input.target_names.len();
+    let live = live_tracks(input.tracks, input.n_times, input.interval_s);
+    let mut cursors = vec![0usize; input.targets.len()];
+    // Per local target: assigned at the previous scoring time, and the last track assigned.
+    let mut prev_assigned = vec![false; input.targets.len()];
+    let mut last_track: Vec<Option<u64>> = vec![None; input.targets.len()];
+    let mut tally = vec![TargetTally::default(); n_targets_total];
+    let mut rows = Vec::with_capacity(input.n_times);
+    let mut assignments = Vec::new();
+    let (mut cum_breaks, mut cum_switches) = (0u32, 0u32);
+    let gate = input.gate_m;
+
+    // Scratch buffers reused across scoring times.
+    let mut present: Vec<(usize, DVec3, DVec3, bool)> = Vec::new();
+    let mut dist: Vec<f64> = Vec::new();
+    let mut cost: Vec<f64> = Vec::new();
+    let mut scorable_idx: Vec<usize> = Vec::new();
+    let mut truth_pos: Vec<DVec3> = Vec::new();
+    let mut track_pos: Vec<DVec3> = Vec::new();
+
+    for k in 1..=input.n_times {
+        let t = scoring_time(k, input.interval_s);
+        present.clear();
+        for (li, tt) in input.targets.iter().enumerate() {
+            if let Some((p, v, alt)) = truth_at(&tt.samples, &mut cursors[li], t) {
+                let ok = (input.scorable)(t, p, alt);
+                present.push((li, p, v, ok));
+            }
+        }
+        let tracks = &live[k];
+        let (np, m) = (present.len(), tracks.len());
+        dist.clear();
+        dist.reserve(np * m);
+        for &(_, p, _, _) in &present {
+            dist.extend(tracks.iter().map(|tr| p.distance(tr.p)));
+        }
+        scorable_idx.clear();
+        scorable_idx.extend((0..np).filter(|&i| present[i].3));
+        let n = scorable_idx.len();
+
+        // Gated optimal assignment: maximum cardinality first, then minimum total distance.
+        cost.clear();
+        for &i in &scorable_idx {
+            cost.extend(dist[i * m..(i + 1) * m].iter().map(|&d| if d <= gate { d } else { f64::INFINITY }));
+        }
+        let miss = gate * ((n.min(m) + 1) as f64);
+        let sol = assign_with_miss(&cost, n, m, &vec![miss; n]);
+
+        let mut track_assigned = vec![false; m];
+        let (mut n_assigned, mut breaks, mut switches) = (0u32, 0u32, 0u32);
+        let (mut pos_sq, mut vel_sq) = (0.0, 0.0);
+        let mut is_scorable_now = vec![false; input.targets.len()];
+        for (row, &i) in scorable_idx.iter().enumerate() {
+            let (li, _, v, _) = present[i];
+            is_scorable_now[li] = true;
+            let target = input.targets[li].target;
+            tally[target].scorable += 1;
+            match sol[row] {
+                Some(j) => {
+                    track_assigned[j] = true;
+                    n_assigned += 1;
+                    tally[target].assigned += 1;
+                    let tr = tracks[j];
+                    let pe = dist[i * m + j];
+                    let ve = v.distance(tr.v);
+                    pos_sq += pe * pe;
+                    vel_sq += ve * ve;
+                    if last_track[li].is_some_and(|id| id != tr.id) {
+                        switches += 1;
+                        tally[target].switches += 1;
+                    }
+                    last_track[li] = Some(tr.id);
+                    prev_assigned[li] = true;
+                    assignments.push(AssignmentRow {
+                        run: input.run,
+                        t_s: t,
+                        target: input.target_names[target].clone(),
+                        track_id: Some(tr.id),
+                        position_error_m: Some(pe),
+                        velocity_error_mps: Some(ve),
+                    });
+                }
+                None => {
+                    if prev_assigned[li] {
+                        breaks += 1;
+                        tally[target].breaks += 1;
+                    }
+                    prev_assigned[li] = false;
+                    assignments.push(AssignmentRow {
+                        run: input.run,
+                        t_s: t,
+                        target: input.target_names[target].clone(),
+                        track_id: None,
+                        position_error_m: None,
+                        velocity_error_mps: None,
+                    });
+                }
+            }
+        }
+        // A truth that is absent or not scorable now was not assigned at this time.
+        for (li, s) in is_scorable_now.iter().enumerate() {
+            if !s {
+                prev_assigned[li] = false;
+            }
+        }
+        // Redundant: unassigned tracks inside the gate of some scorable truth.
+        // Spurious: tracks inside the gate of no truth at all (scorable or not).
+        let (mut n_redundant, mut n_spurious) = (0u32, 0u32);
+        for j in 0..m {
+            let near_scorable = scorable_idx.iter().any(|&i| dist[i * m + j] <= gate);
+            if !track_assigned[j] && near_scorable {
+                n_redundant += 1;
+            }
+            if !(0..np).any(|i| dist[i * m + j] <= gate) {
+                n_spurious += 1;
+            }
+        }
+        cum_breaks += breaks;
+        cum_switches += switches;
+
+        truth_pos.clear();
+        truth_pos.extend(scorable_idx.iter().map(|&i| present[i].1));
+        track_pos.clear();
+        track_pos.extend(tracks.iter().map(|tr| tr.p));
+        let og = (n > 0 || m > 0).then(|| ospa_gospa(&truth_pos, &track_pos, input.ospa_c_m, input.ospa_p));
+
+        let n = n as u32;
+        let m = m as u32;
+        rows.push(TrackMetricsRow {
+            run: input.run,
+            k: k as u32,
+            t_s: t,
+            n_truths: np as u32,
+            n_scorable: n,
+            n_tracks: m,
+            n_assigned,
+            n_redundant,
+            n_spurious,
+            completeness: ratio(n_assigned, n),
+            redundant_ratio: ratio(n_redundant, n),
+            spurious_ratio: ratio(n_spurious, m),
+            breaks,
+            switches,
+            cum_breaks,
+            cum_switches,
+            position_sq_sum_m2: pos_sq,
+            velocity_sq_sum_m2ps2: vel_sq,
+            position_rmse_m: (n_assigned > 0).then(|| (pos_sq / f64::from(n_assigned)).sqrt()),
+            velocity_rmse_mps: (n_assigned > 0).then(|| (vel_sq / f64::from(n_assigned)).sqrt()),
+            ospa_m: og.map(|o| o.ospa_m),
+            gospa_m: og.map(|o| o.gospa_m),
+        });
+    }
+    RunOutput { rows, assignments, tally }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scoring_time_count() {
+        assert_eq!(n_scoring_times(1000.0, 1.0), 1000);
+        assert_eq!(n_scoring_times(999.9, 1.0), 999);
+        assert_eq!(n_scoring_times(0.5, 1.0), 0);
+        assert_eq!(n_scoring_times(0.3, 0.1), 3);
+        assert_eq!(n_scoring_times(f64::NAN, 1.0), 0);
+    }
+
+    #[test]
+    fn hermite_is_exact_for_constant_acceleration_endpoints() {
+        let a = TruthSample { t: 0.0, p: DVec3::ZERO, v: DVec3::X * 100.0, alt: 0.0 };
+        let b = TruthSample { t: 1.0, p: DVec3::X * 100.0, v: DVec3::X * 100.0, alt: 10.0 };
+        let mut c = 0;
+        let (p, v, alt) = truth_at(&[a, b], &mut c, 0.25).expect("inside");
+        assert!((p.x - 25.0).abs() < 1e-12 && (v.x - 100.0).abs() < 1e-12 && (alt - 2.5).abs() < 1e-12);
+        assert!(truth_at(&[a, b], &mut c, 1.5).is_none());
+    }
+}
