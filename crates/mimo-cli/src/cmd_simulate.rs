@@ -43,8 +43,8 @@ pub struct Args {
     /// Test article: default (EKF), imm, cued (truth-cued fixed schedule, no tracking), none.
     #[arg(long, default_value = "default", value_name = "NAME")]
     pub tracker: String,
-    /// Pulses per background search dwell.
-    #[arg(long, default_value_t = SearchConfig::default().n_pulses, value_name = "N")]
+    /// Pulses per background search dwell in the low (0–2.5°) search band.
+    #[arg(long, default_value_t = 2, value_name = "N")]
     pub search_pulses: u32,
     /// Output run directory (must not exist unless --force).
     #[arg(long, value_name = "DIR")]
@@ -110,7 +110,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         seed: a.seed,
         duration_s: world.scenario.duration_s,
         record_voltages,
-        search: SearchConfig { n_pulses: a.search_pulses, ..SearchConfig::default() },
+        search: SearchConfig::default().scaled_pulses(a.search_pulses),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))

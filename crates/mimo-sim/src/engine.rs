@@ -36,6 +36,13 @@ use mimo_radar::geometry::beam_point;
 use std::cmp::Reverse;
 use std::collections::{BTreeMap, BinaryHeap};
 
+/// Measurement ids of a dwell group start at `group_id << 12`, so they depend only on the group
+/// (offline re-forming of measurements from primitives reproduces them without replaying the
+/// engine's order). A dwell yields far fewer than 4096 measurements.
+pub fn first_meas_id(group_id: u64) -> u64 {
+    group_id << 12
+}
+
 /// Engine settings for one run.
 #[derive(Debug, Clone)]
 pub struct EngineConfig {
@@ -98,7 +105,6 @@ struct RadarState {
     reservations: Vec<(SimTime, SimTime, u64)>,
     raster: Vec<SearchBeam>,
     cursor: usize,
-    search_duration_s: f64,
 }
 
 /// One run of the engine.
@@ -110,12 +116,14 @@ pub struct Engine<'w, 'ta> {
     now: SimTime,
     end: SimTime,
     seq: u64,
-    heap: BinaryHeap<Reverse<(SimTime, u64, Ev)>>,
+    /// Events keyed by (time, class, key): at equal times dwell ends come first, in group-id
+    /// order (a canonical order that offline replay reproduces), then everything else in the
+    /// order it was scheduled.
+    heap: BinaryHeap<Reverse<(SimTime, u8, u64, Ev)>>,
     radars: Vec<RadarState>,
     groups: BTreeMap<u64, Group>,
     reports: BTreeMap<u64, DwellReport>,
     next_dwell_id: u64,
-    next_meas_id: u64,
     tables: RunTables,
     stats: RunStats,
 }
@@ -132,7 +140,6 @@ impl<'w, 'ta> Engine<'w, 'ta> {
                 reservations: Vec::new(),
                 raster: raster(&s.radar, s.heading_deg, &cfg.search),
                 cursor: 0,
-                search_duration_s: dwell_duration_s(&s.radar, cfg.search.n_pulses.clamp(1, s.radar.max_pulses)),
             })
             .collect();
         let end = SimTime::from_secs(cfg.duration_s);
@@ -149,7 +156,6 @@ impl<'w, 'ta> Engine<'w, 'ta> {
             groups: BTreeMap::new(),
             reports: BTreeMap::new(),
             next_dwell_id: 0,
-            next_meas_id: 0,
             tables: RunTables::default(),
             stats: RunStats::default(),
         }
@@ -157,7 +163,11 @@ impl<'w, 'ta> Engine<'w, 'ta> {
 
     fn push(&mut self, t: SimTime, ev: Ev) {
         self.seq += 1;
-        self.heap.push(Reverse((t, self.seq, ev)));
+        let (class, key) = match ev {
+            Ev::End(gid) => (0, gid),
+            _ => (1, self.seq),
+        };
+        self.heap.push(Reverse((t, class, key, ev)));
     }
 
     fn ctx(&self) -> TaContext<'w> {
@@ -174,7 +184,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         }
         let reqs = self.ta.start(&self.ctx());
         self.handle_requests(reqs);
-        while let Some(Reverse((t, _, ev))) = self.heap.pop() {
+        while let Some(Reverse((t, _, _, ev))) = self.heap.pop() {
             if t > self.end {
                 break;
             }
@@ -217,7 +227,10 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         if st.busy_until > now || st.raster.is_empty() {
             return;
         }
-        let search_end = now.plus_secs(st.search_duration_s);
+        let beam = st.raster[st.cursor];
+        let radar = RadarId(r as u8);
+        let duration_s = dwell_duration_s(self.world.params(radar), beam.n_pulses);
+        let search_end = now.plus_secs(duration_s);
         if search_end > self.end {
             return;
         }
@@ -225,10 +238,8 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         if next_res.is_some_and(|s| s < search_end) {
             return; // wait for the reservation; its Start event takes over
         }
-        let beam = st.raster[st.cursor];
         let n = st.raster.len();
         self.radars[r].cursor = (self.radars[r].cursor + 1) % n;
-        let radar = RadarId(r as u8);
         let faces = self.world.faces_at(radar, now.as_secs());
         let f = faces[beam.face as usize];
         let dir = f.face_from_ecef.transpose()
@@ -244,10 +255,10 @@ impl<'w, 'ta> Engine<'w, 'ta> {
                 face: beam.face,
                 beam_u: beam.u,
                 beam_v: beam.v,
-                n_pulses: self.cfg.search.n_pulses.clamp(1, params.max_pulses),
+                n_pulses: beam.n_pulses,
                 waveform: 0,
             }],
-            duration_s: self.radars[r].search_duration_s,
+            duration_s,
             window_half_m: None,
             predicted_snr: None,
             tag: Vec::new(),
@@ -476,8 +487,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
             simulate_all_cells: false,
         };
         let out = mimo_radar::evaluate(&dwell, &targets);
-        let meas = mimo_radar::measurements_from_primitives(&out.primitives, self.next_meas_id);
-        self.next_meas_id += meas.len() as u64;
+        let meas = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
 
         // Dwell rows.
         for (i, p) in g.parts.iter().enumerate() {

@@ -1,9 +1,9 @@
 //! Background search: each radar's own raster of beams, which fills every idle moment of its
 //! timeline (DESIGN.md §5).
 //!
-//! The raster is a horizon fence: beams on a u–v lattice (spacing `spacing_beamwidths`·θ) of
-//! each face, kept where the beam is inside the scan limit, its elevation lies in
-//! `[el_min_deg, el_max_deg]` (local ENU at the ship) and its azimuth lies in the face's own
+//! The raster is a horizon fence of elevation bands: beams on a u–v lattice (spacing
+//! `spacing_beamwidths`·θ) of each face, kept where the beam is inside the scan limit, its
+//! elevation lies in the band (local ENU at the ship) and its azimuth lies in the face's own
 //! sector (half-width `min(180°/n_faces, 0.95 θ_max)` about the face boresight), so that faces
 //! share the horizon without searching it twice. Beams are visited face by face, row by row.
 
@@ -11,23 +11,52 @@ use mimo_core::face::face_from_enu;
 use mimo_core::params::RadarParams;
 use serde::{Deserialize, Serialize};
 
-/// Background-search settings (one set for all radars; recorded in the manifest).
+/// One elevation band of the search raster.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SearchConfig {
-    /// Pulses per search dwell.
-    pub n_pulses: u32,
+#[serde(deny_unknown_fields)]
+pub struct SearchBand {
     /// Lowest beam elevation (deg).
     pub el_min_deg: f64,
     /// Highest beam elevation (deg).
     pub el_max_deg: f64,
+    /// Pulses per search dwell in this band.
+    pub n_pulses: u32,
+    /// The band is swept once every this many frames of the first band (1 = every frame).
+    pub every_frames: u32,
+}
+
+/// Background-search settings (one set for all radars; recorded in the manifest).
+///
+/// The default is a two-band horizon fence: a low band (0–2.5°, where every long-range target
+/// appears first) searched every frame with 2 pulses, and an upper band (2.5–12°, for targets
+/// lost at short range) with 1 pulse, one third of it per frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SearchConfig {
+    pub bands: Vec<SearchBand>,
     /// Beam spacing on the u–v lattice in beamwidths.
     pub spacing_beamwidths: f64,
 }
 
 impl Default for SearchConfig {
     fn default() -> Self {
-        SearchConfig { n_pulses: 1, el_min_deg: 0.0, el_max_deg: 6.0, spacing_beamwidths: 0.9 }
+        SearchConfig {
+            bands: vec![
+                SearchBand { el_min_deg: 0.0, el_max_deg: 2.5, n_pulses: 2, every_frames: 1 },
+                SearchBand { el_min_deg: 2.5, el_max_deg: 12.0, n_pulses: 1, every_frames: 3 },
+            ],
+            spacing_beamwidths: 0.9,
+        }
+    }
+}
+
+impl SearchConfig {
+    /// The default bands with the first (low) band using `n_low` pulses (for `--search-pulses`).
+    pub fn scaled_pulses(mut self, n_low: u32) -> SearchConfig {
+        if let Some(b) = self.bands.first_mut() {
+            b.n_pulses = n_low;
+        }
+        self
     }
 }
 
@@ -37,13 +66,14 @@ pub struct SearchBeam {
     pub face: u8,
     pub u: f64,
     pub v: f64,
+    pub n_pulses: u32,
 }
 
-/// Build a radar's search raster (ship heading `heading_deg`; faces from `params`).
-pub fn raster(params: &RadarParams, heading_deg: f64, cfg: &SearchConfig) -> Vec<SearchBeam> {
+/// Beams of one band (ship heading `heading_deg`; faces from `params`), face by face, row by row.
+fn band_beams(params: &RadarParams, heading_deg: f64, band: &SearchBand, spacing: f64) -> Vec<SearchBeam> {
     let n_faces = params.face_azimuths_deg.len().max(1);
     let half_sector = (180.0 / n_faces as f64).min(0.95 * params.max_scan_deg);
-    let (du, dv) = (cfg.spacing_beamwidths * params.beamwidth_u(), cfg.spacing_beamwidths * params.beamwidth_v());
+    let (du, dv) = (spacing * params.beamwidth_u(), spacing * params.beamwidth_v());
     let min_w = params.min_scan_w();
     let mut beams = Vec::new();
     for (fi, &az_f) in params.face_azimuths_deg.iter().enumerate() {
@@ -63,7 +93,7 @@ pub fn raster(params: &RadarParams, heading_deg: f64, cfg: &SearchConfig) -> Vec
                 }
                 let d = enu_from_face * mimo_core::DVec3::new(u, v, w2.sqrt());
                 let el = d.z.clamp(-1.0, 1.0).asin().to_degrees();
-                if el < cfg.el_min_deg || el > cfg.el_max_deg {
+                if el < band.el_min_deg || el >= band.el_max_deg {
                     continue;
                 }
                 let az = d.x.atan2(d.y).to_degrees();
@@ -71,11 +101,37 @@ pub fn raster(params: &RadarParams, heading_deg: f64, cfg: &SearchConfig) -> Vec
                 if rel.abs() > half_sector {
                     continue;
                 }
-                beams.push(SearchBeam { face: fi as u8, u, v });
+                beams.push(SearchBeam { face: fi as u8, u, v, n_pulses: band.n_pulses.clamp(1, params.max_pulses) });
             }
         }
     }
     beams
+}
+
+/// A radar's search sequence, visited cyclically: each frame sweeps every band whose
+/// `every_frames` is 1 and the next share of each slower band.
+pub fn raster(params: &RadarParams, heading_deg: f64, cfg: &SearchConfig) -> Vec<SearchBeam> {
+    let bands: Vec<(Vec<SearchBeam>, u32)> = cfg
+        .bands
+        .iter()
+        .map(|b| (band_beams(params, heading_deg, b, cfg.spacing_beamwidths), b.every_frames.max(1)))
+        .collect();
+    let cycle = bands.iter().map(|(_, k)| *k).fold(1u32, lcm);
+    let mut out = Vec::new();
+    for frame in 0..cycle {
+        for (beams, k) in &bands {
+            let share = frame % k;
+            out.extend(beams.iter().enumerate().filter(|(i, _)| (*i as u32) % k == share).map(|(_, b)| *b));
+        }
+    }
+    out
+}
+
+fn lcm(a: u32, b: u32) -> u32 {
+    fn gcd(a: u32, b: u32) -> u32 {
+        if b == 0 { a } else { gcd(b, a % b) }
+    }
+    a / gcd(a, b) * b
 }
 
 #[cfg(test)]
@@ -87,6 +143,11 @@ mod tests {
         let p = RadarParams::default();
         let cfg = SearchConfig::default();
         let beams = raster(&p, 30.0, &cfg);
+        // Low band every frame, upper band a third per frame: a cycle of three frames holds the
+        // low band three times and the upper band once.
+        let low = band_beams(&p, 30.0, &cfg.bands[0], cfg.spacing_beamwidths);
+        let high = band_beams(&p, 30.0, &cfg.bands[1], cfg.spacing_beamwidths);
+        assert_eq!(beams.len(), 3 * low.len() + high.len());
         assert!(!beams.is_empty());
         // Every azimuth at 2° elevation is within half a lattice diagonal of some beam of the face
         // that owns it, measured in that face's u–v.
@@ -96,7 +157,7 @@ mod tests {
             let d_enu =
                 mimo_core::DVec3::new(az.to_radians().sin() * el.cos(), az.to_radians().cos() * el.cos(), el.sin());
             let mut best = f64::INFINITY;
-            for b in &beams {
+            for b in &low {
                 let m = face_from_enu(
                     (30.0 + p.face_azimuths_deg[b.face as usize]).to_radians(),
                     p.face_tilt_deg.to_radians(),
@@ -110,7 +171,7 @@ mod tests {
             assert!(best < spacing, "azimuth {az}: nearest beam {best} (spacing {spacing})");
         }
         // Four faces of similar size.
-        let counts: Vec<usize> = (0..4).map(|f| beams.iter().filter(|b| b.face == f).count()).collect();
+        let counts: Vec<usize> = (0..4).map(|f| low.iter().filter(|b| b.face == f).count()).collect();
         assert!(counts.iter().all(|&c| c == counts[0]), "{counts:?}");
     }
 }
