@@ -7,6 +7,7 @@
 
 mod cmd_scenarios;
 mod cmd_simulate;
+mod cmd_track;
 mod error;
 mod progress;
 
@@ -32,6 +33,8 @@ pub enum Command {
     Scenarios(cmd_scenarios::Args),
     /// Run the closed-loop simulation of a scenario and record every table in a run directory.
     Simulate(cmd_simulate::Args),
+    /// Re-run a tracker offline over a recorded run (open loop) into a new run directory.
+    Track(cmd_track::Args),
 }
 
 /// Parse arguments and run; returns the process exit status.
@@ -62,5 +65,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Scenarios(a) => cmd_scenarios::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),
+        Command::Track(a) => cmd_track::run(a),
     }
 }

@@ -16,6 +16,7 @@
 pub mod cued;
 pub mod default_ta;
 pub mod engine;
+pub mod replay;
 pub mod search;
 pub mod ta;
 pub mod world;
