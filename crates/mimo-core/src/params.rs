@@ -200,8 +200,6 @@ pub struct Fidelity {
     pub refraction: bool,
     /// Model orthogonal-waveform leakage with this isolation (dB); `None` is ideal.
     pub waveform_isolation_db: Option<f64>,
-    /// Polarization scattering matrix model (PHYSICS.md §3.2). Default off.
-    pub polarization: bool,
     /// Cells simulated explicitly on each side of a target return (PHYSICS.md §4.4).
     pub explicit_cells_each_side: u32,
     /// Truth sample rate (Hz) of the truth table.
@@ -215,7 +213,6 @@ impl Default for Fidelity {
             swerling: Swerling::Sw1,
             refraction: false,
             waveform_isolation_db: None,
-            polarization: false,
             explicit_cells_each_side: 3,
             truth_rate_hz: 10.0,
         }

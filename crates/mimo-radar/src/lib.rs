@@ -51,9 +51,9 @@
 //! * A bistatic channel's cell size is the receiver's `ΔR` (all waveforms share the bandwidth).
 //! * `n_pulses = 0` transmits nothing; targets with a non-finite position or a non-positive RCS and
 //!   empty or non-finite windows are skipped, never a panic.
-//! * Polarization (§3.2 option): all radars transmit and receive H, so the effective scattering
-//!   voltage is `s_HH`, whose default statistics are those of SW1; the switch has no effect until
-//!   radars carry polarization settings.
+//! * Polarization (§3.2 option) is not modelled: all radars transmit and receive H, so the
+//!   effective scattering voltage is `s_HH`, whose default statistics are those of SW1. There is
+//!   no switch for it until radars carry polarization settings.
 //! * Refraction (§1.8, off by default) bends the direction used for both patterns (so the measured
 //!   `û, v̂` are apparent directions); ranges stay geometric.
 
