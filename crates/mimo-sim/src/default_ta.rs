@@ -19,7 +19,7 @@
 //!   predicted SNR transmits, and every radar that can see the aim point receives.
 
 use crate::ta::{DwellReport, DwellRequest, PartReport, Request, TaContext, TestArticle, TxOrder};
-use crate::world::World;
+use crate::world::{Radars, World};
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, MeasurementRow, TrackRow, TrackStatus};
 use mimo_radar::energy::{pointing_loss, predict_pair, pulses_for, required_snr_sw1, straddle_loss};
@@ -100,7 +100,7 @@ pub fn dwell_context(run: u32, group_id: u64, kind: DwellKind, t_mid_s: f64, par
 
 /// The default test article.
 pub struct DefaultTa<'w> {
-    world: &'w World,
+    radars: Radars<'w>,
     name: String,
     cfg: DefaultTaConfig,
     tracker: MultiTargetTracker,
@@ -119,9 +119,10 @@ impl<'w> DefaultTa<'w> {
     }
 
     pub fn new(world: &'w World, tcfg: TrackerConfig, cfg: DefaultTaConfig, name: &str) -> DefaultTa<'w> {
-        let tracker = MultiTargetTracker::new(tcfg, world.scenario.centre());
+        let radars = Radars::of(world);
+        let tracker = MultiTargetTracker::new(tcfg, radars.centre());
         DefaultTa {
-            world,
+            radars,
             name: name.to_string(),
             cfg,
             tracker,
@@ -163,13 +164,13 @@ impl<'w> DefaultTa<'w> {
 
     /// One dwell for a track at time `ctx.t_s`.
     fn plan(&self, ctx: &TaContext, id: u64, status: TrackStatus, misses: u32) -> Option<DwellRequest> {
-        let w = self.world;
+        let w = self.radars;
         let t = ctx.t_s;
         let pred = self.tracker.predict(id, t)?;
         let aim = pred.pos;
         // Candidate transmitters: monostatic predictions.
         let mut best: Option<(RadarId, f64, u8)> = None;
-        for r in w.radar_ids() {
+        for r in w.ids() {
             let p = w.params(r);
             let faces = w.faces_at(r, t);
             if let Some(pp) = predict_pair(p, &faces, p, &faces, aim, self.cfg.assumed_rcs_m2)
@@ -183,13 +184,13 @@ impl<'w> DefaultTa<'w> {
         let losses = pointing_loss(self.cfg.pointing_sharpness, self.cfg.pointing_sharpness, true) * straddle_loss();
         let mut n = pulses_for(required_snr_sw1(self.cfg.pd_target, p.pfa), snr1, losses, p.max_pulses);
         n = n.saturating_mul(1 << misses.min(4)).min(p.max_pulses);
-        let pm = self.tracker.predict_measurement(id, t, tx, tx, face, w);
+        let pm = self.tracker.predict_measurement(id, t, tx, tx, face, &w);
         let sigma_rho = pm.map(|m| m.sigma_rho_m).unwrap_or(0.0);
         let half = (self.cfg.window_sigmas * sigma_rho).max(self.cfg.min_window_half_m);
         let mut receivers = vec![tx];
         if self.cfg.mimo && status == TrackStatus::Confirmed {
             let tx_faces = w.faces_at(tx, t);
-            for r in w.radar_ids() {
+            for r in w.ids() {
                 if r == tx {
                     continue;
                 }
@@ -220,7 +221,7 @@ impl<'w> DefaultTa<'w> {
 /// Feed one finished dwell to a tracker: the single code path of closed loop and replay.
 pub fn track_dwell(
     tracker: &mut MultiTargetTracker,
-    world: &World,
+    geom: &dyn mimo_track::SensorGeometry,
     run: u32,
     group_id: u64,
     kind: DwellKind,
@@ -229,7 +230,7 @@ pub fn track_dwell(
     measurements: &[MeasurementRow],
 ) -> Vec<TrackRow> {
     let ctx = dwell_context(run, group_id, kind, t_mid_s, parts);
-    tracker.process_dwell(&ctx, measurements, world)
+    tracker.process_dwell(&ctx, measurements, geom)
 }
 
 impl TestArticle for DefaultTa<'_> {
@@ -248,7 +249,7 @@ impl TestArticle for DefaultTa<'_> {
         }
         let rows = track_dwell(
             &mut self.tracker,
-            self.world,
+            &self.radars,
             report.run,
             report.group_id,
             report.kind,

@@ -171,7 +171,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
     }
 
     fn ctx(&self) -> TaContext<'w> {
-        TaContext { world: self.world, t_s: self.now.as_secs(), run: self.run }
+        TaContext { radars: crate::world::Radars::of(self.world), t_s: self.now.as_secs(), run: self.run }
     }
 
     /// Run to the end and return the run's tables (truth included) and counters.
@@ -304,6 +304,11 @@ impl<'w, 'ta> Engine<'w, 'ta> {
 
     /// Plan a requested dwell's parts and reserve the earliest common slot.
     fn place(&mut self, req: DwellRequest) {
+        // A start that is not a finite time inside the run can never be served.
+        if !(req.earliest_s.is_finite() && req.earliest_s <= self.cfg.duration_s) {
+            self.stats.rejected_requests += 1;
+            return;
+        }
         let Some(group) = self.plan(&req) else {
             self.stats.rejected_requests += 1;
             return;

@@ -34,14 +34,14 @@
 //!
 //! Run it with [`crate::run_one`] (or [`crate::run_monte_carlo`] with a factory closure).
 
-use crate::world::World;
+use crate::world::Radars;
 use mimo_core::DVec3;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, MeasurementRow, PrimitiveRow, Requester, TrackRow};
 
 /// What a TA may look at when it decides: the ships and radars (not the targets), and the time.
 pub struct TaContext<'a> {
-    pub world: &'a World,
+    pub radars: Radars<'a>,
     /// Current simulation time (s).
     pub t_s: f64,
     pub run: u32,

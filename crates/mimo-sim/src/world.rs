@@ -87,3 +87,45 @@ impl mimo_track::SensorGeometry for World {
         self.faces_at(radar, t_s).get(face as usize).copied()
     }
 }
+
+/// What a test article may know of the world: the ships and their radars, never the targets.
+#[derive(Debug, Clone, Copy)]
+pub struct Radars<'w> {
+    world: &'w World,
+}
+
+impl<'w> Radars<'w> {
+    /// The radar view of a world.
+    pub fn of(world: &'w World) -> Radars<'w> {
+        Radars { world }
+    }
+    /// All radar ids.
+    pub fn ids(&self) -> Vec<RadarId> {
+        self.world.radar_ids()
+    }
+    /// A radar's parameters.
+    pub fn params(&self, r: RadarId) -> &'w RadarParams {
+        &self.world.scenario.ships[r.index()].radar
+    }
+    /// A radar's faces at `t_s`.
+    pub fn faces_at(&self, r: RadarId, t_s: f64) -> Vec<FaceFrame> {
+        self.world.faces_at(r, t_s)
+    }
+    /// A radar's array-centre position (ECEF) at `t_s`.
+    pub fn site_at(&self, r: RadarId, t_s: f64) -> DVec3 {
+        self.world.site_at(r, t_s)
+    }
+    /// The scenario centre (origin of a local tracking frame).
+    pub fn centre(&self) -> mimo_core::geo::Geodetic {
+        self.world.scenario.centre()
+    }
+}
+
+impl mimo_track::SensorGeometry for Radars<'_> {
+    fn site_ecef(&self, radar: RadarId, t_s: f64) -> Option<DVec3> {
+        self.world.site_ecef(radar, t_s)
+    }
+    fn face(&self, radar: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
+        mimo_track::SensorGeometry::face(self.world, radar, face, t_s)
+    }
+}

@@ -760,10 +760,6 @@ fn unservable_requests_are_rejected_and_counted() {
 }
 
 #[test]
-#[ignore = "engine bug: src/engine.rs Engine::place (lines 311-338): an earliest_s above ~9.2e9 s (or +inf) \
-            saturates SimTime::from_secs to i64::MAX and `t.0 + dur_ns` overflows (line 323 or 333): a panic \
-            with overflow checks; in release the wrapped end passes the end-of-run check, so the request is \
-            reserved but never runs and is not counted as rejected"]
 fn a_dwell_requested_for_never_is_rejected() {
     let dur = 5.0;
     let world = standard(1, dur);
