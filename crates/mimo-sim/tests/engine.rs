@@ -956,13 +956,6 @@ fn completeness_end_to_end_scenario_1() {
 #[test]
 fn completeness_end_to_end_scenario_7() {
     let c = completeness_end_to_end(7);
-    assert!(c >= 0.97, "scenario 7: completeness {c}");
-}
-
-#[test]
-#[ignore = "default TA (not the engine) below the challenge on scenario 7: 0.977 < 0.98 at seed 1"]
-fn completeness_challenge_scenario_7() {
-    let c = completeness_end_to_end(7);
     assert!(c >= 0.98, "scenario 7: completeness {c}");
 }
 

@@ -118,10 +118,15 @@ impl Default for InitiatorConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum InitiateOn {
-    /// Only search dwells (PHYSICS.md §6.4). Default.
-    #[default]
+    /// Only search dwells (PHYSICS.md §6.4).
     Search,
-    /// Any dwell.
+    /// Search dwells, and the monostatic channel of any other dwell: a second target that
+    /// shows up in a track dwell's beam (a formation opening up) starts its own track at once,
+    /// while bistatic channels, whose detections of a tracked target may fail the gate when
+    /// the geometry is poor, never start duplicates. Default.
+    #[default]
+    SearchAndMonostatic,
+    /// Any dwell, any channel.
     AnyDwell,
 }
 
@@ -152,7 +157,7 @@ pub struct TrackerConfig {
     pub iekf_first_updates: u32,
     /// Initiation. Default one-point with σ_v = 300 m/s.
     pub initiator: InitiatorConfig,
-    /// Which dwells initiate. Default search only.
+    /// Which dwells initiate. Default: search dwells and monostatic channels of any dwell.
     pub initiate_on: InitiateOn,
     /// M-of-N confirmation over looks (the initiating detection is the first look).
     /// Default 2-of-3.
@@ -182,7 +187,7 @@ impl Default for TrackerConfig {
             iekf_iterations: 3,
             iekf_first_updates: 3,
             initiator: InitiatorConfig::default(),
-            initiate_on: InitiateOn::Search,
+            initiate_on: InitiateOn::SearchAndMonostatic,
             confirmation: MOfN::default(),
             deletion: DeletionConfig::default(),
             revisit: RevisitPolicy::default(),
@@ -695,11 +700,18 @@ impl MultiTargetTracker {
             list.sort_by(|a, b| a.meas_id.cmp(&b.meas_id).then(a.rx_face.cmp(&b.rx_face)));
         }
 
-        let may_initiate = ctx.kind == DwellKind::Search || self.config.initiate_on == InitiateOn::AnyDwell;
+        let initiate_on = self.config.initiate_on;
+        let may_initiate = |tx: RadarId, rx: RadarId| match initiate_on {
+            _ if ctx.kind == DwellKind::Search => true,
+            InitiateOn::Search => false,
+            InitiateOn::SearchAndMonostatic => tx == rx,
+            InitiateOn::AnyDwell => true,
+        };
         let mut updated: BTreeSet<u64> = BTreeSet::new();
         let mut new_ids: Vec<u64> = Vec::new();
         for list in channels.values() {
-            self.process_channel(ctx, list, may_initiate, &mut updated, &mut new_ids);
+            let init = list.first().is_some_and(|m| may_initiate(m.tx, m.rx));
+            self.process_channel(ctx, list, init, &mut updated, &mut new_ids);
         }
 
         // Looks: explicit targets, plus tracks inside a non-search beam.
