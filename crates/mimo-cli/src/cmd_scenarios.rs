@@ -8,9 +8,32 @@ pub struct Args {
     /// Print each scenario's full resolved definition as JSON instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Also draw the geometry of scenario 7 (ships and every target's trajectory) to this PNG or
+    /// SVG file.
+    #[arg(long, value_name = "FILE")]
+    pub map: Option<std::path::PathBuf>,
+}
+
+/// Draw scenario 7's ships (at t = 0) and trajectories.
+fn draw_map(path: &std::path::Path) -> Result<(), CliError> {
+    let s = mimo_scenario::load_standard(7)?;
+    let traj = s.build_trajectories()?;
+    let ships: Vec<(String, f64, f64)> = s.ships.iter().map(|sh| (sh.id.to_string(), sh.lat_deg, sh.lon_deg)).collect();
+    let mut truth: Vec<(String, Vec<(f64, f64)>)> =
+        s.target_ids().iter().map(|id| (id.to_string(), Vec::new())).collect();
+    for r in traj.truth_rows(0, 0.2) {
+        if let Some(e) = truth.iter_mut().find(|(id, _)| *id == r.target) {
+            e.1.push((r.lat_deg, r.lon_deg));
+        }
+    }
+    let title = format!("{}: ships R1–R4 and targets over {} s", s.name, s.duration_s);
+    mimo_report::draw_geometry(&ships, &truth, &title, path).map_err(|e| CliError::Other(e.to_string()))
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    if let Some(path) = &a.map {
+        draw_map(path)?;
+    }
     let list = mimo_scenario::list_standard()?;
     if a.json {
         let v: Vec<_> = list.iter().map(|(n, s)| serde_json::json!({"number": n, "scenario": s})).collect();

@@ -6,6 +6,7 @@
 //! binary runs, and what the end-to-end tests call in-process.
 
 mod cmd_scenarios;
+mod cmd_score;
 mod cmd_simulate;
 mod cmd_track;
 mod error;
@@ -35,6 +36,8 @@ pub enum Command {
     Simulate(cmd_simulate::Args),
     /// Re-run a tracker offline over a recorded run (open loop) into a new run directory.
     Track(cmd_track::Args),
+    /// Score a run: track and usage metrics, summary.json and charts into RUN/score/.
+    Score(cmd_score::Args),
 }
 
 /// Parse arguments and run; returns the process exit status.
@@ -66,5 +69,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Scenarios(a) => cmd_scenarios::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),
         Command::Track(a) => cmd_track::run(a),
+        Command::Score(a) => cmd_score::run(a),
     }
 }

@@ -73,7 +73,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let mut tracks = Vec::new();
         let mut next_id = 1u64;
-        let mut push = |tracks: &mut Vec<TrackRow>, id: u64, t: f64, st: TrackStatus, p: DVec3, v: DVec3| {
+        let push = |tracks: &mut Vec<TrackRow>, id: u64, t: f64, st: TrackStatus, p: DVec3, v: DVec3| {
             tracks.push(TrackRow {
                 run,
                 t_s: t,

@@ -811,7 +811,8 @@ fn mean_over_runs(rows: &[TrackMetricsRow]) -> Result<Vec<TrackMetricsMeanRow>, 
         Ok(c.f64().map_err(error::internal("mean over runs"))?.iter().collect())
     };
     let (k, t, runs) = (get("k")?, get("t_s")?, get("runs")?);
-    let (ns, nt, cb, cs) = (get("n_scorable_mean")?, get("n_tracks_mean")?, get("cum_breaks_mean")?, get("cum_switches_mean")?);
+    let (ns, nt, cb, cs) =
+        (get("n_scorable_mean")?, get("n_tracks_mean")?, get("cum_breaks_mean")?, get("cum_switches_mean")?);
     let (ps, vs, na) = (get("position_sq_sum_m2")?, get("velocity_sq_sum_m2ps2")?, get("n_assigned_sum")?);
     let r: Vec<Vec<Option<f64>>> = ratios.iter().map(|c| get(c)).collect::<Result<_, _>>()?;
     let rmse = |sq: Option<f64>, n: Option<f64>| match (sq, n) {

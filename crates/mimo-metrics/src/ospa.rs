@@ -38,7 +38,8 @@ pub fn ospa_gospa(x: &[DVec3], y: &[DVec3], c_m: f64, p: f64) -> OspaGospa {
             cost[i * m + j] = ai.distance(*bj).min(c_m).powf(p);
         }
     }
-    let loc: f64 = if n == 0 { 0.0 } else { solve(&cost, n, m).iter().enumerate().map(|(i, &j)| cost[i * m + j]).sum() };
+    let loc: f64 =
+        if n == 0 { 0.0 } else { solve(&cost, n, m).iter().enumerate().map(|(i, &j)| cost[i * m + j]).sum() };
     let unmatched = (m - n) as f64;
     OspaGospa {
         ospa_m: ((loc + cp * unmatched) / m as f64).powf(1.0 / p),

@@ -44,7 +44,8 @@ impl Want {
 
     fn accepts(self, dt: &ArrowDataType) -> bool {
         use ArrowDataType as A;
-        let is_int = matches!(dt, A::Int8 | A::Int16 | A::Int32 | A::Int64 | A::UInt8 | A::UInt16 | A::UInt32 | A::UInt64);
+        let is_int =
+            matches!(dt, A::Int8 | A::Int16 | A::Int32 | A::Int64 | A::UInt8 | A::UInt16 | A::UInt32 | A::UInt64);
         let is_str = |d: &ArrowDataType| matches!(d, A::Utf8 | A::LargeUtf8 | A::Utf8View);
         match self {
             Want::U32 | Want::U64 => is_int,
@@ -226,13 +227,24 @@ fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) 
         Check::Any => {}
         Check::Finite | Check::FiniteNonNeg => {
             let ca = column.f64().map_err(bug)?;
-            for (row, v) in ca.no_null_iter().enumerate() {
-                if !v.is_finite() {
-                    return Err(MetricsError::NonFinite { table, path: path.to_path_buf(), column: c.name, row, value: v });
-                }
-                if matches!(c.check, Check::FiniteNonNeg) && v < 0.0 {
+            let mut offset = 0;
+            for arr in ca.downcast_iter() {
+                let values = arr.values().as_slice();
+                let non_neg = matches!(c.check, Check::FiniteNonNeg);
+                if let Some(i) = values.iter().position(|v| !v.is_finite() || (non_neg && *v < 0.0)) {
+                    let (row, v) = (offset + i, values[i]);
+                    if !v.is_finite() {
+                        return Err(MetricsError::NonFinite {
+                            table,
+                            path: path.to_path_buf(),
+                            column: c.name,
+                            row,
+                            value: v,
+                        });
+                    }
                     return Err(invalid(row, v.to_string(), "a value >= 0".into()));
                 }
+                offset += values.len();
             }
         }
         Check::OneOf(allowed) => check_strings(column, |s| allowed.contains(&s))
@@ -240,41 +252,38 @@ fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) 
         Check::Radar => check_strings(column, |s| RadarId::parse(s).is_some())
             .map_err(|(row, value)| invalid(row, value, "a radar id R1, R2, …".into()))?,
         Check::RunIn(runs) => {
-            let ca = column.u32().map_err(bug)?;
-            if let Some((row, v)) = ca.no_null_iter().enumerate().find(|(_, v)| !runs.contains(v)) {
-                let list: Vec<String> = runs.iter().take(8).map(|r| r.to_string()).collect();
-                let more = if runs.len() > 8 { ", …" } else { "" };
-                return Err(invalid(
-                    row,
-                    v.to_string(),
-                    format!("a run present in the truth table ({}{more})", list.join(", ")),
-                ));
+            let distinct = column.unique().map_err(internal("checking runs"))?;
+            let distinct = distinct.u32().map_err(internal("checking runs"))?;
+            if distinct.iter().flatten().any(|v| !runs.contains(&v)) {
+                let ca = column.u32().map_err(bug)?;
+                if let Some((row, v)) = ca.iter().enumerate().find(|(_, v)| v.is_some_and(|v| !runs.contains(&v))) {
+                    let list: Vec<String> = runs.iter().take(8).map(|r| r.to_string()).collect();
+                    let more = if runs.len() > 8 { ", …" } else { "" };
+                    return Err(invalid(
+                        row,
+                        v.map(|v| v.to_string()).unwrap_or_default(),
+                        format!("a run present in the truth table ({}{more})", list.join(", ")),
+                    ));
+                }
             }
         }
     }
     Ok(())
 }
 
-/// Check distinct values first (cheap), then locate the first offending row.
+/// Check distinct values first (one hashed pass), then locate the first offending row.
 fn check_strings(column: &Column, ok: impl Fn(&str) -> bool) -> Result<(), (usize, String)> {
-    let Ok(ca) = column.str() else {
+    let (Ok(distinct), Ok(ca)) = (column.unique(), column.str()) else {
         return Err((0, "<not a string>".into()));
     };
-    let distinct: BTreeSet<&str> = {
-        let mut set = BTreeSet::new();
-        // A table has few distinct labels; stop collecting once one is bad.
-        for v in ca.no_null_iter() {
-            if set.insert(v) && !ok(v) {
-                break;
-            }
-        }
-        set
+    let Ok(distinct) = distinct.str().map(|d| d.iter().flatten().all(&ok)) else {
+        return Err((0, "<not a string>".into()));
     };
-    if distinct.iter().all(|v| ok(v)) {
+    if distinct {
         return Ok(());
     }
-    match ca.no_null_iter().enumerate().find(|(_, v)| !ok(v)) {
-        Some((row, v)) => Err((row, v.to_string())),
+    match ca.iter().enumerate().find(|(_, v)| v.is_some_and(|v| !ok(v))) {
+        Some((row, v)) => Err((row, v.unwrap_or_default().to_string())),
         None => Ok(()),
     }
 }

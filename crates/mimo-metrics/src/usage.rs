@@ -8,12 +8,8 @@ use polars::prelude::*;
 use std::collections::BTreeMap;
 
 const SUMS: [&str; 4] = ["dwell_time_s", "energy_j", "ta_dwell_time_s", "ta_energy_j"];
-const NORMS: [&str; 4] = [
-    "dwell_time_per_object_s",
-    "energy_per_object_j",
-    "ta_dwell_time_per_object_s",
-    "ta_energy_per_object_j",
-];
+const NORMS: [&str; 4] =
+    ["dwell_time_per_object_s", "energy_per_object_j", "ta_dwell_time_per_object_s", "ta_energy_per_object_j"];
 
 /// Sort radar names by their index (`R2` before `R10`), unknown spellings last.
 pub(crate) fn sort_radars(radars: &mut [String]) {
@@ -102,9 +98,7 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
         .lazy()
         .join(sums, keys.clone(), keys, JoinArgs::new(JoinType::Left))
         .with_columns(norm_exprs)
-        .with_columns(
-            SUMS.iter().zip(NORMS).map(|(s, n)| (col(*s) / col("n_objects")).alias(n)).collect::<Vec<_>>(),
-        );
+        .with_columns(SUMS.iter().zip(NORMS).map(|(s, n)| (col(*s) / col("n_objects")).alias(n)).collect::<Vec<_>>());
     let mut aggs: Vec<Expr> = SUMS.iter().chain(NORMS.iter()).map(|s| col(*s).mean()).collect();
     aggs.push(col("n_scorable").mean().alias("n_scorable_mean"));
     aggs.push(col("run").count().alias("runs"));

@@ -5,7 +5,7 @@ use glam::DVec3;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, Requester, Role, TrackRow, TrackStatus, TruthRow};
 use mimo_metrics::polars::prelude::*;
-use mimo_metrics::{MetricsError, Score, ScoreInput, ScoreOptions, ScorablePredicate, always_scorable, score};
+use mimo_metrics::{MetricsError, ScorablePredicate, Score, ScoreInput, ScoreOptions, always_scorable, score};
 use std::fs::File;
 use std::path::Path;
 use tempfile::TempDir;
@@ -61,7 +61,16 @@ fn track_row(run: u32, id: u64, t: f64, status: TrackStatus, p: DVec3, v: DVec3)
 /// confirmed rows every `period` s until `t_end` (exclusive), then a deleted row at `t_end` if
 /// `deleted`.
 #[allow(clippy::too_many_arguments)]
-fn follow(run: u32, id: u64, p0: DVec3, v: DVec3, offset: DVec3, t_confirm: f64, t_end: f64, deleted: bool) -> Vec<TrackRow> {
+fn follow(
+    run: u32,
+    id: u64,
+    p0: DVec3,
+    v: DVec3,
+    offset: DVec3,
+    t_confirm: f64,
+    t_end: f64,
+    deleted: bool,
+) -> Vec<TrackRow> {
     let at = |t: f64| p0 + v * t + offset;
     let mut rows = vec![track_row(run, id, t_confirm - 0.3, TrackStatus::Tentative, at(t_confirm - 0.3), v)];
     let mut i = 0;
@@ -484,7 +493,8 @@ fn usage_by_hand() {
     write(&dir.path().join("tracks/run-0000.parquet"), tracks_frame(&[]));
     write(&dir.path().join("dwells/run-0000.parquet"), dwells_frame(&dwells));
     write(&dir.path().join("dwells/run-0001.parquet"), dwells_frame(&[]));
-    let pred: ScorablePredicate = Box::new(|t, p: DVec3, _| if p.y < 20_000.0 { (t - 3.0).abs() > 0.01 } else { t <= 1.01 });
+    let pred: ScorablePredicate =
+        Box::new(|t, p: DVec3, _| if p.y < 20_000.0 { (t - 3.0).abs() > 0.01 } else { t <= 1.01 });
     let opts = ScoreOptions { scenario: "hand".into(), ..ScoreOptions::default() };
     let s = score_dir(&dir, pred, &opts).expect("score");
 
@@ -503,7 +513,9 @@ fn usage_by_hand() {
     assert!(approx_opt(r.ta_dwell_time_per_object_s, 0.005) && approx_opt(r.ta_energy_per_object_j, 0.5));
     // R1, interval 2 (MIMO tx): N = 1.
     let r = row("R1", 2);
-    assert!(approx(r.energy_j, 1.5) && approx_opt(r.energy_per_object_j, 1.5) && approx_opt(r.ta_energy_per_object_j, 1.5));
+    assert!(
+        approx(r.energy_j, 1.5) && approx_opt(r.energy_per_object_j, 1.5) && approx_opt(r.ta_energy_per_object_j, 1.5)
+    );
     // Receive-only participation costs nothing.
     for j in 1..=4 {
         let r = row("R4", j);
@@ -557,9 +569,15 @@ fn writes_outputs_with_the_design_keys() {
     for key in ["scenario", "runs", "interval_s", "gate_m", "track", "usage", "challenge"] {
         assert!(json.get(key).is_some(), "missing {key}");
     }
-    for key in
-        ["completeness", "redundant_ratio", "spurious_ratio", "breaks", "switches", "position_rmse_m", "velocity_rmse_mps"]
-    {
+    for key in [
+        "completeness",
+        "redundant_ratio",
+        "spurious_ratio",
+        "breaks",
+        "switches",
+        "position_rmse_m",
+        "velocity_rmse_mps",
+    ] {
         assert!(json["track"].get(key).is_some(), "missing track.{key}");
     }
     for key in ["per_radar", "total_dwell_time_s", "total_energy_j", "ta_dwell_time_s", "ta_energy_j"] {
@@ -573,15 +591,9 @@ fn writes_outputs_with_the_design_keys() {
     assert_eq!(json["challenge"]["completeness_required"], 0.98);
     assert_eq!(json["challenge"]["met"], true);
     assert_eq!(json["track"]["completeness"], 1.0);
-    for f in [
-        "track_metrics",
-        "track_metrics_mean",
-        "assignments",
-        "usage",
-        "usage_total",
-        "usage_radar",
-    ] {
-        let df = ParquetReader::new(File::open(out.join(format!("{f}.parquet"))).expect("open")).finish().expect("read");
+    for f in ["track_metrics", "track_metrics_mean", "assignments", "usage", "usage_total", "usage_radar"] {
+        let df =
+            ParquetReader::new(File::open(out.join(format!("{f}.parquet"))).expect("open")).finish().expect("read");
         assert!(df.height() > 0, "{f} is empty");
     }
     let tm = ParquetReader::new(File::open(out.join("track_metrics.parquet")).expect("open")).finish().expect("read");
@@ -671,12 +683,12 @@ fn other_bad_input() {
     let e = fails(truth_frame(&truth), tracks_frame(&bad), dwells_frame(&default_dwells()));
     assert!(matches!(e, MetricsError::NonFinite { table: "tracks", column: "vz_mps", .. }), "{e}");
     // Missing column.
-    let e = fails(
-        truth_frame(&truth).drop("alt_m").expect("drop"),
-        tracks_frame(&tracks),
-        dwells_frame(&default_dwells()),
+    let e =
+        fails(truth_frame(&truth).drop("alt_m").expect("drop"), tracks_frame(&tracks), dwells_frame(&default_dwells()));
+    assert!(
+        matches!(e, MetricsError::MissingColumn { table: "truth", column: "alt_m", expected: "float64", .. }),
+        "{e}"
     );
-    assert!(matches!(e, MetricsError::MissingColumn { table: "truth", column: "alt_m", expected: "float64", .. }), "{e}");
     // Unknown status.
     let mut df = tracks_frame(&tracks);
     let st: Vec<String> = (0..tracks.len()).map(|i| if i == 3 { "lost".into() } else { "confirmed".into() }).collect();
