@@ -33,10 +33,29 @@ pub enum Command {
     /// List the standard scenarios 1–7, their targets and ships.
     Scenarios(cmd_scenarios::Args),
     /// Run the closed-loop simulation of a scenario and record every table in a run directory.
+    ///
+    /// Every radar searches on its own; the test article (--tracker) receives every dwell's
+    /// detections, forms tracks and orders monostatic and MIMO dwells. Each Monte Carlo run is
+    /// written to its own files (truth, dwells, primitives, measurements, tracks, and voltages
+    /// with --record voltages) under OUT, with OUT/manifest.json written last. Same seed, same
+    /// bytes, whatever --threads is.
     Simulate(cmd_simulate::Args),
     /// Re-run a tracker offline over a recorded run (open loop) into a new run directory.
+    ///
+    /// Reads RUN's dwells and its primitives (re-forming measurements with the radar model's own
+    /// clustering and centroiding) or its measurements, and runs the tracker over them in the
+    /// order the closed loop delivered them. The recording's dwell schedule is fixed: a re-run is
+    /// OPEN LOOP (the tracker cannot ask for new dwells), so it measures a tracker, not a
+    /// resource manager. Writes OUT with new measurements (from primitives), tracks, and a
+    /// manifest naming RUN as its parent; `mimo score OUT` reads truth and dwells through it.
     Track(cmd_track::Args),
     /// Score a run: track and usage metrics, summary.json and charts into RUN/score/.
+    ///
+    /// Reads RUN's tracks and the truth and dwells of RUN (or of its parent, for a `mimo track`
+    /// output). A truth is scorable when some radar could see it (horizon, scan limit,
+    /// instrumented range). At every scoring time, scorable truths and live confirmed tracks are
+    /// paired by a gated, globally optimal assignment. RUN/score/ is derived and reproducible,
+    /// so it is replaced (and the command says so).
     Score(cmd_score::Args),
 }
 

@@ -76,6 +76,26 @@ pub(crate) fn fmt_num(v: f64) -> String {
     }
 }
 
+/// Tick label for an axis whose largest magnitude is `max_abs`: one scale (k, M, G) for the
+/// whole axis, so 5000 and 10000 read as 5k and 10k.
+pub(crate) fn fmt_axis(v: f64, max_abs: f64) -> String {
+    let (div, suffix) = if max_abs >= 1e9 {
+        (1e9, "G")
+    } else if max_abs >= 1e6 {
+        (1e6, "M")
+    } else if max_abs >= 1e4 {
+        (1e3, "k")
+    } else {
+        return fmt_num(v);
+    };
+    if v == 0.0 {
+        return "0".into();
+    }
+    let s = format!("{:.2}", v / div);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    format!("{s}{suffix}")
+}
+
 /// How a line is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Style {
@@ -98,7 +118,8 @@ pub(crate) struct Line {
     pub points: Vec<(f64, Option<f64>)>,
 }
 
-/// A filled area from 0 up to the curve (drawn in order, so give stacked curves top first).
+/// A filled area from 0 up to the curve. Stacked curves are given bottom first (each the sum of
+/// itself and those below) and drawn top first.
 #[derive(Debug, Clone)]
 pub(crate) struct Area {
     pub label: String,
@@ -188,10 +209,11 @@ fn legend_layout<DB: DrawingBackend>(
 
 /// Draw the legend items left to right, wrapping, in `area`.
 pub(crate) fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, items: &[(String, Swatch)]) -> DrawResult {
-    let font = (FONT, LEGEND_PX).into_font().color(&BLACK);
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let font = (FONT, LEGEND_PX).into_font().color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
     for (x, i, row) in legend_layout(area, items) {
         let (label, sw) = &items[i];
-        let y = 8 + row as i32 * 26 + 9;
+        let y = 8 + row as i32 * 26 + 10;
         match *sw {
             Swatch::Line(c, w) => {
                 area.draw(&PathElement::new(vec![(x, y), (x + 28, y)], c.stroke_width(w))).map_err(e)?;
@@ -213,7 +235,7 @@ pub(crate) fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, ite
                 area.draw(&Circle::new((x + 14, y), 5, c.filled())).map_err(e)?;
             }
         }
-        area.draw(&Text::new(label.clone(), (x + 36, y - 9), font.clone())).map_err(e)?;
+        area.draw(&Text::new(label.clone(), (x + 36, y), font.clone())).map_err(e)?;
     }
     Ok(())
 }
@@ -300,20 +322,25 @@ fn draw_panel<DB: DrawingBackend>(
         builder.caption(t, (FONT, PANEL_TITLE_PX));
     }
     let mut chart = builder.build_cartesian_2d(x.0..x.1, y0..y1).map_err(e)?;
-    let fmt = |v: &f64| fmt_num(*v);
+    let y_max = y0.abs().max(y1.abs());
+    let x_fmt = |v: &f64| fmt_num(*v);
+    let y_fmt = |v: &f64| fmt_axis(*v, y_max);
     chart
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(p.y_label.as_str())
         .label_style((FONT, TICK_PX))
         .axis_desc_style((FONT, AXIS_DESC_PX))
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .max_light_lines(4)
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()
         .map_err(e)?;
-    for a in &p.areas {
+    // Areas are given bottom first (stacked curves); draw the top one first so each lower one
+    // paints over it.
+    for a in p.areas.iter().rev() {
         chart
             .draw_series(
                 AreaSeries::new(a.points.iter().copied(), 0.0, a.color.filled()).border_style(darken(a.color, 0.25)),
@@ -386,9 +413,10 @@ pub(crate) fn draw_bar_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, 
         .y_label_area_size(78)
         .build_cartesian_2d(0.0..n as f64, 0.0..ymax)
         .map_err(e)?;
-    let fmt = |v: &f64| fmt_num(*v);
+    let fmt = |v: &f64| fmt_axis(*v, ymax);
     chart
         .configure_mesh()
+        .max_light_lines(4)
         .disable_x_mesh()
         .x_labels(0)
         .x_desc("radar")
@@ -410,7 +438,7 @@ pub(crate) fn draw_bar_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, 
             let x1 = x0 + bar_w * 0.92;
             chart.draw_series(std::iter::once(Rectangle::new([(x0, 0.0), (x1, v)], color.filled()))).map_err(e)?;
             let (px, py) = chart.backend_coord(&((x0 + x1) / 2.0, v));
-            let text = fmt_num(v);
+            let text = fmt_axis(v, ymax);
             let tw = root.estimate_text_size(&text, &label_font).map(|(w, _)| w as i32).unwrap_or(0);
             root.draw(&Text::new(text, (px - tw / 2, py - 20), label_font.clone())).map_err(e)?;
         }

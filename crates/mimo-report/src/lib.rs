@@ -276,7 +276,6 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
             }
             areas.push(Area { label: radar.clone(), color: radar_color(score, radar), points: pts });
         }
-        areas.reverse();
         let total: Vec<(f64, Option<f64>)> = std::iter::once((0.0, Some(0.0)))
             .chain(score.usage_total.iter().map(|u| (u.t_end_s, Some(cum_total(u)))))
             .collect();
@@ -448,10 +447,11 @@ fn draw_geo<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, g: &GeoChart) -> 
         .y_label_formatter(&deg)
         .light_line_style(RGBColor(240, 240, 240))
         .bold_line_style(RGBColor(218, 218, 218))
+        .max_light_lines(4)
         .draw()
         .map_err(e)?;
-    let label_font = (draw::FONT, draw::LEGEND_PX).into_font().color(&BLACK);
     let n = g.truth.len();
+    let mut labels = Vec::new();
     for (i, (name, path)) in g.truth.iter().enumerate() {
         let color = PALETTE[i % PALETTE.len()];
         let xy: Vec<(f64, f64)> =
@@ -464,16 +464,37 @@ fn draw_geo<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, g: &GeoChart) -> 
         // Names at staggered positions along the paths so that formations stay readable.
         let f = if n > 1 { 0.12 + 0.76 * i as f64 / (n - 1) as f64 } else { 0.5 };
         let at = xy[((xy.len() - 1) as f64 * f).round() as usize];
-        let (px, py) = chart.backend_coord(&at);
-        root.draw(&Text::new(name.clone(), (px + 8, py - 22), label_font.clone())).map_err(e)?;
+        labels.push((name, chart.backend_coord(&at), darken(color, 0.3)));
+    }
+    // Labels after every line, so no line crosses a label.
+    for (name, (px, py), color) in labels {
+        label_box(root, name, (px + 10, py - 16), color)?;
     }
     let ship_color = RGBColor(20, 40, 90);
-    let ship_font = (draw::FONT, draw::AXIS_DESC_PX).into_font().color(&ship_color);
     for (name, lat, lon) in &g.ships {
         let (px, py) = chart.backend_coord(&(*lon, *lat));
         root.draw(&Polygon::new(vec![(px, py - 11), (px - 9, py + 7), (px + 9, py + 7)], ship_color.filled()))
             .map_err(e)?;
-        root.draw(&Text::new(name.clone(), (px + 12, py - 4), ship_font.clone())).map_err(e)?;
+        label_box(root, name, (px + 13, py), ship_color)?;
     }
     draw::draw_legend(&legend_area, &legend)
+}
+
+/// A text label on a white box with a coloured border; `at` is the box's left edge and vertical
+/// centre (pixels).
+fn label_box<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    text: &str,
+    at: (i32, i32),
+    color: RGBColor,
+) -> DrawResult {
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let font = (draw::FONT, draw::LEGEND_PX).into_font().color(&color).pos(Pos::new(HPos::Left, VPos::Center));
+    let (w, h) = root.estimate_text_size(text, &font).map_err(e)?;
+    let (x, y) = at;
+    let half = h as i32 / 2 + 5;
+    let rect = [(x, y - half), (x + w as i32 + 10, y + half)];
+    root.draw(&Rectangle::new(rect, WHITE.filled())).map_err(e)?;
+    root.draw(&Rectangle::new(rect, color.stroke_width(1))).map_err(e)?;
+    root.draw(&Text::new(text.to_string(), (x + 5, y), font)).map_err(e)
 }

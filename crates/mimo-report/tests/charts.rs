@@ -65,7 +65,7 @@ fn synthetic_run_dir(dir: &Path) {
             }
         }
         let mut tracks = Vec::new();
-        let mut row = |id: u64, t: f64, status: TrackStatus, p: DVec3, v: DVec3| TrackRow {
+        let row = |id: u64, t: f64, status: TrackStatus, p: DVec3, v: DVec3| TrackRow {
             run,
             t_s: t,
             track_id: id,
