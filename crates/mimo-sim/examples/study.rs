@@ -100,6 +100,13 @@ fn main() {
             stats.measurements,
             first_conf.len()
         );
+        let ta_e: f64 = tables
+            .dwells
+            .iter()
+            .filter(|d| d.requested_by == mimo_core::records::Requester::Ta)
+            .map(|d| d.energy_j)
+            .sum();
+        println!("  TA energy {ta_e:.0} J");
         for (id, (a, b, misses)) in &per {
             let mut iv: Vec<(u32, u32)> = Vec::new();
             for &m in misses {

@@ -49,8 +49,13 @@ impl TestArticle for Passive {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DefaultTaConfig {
-    /// Detection probability each look is sized for.
+    /// Detection probability each track look is sized for.
     pub pd_target: f64,
+    /// Detection probability the confirmation looks of a tentative track are sized for until it
+    /// is seen again (without doubling on a miss). Most tentative tracks are false alarms, so
+    /// these looks are cheap; once a tentative track has been seen again, looks are sized for
+    /// `pd_target`.
+    pub confirm_pd: f64,
     /// RCS assumed when sizing dwells (m²): the fighters' 2 m², so airliners are over-served.
     pub assumed_rcs_m2: f64,
     /// Pointing error the energy budget allows for, in beamwidths (V₀).
@@ -67,6 +72,7 @@ impl Default for DefaultTaConfig {
     fn default() -> Self {
         DefaultTaConfig {
             pd_target: 0.9,
+            confirm_pd: 0.7,
             assumed_rcs_m2: 2.0,
             pointing_sharpness: 0.2,
             mimo: true,
@@ -147,7 +153,7 @@ impl<'w> DefaultTa<'w> {
                 continue;
             }
             if info.next_due_s <= now + 1e-9 {
-                if let Some(req) = self.plan(ctx, info.id, info.status, info.consecutive_misses) {
+                if let Some(req) = self.plan(ctx, info.id, info.status, info.consecutive_misses, info.n_updates) {
                     self.pending.insert(info.id, now);
                     out.push(Request::Dwell(req));
                 }
@@ -163,7 +169,7 @@ impl<'w> DefaultTa<'w> {
     }
 
     /// One dwell for a track at time `ctx.t_s`.
-    fn plan(&self, ctx: &TaContext, id: u64, status: TrackStatus, misses: u32) -> Option<DwellRequest> {
+    fn plan(&self, ctx: &TaContext, id: u64, status: TrackStatus, misses: u32, n_updates: u32) -> Option<DwellRequest> {
         let w = self.radars;
         let t = ctx.t_s;
         let pred = self.tracker.predict(id, t)?;
@@ -182,8 +188,13 @@ impl<'w> DefaultTa<'w> {
         let (tx, snr1, face) = best?;
         let p = w.params(tx);
         let losses = pointing_loss(self.cfg.pointing_sharpness, self.cfg.pointing_sharpness, true) * straddle_loss();
-        let mut n = pulses_for(required_snr_sw1(self.cfg.pd_target, p.pfa), snr1, losses, p.max_pulses);
-        n = n.saturating_mul(1 << misses.min(4)).min(p.max_pulses);
+        // Until a tentative track is seen again, its looks are cheap (most are false alarms).
+        let unconfirmed = status == TrackStatus::Tentative && n_updates <= 1;
+        let pd = if unconfirmed { self.cfg.confirm_pd } else { self.cfg.pd_target };
+        let mut n = pulses_for(required_snr_sw1(pd, p.pfa), snr1, losses, p.max_pulses);
+        if !unconfirmed {
+            n = n.saturating_mul(1 << misses.min(4)).min(p.max_pulses);
+        }
         let pm = self.tracker.predict_measurement(id, t, tx, tx, face, &w);
         let sigma_rho = pm.map(|m| m.sigma_rho_m).unwrap_or(0.0);
         let half = (self.cfg.window_sigmas * sigma_rho).max(self.cfg.min_window_half_m);
