@@ -33,7 +33,7 @@ const EARTH_R: f64 = 6_378_137.0;
 fn target_state(i: usize, t: f64) -> (DVec3, DVec3) {
     // Straight lines 10 km up, spread around a point on the equator.
     let p0 = DVec3::new(EARTH_R + 10_000.0, -150_000.0 + 40_000.0 * i as f64, 20_000.0 * i as f64);
-    let v = DVec3::new(0.0, 250.0 * (1.0 + 0.1 * i as f64), if i % 2 == 0 { 30.0 } else { -30.0 });
+    let v = DVec3::new(0.0, 250.0 * (1.0 + 0.1 * i as f64), if i.is_multiple_of(2) { 30.0 } else { -30.0 });
     (p0 + v * t, v)
 }
 
@@ -197,6 +197,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     write_outputs(&s, &dir.path().join("score"))?;
     let t_write = t2.elapsed().as_secs_f64();
     println!("score(): {t_score:.2} s; write_outputs(): {t_write:.2} s");
+    if std::env::var_os("MIMO_BENCH_JSON").is_some() {
+        println!("{}", s.summary_json()?);
+    }
     println!(
         "completeness {:?}, breaks {:.1}/run, switches {:.1}/run, spurious {:?}, position RMSE {:?} m, total energy {:.0} J/run",
         s.summary.track.completeness,

@@ -308,9 +308,9 @@ pub struct UsageRow {
     pub energy_j: f64,
     pub ta_dwell_time_s: f64,
     pub ta_energy_j: f64,
-    /// T[m,j]: dwell time per scorable object (s); null when no run has a scorable object.
+    /// `T[m,j]`: dwell time per scorable object (s); null when no run has a scorable object.
     pub dwell_time_per_object_s: Option<f64>,
-    /// E[m,j]: energy per scorable object (J).
+    /// `E[m,j]`: energy per scorable object (J).
     pub energy_per_object_j: Option<f64>,
     pub ta_dwell_time_per_object_s: Option<f64>,
     pub ta_energy_per_object_j: Option<f64>,
@@ -343,7 +343,7 @@ pub struct UsageTotalRow {
     pub cum_ta_energy_j: f64,
 }
 
-/// Sensor totals of one radar over a whole run, averaged over runs (T[m], E[m]).
+/// Sensor totals of one radar over a whole run, averaged over runs (`T[m]`, `E[m]`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RadarUsage {
     pub radar: String,
@@ -455,7 +455,7 @@ pub struct ScoringInfo {
     /// Scoring times per run (the largest over runs).
     pub scoring_times: u32,
     pub assignment: &'static str,
-    pub scorable_note: &'static str,
+    pub undefined_values: &'static str,
 }
 
 /// `summary.json`: the DESIGN.md §6 keys first, then extras.
@@ -852,8 +852,19 @@ fn summarize(
         (n > 0).then(|| (rows.iter().map(|r| sq(r)).sum::<f64>() / n as f64).sqrt())
     };
     let all: Vec<&TrackMetricsRow> = rows.iter().collect();
-    let per_run_breaks = |run: u32| rows.iter().filter(|r| r.run == run).map(|r| r.breaks).sum::<u32>();
-    let per_run_switches = |run: u32| rows.iter().filter(|r| r.run == run).map(|r| r.switches).sum::<u32>();
+    // Rows and usage grouped by run once (linear in the number of runs).
+    let mut by_run: BTreeMap<u32, Vec<&TrackMetricsRow>> = truth.runs.iter().map(|&r| (r, Vec::new())).collect();
+    for r in rows {
+        by_run.entry(r.run).or_default().push(r);
+    }
+    let mut usage_by_run: BTreeMap<u32, Vec<&RunRadarUsage>> = BTreeMap::new();
+    for x in &u.per_run {
+        usage_by_run.entry(x.run).or_default().push(x);
+    }
+    let no_rows: Vec<&TrackMetricsRow> = Vec::new();
+    let run_rows = |run: u32| by_run.get(&run).unwrap_or(&no_rows);
+    let per_run_breaks = |run: u32| run_rows(run).iter().map(|r| r.breaks).sum::<u32>();
+    let per_run_switches = |run: u32| run_rows(run).iter().map(|r| r.switches).sum::<u32>();
     let completeness = mean(all.iter().filter_map(|r| r.completeness));
     let track = TrackSummary {
         completeness,
@@ -891,8 +902,10 @@ fn summarize(
         .runs
         .iter()
         .map(|&run| {
-            let rr: Vec<&TrackMetricsRow> = rows.iter().filter(|r| r.run == run).collect();
-            let usage_of = |f: fn(&RunRadarUsage) -> f64| u.per_run.iter().filter(|x| x.run == run).map(f).sum::<f64>();
+            let rr = run_rows(run);
+            let usage_of = |f: fn(&RunRadarUsage) -> f64| {
+                usage_by_run.get(&run).map_or(0.0, |v| v.iter().map(|x| f(x)).sum::<f64>())
+            };
             RunSummary {
                 run,
                 scoring_times: rr.len() as u32,
@@ -901,8 +914,8 @@ fn summarize(
                 spurious_ratio: mean(rr.iter().filter_map(|r| r.spurious_ratio)),
                 breaks: per_run_breaks(run),
                 switches: per_run_switches(run),
-                position_rmse_m: pooled_rmse(&rr, |r| r.position_sq_sum_m2),
-                velocity_rmse_mps: pooled_rmse(&rr, |r| r.velocity_sq_sum_m2ps2),
+                position_rmse_m: pooled_rmse(rr, |r| r.position_sq_sum_m2),
+                velocity_rmse_mps: pooled_rmse(rr, |r| r.velocity_sq_sum_m2ps2),
                 ospa_m: mean(rr.iter().filter_map(|r| r.ospa_m)),
                 gospa_m: mean(rr.iter().filter_map(|r| r.gospa_m)),
                 total_dwell_time_s: usage_of(|x| x.dwell_time_s),
@@ -957,7 +970,7 @@ fn summarize(
             run_ids: truth.runs.clone(),
             scoring_times: rows.iter().map(|r| r.k).max().unwrap_or(0),
             assignment: "exact gated one-to-one assignment on ECEF position distance: maximum number of pairs, then minimum total distance",
-            scorable_note: "undefined figures (no scorable truth, no track) are null and left out of averages",
+            undefined_values: "null: a figure with no defined value (no scorable truth, no track) is null and left out of averages",
         },
         per_run,
         per_target,

@@ -247,7 +247,7 @@ fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) 
                 offset += values.len();
             }
         }
-        Check::OneOf(allowed) => check_strings(column, |s| allowed.contains(&s))
+        Check::OneOf(allowed) => check_one_of(column, allowed)
             .map_err(|(row, value)| invalid(row, value, format!("one of {}", allowed.join(", "))))?,
         Check::Radar => check_strings(column, |s| RadarId::parse(s).is_some())
             .map_err(|(row, value)| invalid(row, value, "a radar id R1, R2, …".into()))?,
@@ -269,6 +269,21 @@ fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) 
         }
     }
     Ok(())
+}
+
+/// Vectorized membership test against a few allowed labels, then locate the first offender.
+fn check_one_of(column: &Column, allowed: &[&str]) -> Result<(), (usize, String)> {
+    let Ok(ca) = column.str() else {
+        return Err((0, "<not a string>".into()));
+    };
+    let mut hits: usize = 0;
+    for a in allowed {
+        hits += ca.equal(*a).sum().unwrap_or(0) as usize;
+    }
+    if hits == ca.len() - ca.null_count() {
+        return Ok(());
+    }
+    check_strings(column, |s| allowed.contains(&s))
 }
 
 /// Check distinct values first (one hashed pass), then locate the first offending row.

@@ -84,7 +84,7 @@ pub(crate) fn scoring_time(k: usize, interval_s: f64) -> f64 {
 
 /// Number of scoring times `1..=K` such that `K · interval_s <= t_end` (with a tolerance).
 pub(crate) fn n_scoring_times(t_end: f64, interval_s: f64) -> usize {
-    if !(t_end >= interval_s - T_EPS) {
+    if t_end.is_nan() || t_end < interval_s - T_EPS {
         return 0;
     }
     let mut k = (t_end / interval_s).floor() as usize;
@@ -194,7 +194,7 @@ pub(crate) fn score_run(input: &RunInput<'_>) -> RunOutput {
     let mut truth_pos: Vec<DVec3> = Vec::new();
     let mut track_pos: Vec<DVec3> = Vec::new();
 
-    for k in 1..=input.n_times {
+    for (k, tracks) in live.iter().enumerate().skip(1) {
         let t = scoring_time(k, input.interval_s);
         present.clear();
         for (li, tt) in input.targets.iter().enumerate() {
@@ -203,7 +203,6 @@ pub(crate) fn score_run(input: &RunInput<'_>) -> RunOutput {
                 present.push((li, p, v, ok));
             }
         }
-        let tracks = &live[k];
         let (np, m) = (present.len(), tracks.len());
         dist.clear();
         dist.reserve(np * m);

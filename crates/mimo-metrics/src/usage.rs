@@ -16,7 +16,8 @@ pub(crate) fn sort_radars(radars: &mut [String]) {
     radars.sort_by_key(|r| (RadarId::parse(r).map_or(u16::MAX, |id| u16::from(id.0)), r.clone()));
 }
 
-/// Sums of the four usage figures over transmit dwells, grouped by `keys`.
+/// Sums of the four usage figures over transmit dwells, grouped by `keys`. The interval of a
+/// dwell starting at `t_s >= 0` is `floor(t_s / interval_s) + 1`.
 fn transmit_sums(dwells: &DataFrame, interval_s: f64, keys: &[&str]) -> LazyFrame {
     let is_ta = col("requested_by").eq(lit("ta"));
     dwells
@@ -90,13 +91,16 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
     ])
     .map_err(internal("usage grid"))?;
 
-    let sums = transmit_sums(dwells, dt, &["run", "radar", "interval"]);
+    // One pass over the dwells: sums per run, radar and interval (every interval, also those
+    // after the last scoring time, so that the sensor totals below can be summed from it).
+    let interval_sums =
+        transmit_sums(dwells, dt, &["run", "radar", "interval"]).collect().map_err(internal("usage sums"))?;
     let keys = [col("run"), col("radar"), col("interval")];
     let mut norm_exprs: Vec<Expr> = SUMS.iter().map(|s| col(*s).fill_null(lit(0.0))).collect();
     norm_exprs.push(col("n_scorable").cast(DataType::Float64));
     let filled = grid
         .lazy()
-        .join(sums, keys.clone(), keys, JoinArgs::new(JoinType::Left))
+        .join(interval_sums.clone().lazy(), keys.clone(), keys, JoinArgs::new(JoinType::Left))
         .with_columns(norm_exprs)
         .with_columns(SUMS.iter().zip(NORMS).map(|(s, n)| (col(*s) / col("n_objects")).alias(n)).collect::<Vec<_>>());
     let mut aggs: Vec<Expr> = SUMS.iter().chain(NORMS.iter()).map(|s| col(*s).mean()).collect();
@@ -174,7 +178,15 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
     let keys = [col("run"), col("radar")];
     let per_run_df = run_grid
         .lazy()
-        .join(transmit_sums(dwells, dt, &["run", "radar"]), keys.clone(), keys, JoinArgs::new(JoinType::Left))
+        .join(
+            interval_sums
+                .lazy()
+                .group_by([col("run"), col("radar")])
+                .agg(SUMS.iter().map(|s| col(*s).sum()).collect::<Vec<_>>()),
+            keys.clone(),
+            keys,
+            JoinArgs::new(JoinType::Left),
+        )
         .with_columns(SUMS.iter().map(|s| col(*s).fill_null(lit(0.0))).collect::<Vec<_>>())
         .sort(["run", "radar"], SortMultipleOptions::default())
         .collect()

@@ -6,7 +6,7 @@
 //! | file stem | content |
 //! |---|---|
 //! | `completeness` | track completeness over time (mean over runs) with the required level (98 %) |
-//! | `energy_per_interval`, `dwell_time_per_interval` | per radar (one panel each), emitted energy and dwell time per scoring interval per scorable object (the paper's E[m,j], T[m,j]), all dwells and TA-requested dwells |
+//! | `energy_per_interval`, `dwell_time_per_interval` | per radar (one panel each), emitted energy and dwell time per scoring interval per scorable object (the paper's `E[m,j]`, `T[m,j]`), all dwells and TA-requested dwells |
 //! | `cumulative_energy`, `cumulative_dwell_time` | cumulative energy and dwell time over time, stacked by radar (one sees when each radar starts to work), with the TA-requested total |
 //! | `radar_energy`, `radar_dwell_time` | sensor totals per radar over a run (bars), all dwells and TA-requested |
 //! | `redundant_ratio`, `spurious_ratio`, `breaks`, `switches`, `position_rmse`, `velocity_rmse`, `ospa` | the other track metrics over time |
@@ -308,7 +308,8 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
 
     // Sensor totals per radar.
     let groups: Vec<String> = score.usage_radar.iter().map(|r| r.radar.clone()).collect();
-    let bars: [(&str, &str, &str, Vec<f64>, Vec<f64>); 2] = [
+    type Bars<'a> = (&'a str, &'a str, &'a str, Vec<f64>, Vec<f64>);
+    let bars: [Bars<'_>; 2] = [
         (
             "radar_energy",
             "Emitted energy per radar over a run",
@@ -335,7 +336,8 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
     }
 
     // Other track metrics over time.
-    let ratio_charts: [(&str, &str, &str, fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>); 4] = [
+    type Metric<'a> = (&'a str, &'a str, &'a str, fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>);
+    let ratio_charts: [Metric<'_>; 4] = [
         ("redundant_ratio", "Redundant track ratio", "redundant tracks ÷ scorable truths", |r| r.redundant_ratio),
         ("spurious_ratio", "Spurious track ratio", "spurious tracks ÷ tracks", |r| r.spurious_ratio),
         ("position_rmse", "Position error of assigned tracks", "position RMSE (m)", |r| r.position_rmse_m),
@@ -345,7 +347,7 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
         let lines = with_ma(y_label.split(" (").next().unwrap_or(y_label), PALETTE[(i + 4) % 10], series(f), dt);
         save(&single(format!("{title} {sub}"), y_label, lines, None), charts_dir, stem, (WIDTH, HEIGHT), &mut out)?;
     }
-    let counts: [(&str, &str, &str, fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>); 2] = [
+    let counts: [Metric<'_>; 2] = [
         ("breaks", "Track breaks (cumulative)", "track breaks", |r| Some(r.cum_breaks_mean)),
         ("switches", "Track switches (cumulative)", "track switches", |r| Some(r.cum_switches_mean)),
     ];
