@@ -43,10 +43,7 @@ pub struct Args {
 }
 
 fn metrics_err(e: MetricsError) -> CliError {
-    match e {
-        MetricsError::Write { .. } => CliError::Other(e.to_string()),
-        other => CliError::Input(other.to_string()),
-    }
+    if e.is_bad_input() { CliError::Input(e.to_string()) } else { CliError::Other(e.to_string()) }
 }
 
 /// The run directory holding truth and dwells: RUN itself, or its parent chain.
