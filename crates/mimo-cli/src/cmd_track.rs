@@ -93,7 +93,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         .map_err(|e| CliError::Other(format!("thread pool: {e}")))?;
     let pb = crate::progress::bar(runs.len() as u64, "track", a.quiet);
     let t_track = Instant::now();
-    let results: Vec<Result<(u32, Vec<(String, TableFile)>, u64), CliError>> = pool.install(|| {
+    type RunResult = Result<(u32, Vec<(String, TableFile)>, u64), CliError>;
+    let results: Vec<RunResult> = pool.install(|| {
         runs.par_iter()
             .map(|&k| {
                 let dwells: Vec<DwellRow> = mimo_store::read_table(&run_file(&a.run, "dwells", k))?;

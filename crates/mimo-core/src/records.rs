@@ -307,13 +307,13 @@ pub fn pack_cov(m: &[[f64; 6]; 6]) -> [f64; 21] {
 }
 
 /// Unpack an upper triangle into a symmetric 6×6 matrix.
+#[allow(clippy::needless_range_loop)] // (i, j) and (j, i) are written together
 pub fn unpack_cov(c: &[f64; 21]) -> [[f64; 6]; 6] {
     let mut m = [[0.0; 6]; 6];
     let mut k = 0;
     for i in 0..6 {
         for j in i..6 {
-            m[i][j] = c[k];
-            m[j][i] = c[k];
+            (m[i][j], m[j][i]) = (c[k], c[k]);
             k += 1;
         }
     }
@@ -327,9 +327,9 @@ mod tests {
     #[test]
     fn cov_pack_round_trip() {
         let mut m = [[0.0; 6]; 6];
-        for i in 0..6 {
-            for j in 0..6 {
-                m[i][j] = (i.min(j) * 10 + i.max(j)) as f64;
+        for (i, row) in m.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x = (i.min(j) * 10 + i.max(j)) as f64;
             }
         }
         let p = pack_cov(&m);

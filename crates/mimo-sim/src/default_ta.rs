@@ -21,7 +21,7 @@
 use crate::ta::{DwellReport, DwellRequest, PartReport, Request, TaContext, TestArticle, TxOrder};
 use crate::world::{Radars, World};
 use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellKind, MeasurementRow, TrackRow, TrackStatus};
+use mimo_core::records::{DwellKind, TrackRow, TrackStatus};
 use mimo_radar::energy::{pointing_loss, predict_pair, pulses_for, required_snr_sw1, straddle_loss};
 use mimo_track::{DwellContext, Look, MultiTargetTracker, TrackerConfig, TrackerKind};
 use serde::{Deserialize, Serialize};
@@ -229,21 +229,6 @@ impl<'w> DefaultTa<'w> {
     }
 }
 
-/// Feed one finished dwell to a tracker: the single code path of closed loop and replay.
-pub fn track_dwell(
-    tracker: &mut MultiTargetTracker,
-    geom: &dyn mimo_track::SensorGeometry,
-    run: u32,
-    group_id: u64,
-    kind: DwellKind,
-    t_mid_s: f64,
-    parts: &[PartReport],
-    measurements: &[MeasurementRow],
-) -> Vec<TrackRow> {
-    let ctx = dwell_context(run, group_id, kind, t_mid_s, parts);
-    tracker.process_dwell(&ctx, measurements, geom)
-}
-
 impl TestArticle for DefaultTa<'_> {
     fn name(&self) -> &str {
         &self.name
@@ -258,16 +243,8 @@ impl TestArticle for DefaultTa<'_> {
         for id in &report.tag {
             self.pending.remove(id);
         }
-        let rows = track_dwell(
-            &mut self.tracker,
-            &self.radars,
-            report.run,
-            report.group_id,
-            report.kind,
-            report.t_s,
-            &report.parts,
-            &report.measurements,
-        );
+        let dctx = dwell_context(report.run, report.group_id, report.kind, report.t_s, &report.parts);
+        let rows = self.tracker.process_dwell(&dctx, &report.measurements, &self.radars);
         let changed = !rows.is_empty() || !report.tag.is_empty();
         for r in &rows {
             if r.status == TrackStatus::Deleted {

@@ -57,6 +57,7 @@ pub fn run_one(world: &World, cfg: &EngineConfig, run: u32, ta: &mut dyn TestArt
 
 /// Run `runs` in parallel (on the current rayon pool), handing each run's tables to `sink` as
 /// soon as it is done. `make_ta(run)` builds a fresh test article per run.
+#[allow(clippy::needless_lifetimes)] // the test articles may borrow the world
 pub fn run_monte_carlo<'w, E: Send>(
     world: &'w World,
     cfg: &EngineConfig,

@@ -10,7 +10,7 @@
 //! `mimo_radar::measurements_from_primitives` and the group's own id base, which reproduces the
 //! recorded measurements exactly.
 
-use crate::default_ta::track_dwell;
+use crate::default_ta::dwell_context;
 use crate::engine::first_meas_id;
 use crate::ta::PartReport;
 use crate::world::World;
@@ -130,7 +130,8 @@ pub fn replay(
         let ms = meas_by_group.get(&gid).unwrap_or(&empty);
         out.n_measurements += ms.len() as u64;
         let t_mid = g.t0_s + 0.5 * g.duration_s;
-        out.tracks.extend(track_dwell(&mut mtt, world, run, gid, g.kind, t_mid, &g.parts, ms));
+        let ctx = dwell_context(run, gid, g.kind, t_mid, &g.parts);
+        out.tracks.extend(mtt.process_dwell(&ctx, ms, world));
     }
     out.measurements.sort_by_key(|m| m.meas_id);
     Ok(out)
