@@ -189,3 +189,45 @@ fn bad_input_exits_2_and_leaves_nothing() {
     assert_eq!(mimo(&["track", &o, "--from", "voltages", "--out", p(&t_out)]), 2);
     assert!(!t_out.exists());
 }
+
+#[test]
+fn score_writes_summary_and_charts_and_rejects_bad_runs() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let run = tmp.path().join("run");
+    assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "30", "--quiet", "--out", p(&run)]), 0);
+    assert_eq!(mimo(&["score", p(&run), "--quiet"]), 0);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("score/summary.json")).expect("summary")).expect("json");
+    for key in ["scenario", "runs", "interval_s", "gate_m", "track", "usage", "challenge"] {
+        assert!(summary.get(key).is_some(), "summary.json lacks {key}");
+    }
+    for key in ["completeness", "redundant_ratio", "spurious_ratio", "breaks", "switches", "position_rmse_m"] {
+        assert!(summary["track"].get(key).is_some(), "summary.json track lacks {key}");
+    }
+    for r in ["R1", "R2", "R3", "R4"] {
+        assert!(summary["usage"]["per_radar"][r]["energy_j"].as_f64().is_some_and(|e| e > 0.0), "{r}");
+    }
+    assert!(run.join("score/charts/completeness.png").is_file());
+    // Scoring again replaces score/.
+    assert_eq!(mimo(&["score", p(&run), "--quiet", "--no-charts"]), 0);
+    assert!(!run.join("score/charts").exists());
+
+    // A tracked run scores through its parent link; without the parent it is an input error.
+    let tracked = tmp.path().join("tracked");
+    assert_eq!(mimo(&["track", p(&run), "--from", "measurements", "--quiet", "--out", p(&tracked)]), 0);
+    assert_eq!(mimo(&["score", p(&tracked), "--quiet", "--no-charts"]), 0);
+    let moved = tmp.path().join("moved");
+    std::fs::rename(&run, &moved).expect("move parent away");
+    assert_eq!(mimo(&["score", p(&tracked), "--quiet"]), 2);
+    std::fs::rename(&moved, &run).expect("move back");
+
+    // No tracks table.
+    std::fs::remove_dir_all(run.join("tracks")).expect("rm tracks");
+    assert_eq!(mimo(&["score", p(&run), "--quiet"]), 2);
+    // A file in tracks/ that is not a tracks table (wrong and missing columns) is refused.
+    std::fs::create_dir_all(run.join("tracks")).expect("mkdir");
+    std::fs::copy(run.join("truth/run-0000.parquet"), run.join("tracks/run-0000.parquet")).expect("copy");
+    assert_eq!(mimo(&["score", p(&run), "--quiet"]), 2);
+    // Bad option values.
+    assert_eq!(mimo(&["score", p(&tracked), "--gate", "-1", "--quiet"]), 2);
+}
