@@ -58,7 +58,10 @@ pub struct TxOrder {
 /// A dwell requested by the TA. A monostatic dwell has one transmitter that is also the only
 /// receiver; a MIMO dwell has several transmitters (each on its own orthogonal waveform) and/or
 /// several receivers, all steered at `aim_ecef`. Every participant's timeline is occupied for
-/// the whole dwell, which lasts as long as its longest transmission.
+/// the whole dwell, which lasts as long as its longest transmission. A participant that cannot
+/// steer at the aim point (scan limit) is left out; the request is rejected (and counted in
+/// `RunStats::rejected_requests`) only when no transmitter or no receiver is left, or when its
+/// start is not a time inside the run. List each radar at most once as a transmitter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DwellRequest {
     pub kind: DwellKind,
