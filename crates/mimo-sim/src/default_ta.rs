@@ -13,7 +13,9 @@
 //!   `ρ̂ ± max(5σ_ρ, 1 km)`.
 //! * Energy (§7.2): pulses sized for P_D = 0.9 on the best monostatic pair, assuming the track's
 //!   RCS is `assumed_rcs_m2` (the TA does not know the target type), with the expected
-//!   beam-pointing (V₀ = 0.2) and straddle losses; each consecutive miss doubles the pulses.
+//!   beam-pointing (V₀ = 0.2) and straddle losses; a miss is followed at once by a re-dwell with
+//!   doubled energy, up to twice; after that the track is handed to the next-best radar (the
+//!   best one may not see it at all, e.g. a low target just beyond its horizon).
 //! * MIMO: when two or more radars can see the predicted position (scan limit, horizon,
 //!   bistatic angle ≤ 150°), a confirmed track's dwell is a MIMO dwell: the radar with the best
 //!   predicted SNR transmits, and every radar that can see the aim point receives.
@@ -26,6 +28,9 @@ use mimo_radar::energy::{pointing_loss, predict_pair, pulses_for, required_snr_s
 use mimo_track::{DwellContext, Look, MultiTargetTracker, TrackerConfig, TrackerKind};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+
+/// Immediate re-dwells with doubled energy after a miss before the TA tries another radar.
+pub const MAX_REDWELLS: u32 = 2;
 
 /// A TA that asks for nothing: background search only.
 pub struct Passive;
@@ -175,17 +180,24 @@ impl<'w> DefaultTa<'w> {
         let pred = self.tracker.predict(id, t)?;
         let aim = pred.pos;
         // Candidate transmitters: monostatic predictions.
-        let mut best: Option<(RadarId, f64, u8)> = None;
-        for r in w.ids() {
-            let p = w.params(r);
-            let faces = w.faces_at(r, t);
-            if let Some(pp) = predict_pair(p, &faces, p, &faces, aim, self.cfg.assumed_rcs_m2)
-                && best.is_none_or(|(_, s, _)| pp.snr1 > s)
-            {
-                best = Some((r, pp.snr1, pp.rx_face));
-            }
+        let mut candidates: Vec<(RadarId, f64, u8)> = w
+            .ids()
+            .into_iter()
+            .filter_map(|r| {
+                let p = w.params(r);
+                let faces = w.faces_at(r, t);
+                predict_pair(p, &faces, p, &faces, aim, self.cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face))
+            })
+            .collect();
+        // Best predicted SNR first (ties by radar id, so the choice is deterministic).
+        candidates.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+        if candidates.is_empty() {
+            return None;
         }
-        let (tx, snr1, face) = best?;
+        // After `MAX_REDWELLS` misses in a row the best radar may not see the target at all (a
+        // track just above its predicted horizon, say): hand the track to the next radar.
+        let k = (misses / (MAX_REDWELLS + 1)) as usize % candidates.len();
+        let (tx, snr1, face) = candidates[k];
         let p = w.params(tx);
         let losses = pointing_loss(self.cfg.pointing_sharpness, self.cfg.pointing_sharpness, true) * straddle_loss();
         // Until a tentative track is seen again, its looks are cheap (most are false alarms).
@@ -193,7 +205,8 @@ impl<'w> DefaultTa<'w> {
         let pd = if unconfirmed { self.cfg.confirm_pd } else { self.cfg.pd_target };
         let mut n = pulses_for(required_snr_sw1(pd, p.pfa), snr1, losses, p.max_pulses);
         if !unconfirmed {
-            n = n.saturating_mul(1 << misses.min(4)).min(p.max_pulses);
+            // PHYSICS §7.2: re-dwell with doubled energy, up to twice.
+            n = n.saturating_mul(1 << (misses % (MAX_REDWELLS + 1))).min(p.max_pulses);
         }
         let pm = self.tracker.predict_measurement(id, t, tx, tx, face, &w);
         let sigma_rho = pm.map(|m| m.sigma_rho_m).unwrap_or(0.0);
