@@ -79,7 +79,7 @@ fn main() {
             let sol = mimo_core::assign::assign_with_miss(&cost, truths.len(), live.len(), &miss);
             excess += live.len() - sol.iter().filter(|s| s.is_some()).count();
             for (x, s) in truths.iter().zip(&sol) {
-                let e = per.entry(x.id.clone()).or_default();
+                let e = per.entry(x.id.to_string()).or_default();
                 e.1 += 1;
                 tot += 1;
                 if s.is_some() {

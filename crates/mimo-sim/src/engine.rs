@@ -477,7 +477,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         let truth = world.targets_at(t_mid);
         let targets: Vec<mimo_radar::Target> = truth
             .iter()
-            .map(|x| mimo_radar::Target { id: &x.id, index: x.index, pos_ecef: x.pos_ecef, rcs_m2: x.rcs_m2 })
+            .map(|x| mimo_radar::Target { id: x.id, index: x.index, pos_ecef: x.pos_ecef, rcs_m2: x.rcs_m2 })
             .collect();
         let keys = [u64::from(self.run), gid];
         let dwell = mimo_radar::Dwell {

@@ -17,8 +17,8 @@ pub struct World {
 
 /// A target at one instant, as the radar model needs it.
 #[derive(Debug, Clone)]
-pub struct TargetNow {
-    pub id: String,
+pub struct TargetNow<'w> {
+    pub id: &'w str,
     pub index: u32,
     pub pos_ecef: DVec3,
     pub vel_ecef: DVec3,
@@ -59,12 +59,12 @@ impl World {
     }
 
     /// Every target's truth at `t_s`.
-    pub fn targets_at(&self, t_s: f64) -> Vec<TargetNow> {
+    pub fn targets_at(&self, t_s: f64) -> Vec<TargetNow<'_>> {
         (0..self.scenario.targets.len())
             .map(|i| {
                 let s = self.trajectories.state_at(i, t_s);
                 TargetNow {
-                    id: self.scenario.targets[i].id.clone(),
+                    id: self.scenario.targets[i].id.as_str(),
                     index: i as u32,
                     pos_ecef: s.pos_ecef,
                     vel_ecef: s.vel_ecef,

@@ -850,8 +850,12 @@ fn default_ta_is_stable_through_crossover_and_break_up() {
     let t = dur;
     let lives = lives(&tables.tracks);
     let live = live_at(&lives, t);
-    let fighters: Vec<(String, DVec3)> =
-        world.targets_at(t).into_iter().filter(|x| x.id.starts_with("F-")).map(|x| (x.id, x.pos_ecef)).collect();
+    let fighters: Vec<(String, DVec3)> = world
+        .targets_at(t)
+        .into_iter()
+        .filter(|x| x.id.starts_with("F-"))
+        .map(|x| (x.id.to_string(), x.pos_ecef))
+        .collect();
     assert_eq!(fighters.len(), 4);
     let truths: Vec<DVec3> = fighters.iter().map(|f| f.1).collect();
     let tracks: Vec<DVec3> = live.iter().map(|l| l.1).collect();
