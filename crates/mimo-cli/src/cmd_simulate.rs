@@ -147,7 +147,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             f.entry(name.to_string()).or_default().push(tf);
         }
         let mut tot = totals.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
-        add_stats(&mut tot, &s);
+        tot.add(&s);
         pb.inc(1);
         Ok(())
     };
@@ -199,14 +199,4 @@ pub fn run(a: Args) -> Result<(), CliError> {
         );
     }
     Ok(())
-}
-
-fn add_stats(t: &mut RunStats, s: &RunStats) {
-    t.dwells += s.dwells;
-    t.search_dwells += s.search_dwells;
-    t.ta_dwells += s.ta_dwells;
-    t.rejected_requests += s.rejected_requests;
-    t.primitives += s.primitives;
-    t.measurements += s.measurements;
-    t.stop_local_tracking_orders += s.stop_local_tracking_orders;
 }

@@ -179,14 +179,15 @@ impl<'w> DefaultTa<'w> {
         let t = ctx.t_s;
         let pred = self.tracker.predict(id, t)?;
         let aim = pred.pos;
+        let ids = w.ids();
+        let faces: Vec<_> = ids.iter().map(|&r| w.faces_at(r, t)).collect();
         // Candidate transmitters: monostatic predictions.
-        let mut candidates: Vec<(RadarId, f64, u8)> = w
-            .ids()
-            .into_iter()
-            .filter_map(|r| {
+        let mut candidates: Vec<(RadarId, f64, u8)> = ids
+            .iter()
+            .zip(&faces)
+            .filter_map(|(&r, f)| {
                 let p = w.params(r);
-                let faces = w.faces_at(r, t);
-                predict_pair(p, &faces, p, &faces, aim, self.cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face))
+                predict_pair(p, f, p, f, aim, self.cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face))
             })
             .collect();
         // Best predicted SNR first (ties by radar id, so the choice is deterministic).
@@ -213,13 +214,9 @@ impl<'w> DefaultTa<'w> {
         let half = (self.cfg.window_sigmas * sigma_rho).max(self.cfg.min_window_half_m);
         let mut receivers = vec![tx];
         if self.cfg.mimo && status == TrackStatus::Confirmed {
-            let tx_faces = w.faces_at(tx, t);
-            for r in w.ids() {
-                if r == tx {
-                    continue;
-                }
-                let faces = w.faces_at(r, t);
-                if predict_pair(p, &tx_faces, w.params(r), &faces, aim, self.cfg.assumed_rcs_m2).is_some() {
+            let tx_faces = &faces[tx.index()];
+            for (&r, f) in ids.iter().zip(&faces) {
+                if r != tx && predict_pair(p, tx_faces, w.params(r), f, aim, self.cfg.assumed_rcs_m2).is_some() {
                     receivers.push(r);
                 }
             }

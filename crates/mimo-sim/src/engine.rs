@@ -52,7 +52,7 @@ pub struct EngineConfig {
     pub search: SearchConfig,
 }
 
-/// Counters of one run, for the manifest and benchmarks.
+/// Counters of one run (or, summed with [`RunStats::add`], of several), for reports and benchmarks.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
 pub struct RunStats {
     pub dwells: u64,
@@ -62,6 +62,19 @@ pub struct RunStats {
     pub primitives: u64,
     pub measurements: u64,
     pub stop_local_tracking_orders: u64,
+}
+
+impl RunStats {
+    /// Add another run's counters.
+    pub fn add(&mut self, o: &RunStats) {
+        self.dwells += o.dwells;
+        self.search_dwells += o.search_dwells;
+        self.ta_dwells += o.ta_dwells;
+        self.rejected_requests += o.rejected_requests;
+        self.primitives += o.primitives;
+        self.measurements += o.measurements;
+        self.stop_local_tracking_orders += o.stop_local_tracking_orders;
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -91,7 +104,9 @@ struct Part {
 struct Group {
     kind: DwellKind,
     requested_by: Requester,
-    aim: DVec3,
+    /// Aim point; `None` for search, whose beam is fixed in the face (the recorded aim is then
+    /// the beam direction at half the instrumented range, from the face at mid-dwell).
+    aim: Option<DVec3>,
     parts: Vec<Part>,
     duration_s: f64,
     window_half_m: Option<f64>,
@@ -240,15 +255,10 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         }
         let n = st.raster.len();
         self.radars[r].cursor = (self.radars[r].cursor + 1) % n;
-        let faces = self.world.faces_at(radar, now.as_secs());
-        let f = faces[beam.face as usize];
-        let dir = f.face_from_ecef.transpose()
-            * DVec3::new(beam.u, beam.v, (1.0 - beam.u * beam.u - beam.v * beam.v).max(0.0).sqrt());
-        let params = self.world.params(radar);
         let group = Group {
             kind: DwellKind::Search,
             requested_by: Requester::Radar,
-            aim: f.origin_ecef + dir * params.instrumented_range_m * 0.5,
+            aim: None,
             parts: vec![Part {
                 radar,
                 role: Role::Txrx,
@@ -406,7 +416,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         Some(Group {
             kind: req.kind,
             requested_by: Requester::Ta,
-            aim: req.aim_ecef,
+            aim: Some(req.aim_ecef),
             parts,
             duration_s,
             window_half_m: Some(req.window_half_m.max(0.0)),
@@ -430,6 +440,12 @@ impl<'w, 'ta> Engine<'w, 'ta> {
         // Participants' faces at mid-dwell.
         let faces: Vec<Vec<mimo_core::face::FaceFrame>> =
             g.parts.iter().map(|p| world.faces_at(p.radar, t_mid)).collect();
+        let aim = g.aim.unwrap_or_else(|| {
+            let (p, f) = (&g.parts[0], faces[0][g.parts[0].face as usize]);
+            let d = f.face_from_ecef.transpose()
+                * DVec3::new(p.beam_u, p.beam_v, (1.0 - p.beam_u * p.beam_u - p.beam_v * p.beam_v).max(0.0).sqrt());
+            f.origin_ecef + d * (0.5 * world.params(p.radar).instrumented_range_m)
+        });
         let txs: Vec<mimo_radar::Transmitter> = g
             .parts
             .iter()
@@ -459,7 +475,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
                         rho_min_m: params.min_range_m,
                         rho_max_m: params.instrumented_range_m,
                     },
-                    Some(half) => mimo_radar::dwell::RangeWindow::AroundAim { aim_ecef: g.aim, half_width_m: half },
+                    Some(half) => mimo_radar::dwell::RangeWindow::AroundAim { aim_ecef: aim, half_width_m: half },
                 };
                 mimo_radar::Receiver {
                     radar: p.radar,
@@ -516,9 +532,9 @@ impl<'w, 'ta> Engine<'w, 'ta> {
                 face: p.face,
                 beam_u: p.beam_u,
                 beam_v: p.beam_v,
-                aim_x_m: g.aim.x,
-                aim_y_m: g.aim.y,
-                aim_z_m: g.aim.z,
+                aim_x_m: aim.x,
+                aim_y_m: aim.y,
+                aim_z_m: aim.z,
             });
         }
         self.stats.dwells += 1;
@@ -556,7 +572,7 @@ impl<'w, 'ta> Engine<'w, 'ta> {
             requested_by: g.requested_by,
             t_s: t_mid,
             duration_s: g.duration_s,
-            aim_ecef: g.aim,
+            aim_ecef: aim,
             parts,
             tag: g.tag,
             measurements: tm,
