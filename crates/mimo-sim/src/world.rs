@@ -1,4 +1,6 @@
 //! The simulated world of one scenario: ships (sites and faces over time) and target truth.
+//! It is the engine's alone: a test article learns the ships from its `start` event and never
+//! sees the targets.
 
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
@@ -6,23 +8,29 @@ use mimo_core::ids::RadarId;
 use mimo_core::params::RadarParams;
 use mimo_scenario::{Scenario, ScenarioError, Trajectories};
 
-/// A scenario with its trajectories built: everything the engine and the test article may ask
-/// about geometry. Truth ([`World::targets_at`]) is for the engine only; a test article sees
-/// ships and radars, never targets.
+/// A scenario with its trajectories built.
 #[derive(Debug, Clone)]
 pub struct World {
+    /// The validated scenario.
     pub scenario: Scenario,
+    /// Every target's trajectory.
     pub trajectories: Trajectories,
 }
 
 /// A target at one instant, as the radar model needs it.
 #[derive(Debug, Clone)]
 pub struct TargetNow<'w> {
+    /// Target id (`F-1`, `A`, …).
     pub id: &'w str,
+    /// Index of the target in the scenario.
     pub index: u32,
+    /// Position (ECEF, m).
     pub pos_ecef: DVec3,
+    /// Velocity (ECEF, m/s).
     pub vel_ecef: DVec3,
+    /// Height above the ellipsoid (m).
     pub alt_m: f64,
+    /// Mean RCS (m²).
     pub rcs_m2: f64,
 }
 
@@ -73,59 +81,5 @@ impl World {
                 }
             })
             .collect()
-    }
-}
-
-impl mimo_track::SensorGeometry for World {
-    fn site_ecef(&self, radar: RadarId, t_s: f64) -> Option<DVec3> {
-        (radar.index() < self.n_radars()).then(|| self.site_at(radar, t_s))
-    }
-    fn face(&self, radar: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
-        if radar.index() >= self.n_radars() {
-            return None;
-        }
-        self.faces_at(radar, t_s).get(face as usize).copied()
-    }
-}
-
-/// What a test article may know of the world: the ships and their radars, never the targets.
-#[derive(Debug, Clone, Copy)]
-pub struct Radars<'w> {
-    world: &'w World,
-}
-
-impl<'w> Radars<'w> {
-    /// The radar view of a world.
-    pub fn of(world: &'w World) -> Radars<'w> {
-        Radars { world }
-    }
-    /// All radar ids.
-    pub fn ids(&self) -> Vec<RadarId> {
-        self.world.radar_ids()
-    }
-    /// A radar's parameters.
-    pub fn params(&self, r: RadarId) -> &'w RadarParams {
-        &self.world.scenario.ships[r.index()].radar
-    }
-    /// A radar's faces at `t_s`.
-    pub fn faces_at(&self, r: RadarId, t_s: f64) -> Vec<FaceFrame> {
-        self.world.faces_at(r, t_s)
-    }
-    /// A radar's array-centre position (ECEF) at `t_s`.
-    pub fn site_at(&self, r: RadarId, t_s: f64) -> DVec3 {
-        self.world.site_at(r, t_s)
-    }
-    /// The scenario centre (origin of a local tracking frame).
-    pub fn centre(&self) -> mimo_core::geo::Geodetic {
-        self.world.scenario.centre()
-    }
-}
-
-impl mimo_track::SensorGeometry for Radars<'_> {
-    fn site_ecef(&self, radar: RadarId, t_s: f64) -> Option<DVec3> {
-        self.world.site_ecef(radar, t_s)
-    }
-    fn face(&self, radar: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
-        mimo_track::SensorGeometry::face(self.world, radar, face, t_s)
     }
 }
