@@ -20,7 +20,7 @@ pub use config::{DefaultTaConfig, ResourceConfig};
 
 use crate::geometry::ShipGeometry;
 use mimo_core::records::{DwellKind, TrackStatus};
-use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo, Subscription};
+use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_track::{DwellContext, Look, MultiTargetTracker};
 use std::collections::BTreeMap;
@@ -121,9 +121,6 @@ impl TestArticle for DefaultTa {
     }
     fn config(&self) -> serde_json::Value {
         serde_json::to_value(&self.cfg).unwrap_or_default()
-    }
-    fn subscription(&self) -> Subscription {
-        Subscription { dwells: mimo_sim::messages::DwellFilter::All, ..Subscription::default() }
     }
     fn on_start(&mut self, start: &StartInfo) -> Result<Reply, TaFault> {
         let geom = ShipGeometry::from_start(start);
