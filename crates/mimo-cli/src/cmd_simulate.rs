@@ -105,7 +105,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         duration_s: world.scenario.duration_s,
         record_voltages,
         search: SearchConfig::default().scaled_pulses(a.search_pulses),
-        ta_config: ta.overrides.clone(),
+        ta_config: ta.overrides().clone(),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
@@ -174,7 +174,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         duration_s: world.scenario.duration_s,
         fidelity,
         tracker: Some(TrackerInfo { name: info.name, config: info.config }),
-        schedule: mimo_ta::registry::schedule_description(&ta.name),
+        schedule: ta.schedule(),
         parent: None,
         tables,
         timing_s: timing,

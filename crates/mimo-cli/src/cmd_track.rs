@@ -65,10 +65,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         other => return Err(CliError::input(format!("--from: expected primitives or measurements, got '{other}'"))),
     };
     let ta = a.ta.resolve()?;
-    if !mimo_ta::registry::builtin(&ta.name).is_ok_and(|b| b.tracks) {
+    if !ta.tracks() {
         return Err(CliError::input(format!(
             "--tracker: '{}' forms no tracks, so it cannot re-run a recording (expected a tracker such as default or imm)",
-            ta.name
+            ta.label()
         )));
     }
     if a.threads == Some(0) {
@@ -96,7 +96,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         duration_s: manifest.duration_s,
         record_voltages: false,
         search: SearchConfig::default(),
-        ta_config: ta.overrides.clone(),
+        ta_config: ta.overrides().clone(),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
@@ -183,7 +183,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "tracked {} run(s) of {} with '{}' from {} in {:.2} s ({:.0} measurements/s) -> {}",
             manifest.runs,
             a.run.display(),
-            ta.name,
+            ta.label(),
             a.from,
             track_s,
             n_meas as f64 / track_s.max(1e-9),

@@ -11,6 +11,8 @@
 //! * [`replay`]: the open-loop re-run behind `mimo track`: any test article over a recording's
 //!   dwells, in the order the closed loop delivered them.
 //! * [`geometry`]: the ships of a `start` event as the tracker's sensor geometry.
+//! * [`process`]: a test article in another process, in any language, speaking the protocol over
+//!   its stdin and stdout.
 //!
 //! Every test article here talks to the engine only through `mimo_sim::messages`, exactly as a
 //! test article in another process does (docs/ta-protocol.md).
@@ -22,6 +24,7 @@ pub mod default_ta;
 pub mod geometry;
 pub mod overrides;
 pub mod passive;
+pub mod process;
 pub mod registry;
 pub mod replay;
 
