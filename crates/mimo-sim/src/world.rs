@@ -6,7 +6,7 @@ use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
 use mimo_core::params::RadarParams;
-use mimo_scenario::{Scenario, ScenarioError, Trajectories};
+use mimo_scenario::{Scenario, ScenarioError, ShipFrames, Trajectories};
 
 /// A scenario with its trajectories built.
 #[derive(Debug, Clone)]
@@ -15,6 +15,8 @@ pub struct World {
     pub scenario: Scenario,
     /// Every target's trajectory.
     pub trajectories: Trajectories,
+    /// Every ship's faces over the run, sampled and interpolated.
+    frames: Vec<ShipFrames>,
 }
 
 /// A target at one instant, as the radar model needs it.
@@ -38,7 +40,8 @@ impl World {
     /// Build the trajectories of a validated scenario.
     pub fn new(scenario: Scenario) -> Result<World, ScenarioError> {
         let trajectories = scenario.build_trajectories()?;
-        Ok(World { scenario, trajectories })
+        let frames = scenario.ships.iter().map(|s| ShipFrames::new(s, scenario.duration_s)).collect();
+        Ok(World { scenario, trajectories, frames })
     }
 
     /// Number of radars (ships).
@@ -56,14 +59,34 @@ impl World {
         &self.scenario.ships[r.index()].radar
     }
 
-    /// A radar's faces at time `t_s` (their origins are the array centre).
+    /// A radar's faces at time `t_s` (their origins are the array centre), from
+    /// [`ShipFrames`].
     pub fn faces_at(&self, r: RadarId, t_s: f64) -> Vec<FaceFrame> {
-        self.scenario.ships[r.index()].faces_at(t_s)
+        self.frames[r.index()].faces_at(t_s)
+    }
+
+    /// One face of a radar at `t_s` (`None` for a face it does not have).
+    pub fn face_at(&self, r: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
+        self.frames[r.index()].face_at(t_s, face as usize)
     }
 
     /// A radar's array-centre position (ECEF) at `t_s`.
     pub fn site_at(&self, r: RadarId, t_s: f64) -> DVec3 {
-        self.scenario.ships[r.index()].position_at(t_s).to_ecef()
+        self.frames[r.index()].site_at(t_s)
+    }
+
+    /// Every target's position and mean RCS at `t_s`, as the radar model takes them, into `out`
+    /// (cleared first; no geodetic conversion).
+    pub fn radar_targets_into<'w>(&'w self, t_s: f64, out: &mut Vec<mimo_radar::Target<'w>>) {
+        out.clear();
+        for (i, t) in self.scenario.targets.iter().enumerate() {
+            out.push(mimo_radar::Target {
+                id: t.id.as_str(),
+                index: i as u32,
+                pos_ecef: self.trajectories.position_at(i, t_s),
+                rcs_m2: self.trajectories.rcs_m2(i),
+            });
+        }
     }
 
     /// Every target's truth at `t_s`.

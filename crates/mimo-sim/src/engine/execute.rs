@@ -45,10 +45,17 @@ fn search_aim(world: &World, g: &Group, frame: &FaceFrame) -> DVec3 {
 }
 
 /// Execute group `gid` that starts at `t0_s`.
-pub(crate) fn execute(world: &World, keys: &RunKeys, gid: u64, g: &Group, t0_s: f64) -> Executed {
+pub(crate) fn execute<'w>(
+    world: &'w World,
+    keys: &RunKeys,
+    gid: u64,
+    g: &Group,
+    t0_s: f64,
+    targets: &mut Vec<mimo_radar::Target<'w>>,
+) -> Executed {
     let t_mid = t0_s + 0.5 * g.duration_s;
-    // Participants' faces at mid-dwell.
-    let frames: Vec<FaceFrame> = g.parts.iter().map(|p| world.faces_at(p.radar, t_mid)[p.face as usize]).collect();
+    // Participants' faces at mid-dwell (a part's face was chosen from the same frames).
+    let frames: Vec<FaceFrame> = g.parts.iter().filter_map(|p| world.face_at(p.radar, p.face, t_mid)).collect();
     let aim = g.aim.unwrap_or_else(|| search_aim(world, g, &frames[0]));
     let txs: Vec<mimo_radar::Transmitter> = g
         .parts
@@ -90,11 +97,7 @@ pub(crate) fn execute(world: &World, keys: &RunKeys, gid: u64, g: &Group, t0_s: 
             }
         })
         .collect();
-    let truth = world.targets_at(t_mid);
-    let targets: Vec<mimo_radar::Target> = truth
-        .iter()
-        .map(|x| mimo_radar::Target { id: x.id, index: x.index, pos_ecef: x.pos_ecef, rcs_m2: x.rcs_m2 })
-        .collect();
+    world.radar_targets_into(t_mid, targets);
     let stream_keys = [u64::from(keys.run), gid];
     let dwell = mimo_radar::Dwell {
         run: keys.run,
@@ -107,7 +110,7 @@ pub(crate) fn execute(world: &World, keys: &RunKeys, gid: u64, g: &Group, t0_s: 
         record_voltages: keys.record_voltages,
         simulate_all_cells: false,
     };
-    let out = mimo_radar::evaluate(&dwell, &targets);
+    let out = mimo_radar::evaluate(&dwell, targets);
     let measurements = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
     let dwells = g
         .parts

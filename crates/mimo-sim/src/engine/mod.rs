@@ -153,6 +153,8 @@ pub struct Engine<'a> {
     reports: BTreeMap<u64, DwellReport>,
     next_dwell_id: u64,
     stats: RunStats,
+    /// The targets at the current dwell's mid-time (a buffer reused by every dwell).
+    targets: Vec<mimo_radar::Target<'a>>,
 }
 
 impl<'a> Engine<'a> {
@@ -183,6 +185,7 @@ impl<'a> Engine<'a> {
             reports: BTreeMap::new(),
             next_dwell_id: 0,
             stats: RunStats::default(),
+            targets: Vec::new(),
         }
     }
 
@@ -465,7 +468,7 @@ impl<'a> Engine<'a> {
             self.timelines[p.radar.index()].begin(gid, end);
         }
         let keys = RunKeys { seed: self.cfg.seed, run: self.run, record_voltages: self.cfg.record_voltages };
-        let ex = execute(self.world, &keys, gid, &g, t0);
+        let ex = execute(self.world, &keys, gid, &g, t0, &mut self.targets);
         self.stats.dwells += 1;
         match g.requested_by {
             Requester::Radar => self.stats.search_dwells += 1,
