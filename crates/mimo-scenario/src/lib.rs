@@ -41,6 +41,7 @@ mod load;
 mod model;
 mod ship;
 pub mod ship_frames;
+pub mod stress;
 mod trajectory;
 mod validate;
 
@@ -52,6 +53,7 @@ pub use model::{
     Group, LatLonAlt, Manoeuvre, Member, Move, Offset, Scenario, Ship, Split, Target,
 };
 pub use ship_frames::ShipFrames;
+pub use stress::Stress;
 pub use trajectory::{MARGIN_S, TargetState, Trajectories};
 pub use validate::MAX_DURATION_S;
 
