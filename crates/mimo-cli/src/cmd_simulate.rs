@@ -12,8 +12,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::time::Instant;
 
-/// Default master seed: runs are reproducible unless a seed is given.
-pub const DEFAULT_SEED: u64 = 20_261_122;
+use mimo_sim::DEFAULT_SEED;
 
 /// Run the closed-loop simulation of a scenario.
 ///

@@ -73,7 +73,7 @@ impl TaArgs {
     pub fn resolve(&self) -> Result<TaChoice, CliError> {
         let over = overrides::collect(self.ta_config.as_deref(), &self.set).map_err(|e| config_err(self, e))?;
         if let Some(cmd) = &self.ta_cmd {
-            if shlex::split(cmd).is_none_or(|w| w.is_empty()) {
+            if mimo_ta::process::split_command(cmd).is_none() {
                 return Err(CliError::input(format!(
                     "--ta-cmd: '{cmd}' is not a command (empty or unbalanced quotes)"
                 )));

@@ -29,6 +29,9 @@ pub use test_article::{TaFault, TestArticle};
 pub use world::World;
 
 use mimo_core::sink::RunSink;
+
+/// The default master seed: runs are reproducible unless a seed is given.
+pub const DEFAULT_SEED: u64 = 20_261_122;
 use rayon::prelude::*;
 
 /// What a test article said about itself, for the manifest.

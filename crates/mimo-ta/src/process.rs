@@ -50,6 +50,12 @@ impl<'a> From<&'a TaEvent> for EventRef<'a> {
     }
 }
 
+/// A command line split into words the way a POSIX shell would (quotes, escapes) without
+/// running one; `None` when it is empty or its quotes do not balance.
+pub fn split_command(cmd: &str) -> Option<Vec<String>> {
+    shlex::split(cmd).filter(|w| !w.is_empty())
+}
+
 /// A test article run as a child process.
 pub struct ProcessTa {
     cmd: String,
@@ -68,7 +74,7 @@ impl ProcessTa {
     /// Start `cmd` (split like a POSIX shell would, without running one). `timeout_s` bounds the
     /// wait for each reply.
     pub fn spawn(cmd: &str, timeout_s: f64) -> Result<ProcessTa, TaFault> {
-        let words = shlex::split(cmd).filter(|w| !w.is_empty()).ok_or_else(|| {
+        let words = split_command(cmd).ok_or_else(|| {
             TaFault::Crashed("cannot split the command line (unbalanced quotes?) or it is empty".into())
         })?;
         let (prog, args) = words.split_first().ok_or_else(|| TaFault::Crashed("empty command".into()))?;
