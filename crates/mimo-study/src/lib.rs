@@ -10,7 +10,11 @@
 
 #![warn(missing_docs)]
 
+pub mod cpu;
 pub mod grid;
+pub mod guard;
 pub mod plan;
+pub mod prepare;
+pub mod timed;
 
 pub use plan::{Plan, PlanError};
