@@ -21,10 +21,7 @@ pub fn positive_definite(m: &[[f64; 6]; 6]) -> bool {
     let mut l = [[0.0f64; 6]; 6];
     for i in 0..6 {
         for j in 0..=i {
-            let mut s = m[i][j];
-            for k in 0..j {
-                s -= l[i][k] * l[j][k];
-            }
+            let s = m[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
             if i == j {
                 if !(s > 0.0 && s.is_finite()) {
                     return false;
