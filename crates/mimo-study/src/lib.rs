@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod cpu;
+pub mod execute;
 pub mod grid;
 pub mod guard;
 pub mod plan;
