@@ -8,6 +8,7 @@
 mod cmd_scenarios;
 mod cmd_score;
 mod cmd_simulate;
+mod cmd_study;
 mod cmd_track;
 mod error;
 mod progress;
@@ -58,6 +59,15 @@ pub enum Command {
     /// paired by a gated, globally optimal assignment. RUN/score/ is derived and reproducible,
     /// so it is replaced (and the command says so).
     Score(cmd_score::Args),
+    /// Run a study: methods side by side over scenarios and stress values, scored and charted.
+    ///
+    /// Every cell (method × scenario × stress point) is an ordinary run directory under
+    /// OUT/runs/ in hive-style paths. OUT gets results.parquet (one row per cell and run, with a
+    /// failure reason where a method failed), costs.parquet (timings), summary.parquet (means and
+    /// 95 % confidence intervals), charts/ (energy against completeness, compute against
+    /// accuracy, stability per axis) and report.md. Resumable (--resume) and spread over machines
+    /// (--shard K/N, then --merge).
+    Study(cmd_study::Args),
 }
 
 /// Parse arguments and run; returns the process exit status.
@@ -90,5 +100,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Simulate(a) => cmd_simulate::run(a),
         Command::Track(a) => cmd_track::run(a),
         Command::Score(a) => cmd_score::run(a),
+        Command::Study(a) => cmd_study::run(a),
     }
 }

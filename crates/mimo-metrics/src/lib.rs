@@ -255,6 +255,10 @@ pub struct TrackMetricsRow {
     pub velocity_rmse_mps: Option<f64>,
     pub ospa_m: Option<f64>,
     pub gospa_m: Option<f64>,
+    /// GOSPA's parts (see [`ospa::OspaGospa`]); null with `gospa_m`.
+    pub gospa_localisation_m: Option<f64>,
+    pub gospa_missed: Option<u32>,
+    pub gospa_false: Option<u32>,
 }
 
 /// Track metrics at one scoring time averaged over runs.
@@ -430,6 +434,11 @@ pub struct RunSummary {
     pub velocity_rmse_mps: Option<f64>,
     pub ospa_m: Option<f64>,
     pub gospa_m: Option<f64>,
+    /// Means over the run's scoring times of GOSPA's localisation part (m), missed truths and
+    /// false tracks.
+    pub gospa_localisation_m: Option<f64>,
+    pub gospa_missed: Option<f64>,
+    pub gospa_false: Option<f64>,
     pub total_dwell_time_s: f64,
     pub total_energy_j: f64,
     pub ta_dwell_time_s: f64,
@@ -800,7 +809,7 @@ fn mean_over_runs(rows: &[TrackMetricsRow]) -> Result<Vec<TrackMetricsMeanRow>, 
     ]);
     let m = df
         .lazy()
-        .group_by([col("k")])
+        .group_by_stable([col("k")])
         .agg(aggs)
         .sort(["k"], SortMultipleOptions::default())
         .collect()
@@ -918,6 +927,9 @@ fn summarize(
                 velocity_rmse_mps: pooled_rmse(rr, |r| r.velocity_sq_sum_m2ps2),
                 ospa_m: mean(rr.iter().filter_map(|r| r.ospa_m)),
                 gospa_m: mean(rr.iter().filter_map(|r| r.gospa_m)),
+                gospa_localisation_m: mean(rr.iter().filter_map(|r| r.gospa_localisation_m)),
+                gospa_missed: mean(rr.iter().filter_map(|r| r.gospa_missed.map(f64::from))),
+                gospa_false: mean(rr.iter().filter_map(|r| r.gospa_false.map(f64::from))),
                 total_dwell_time_s: usage_of(|x| x.dwell_time_s),
                 total_energy_j: usage_of(|x| x.energy_j),
                 ta_dwell_time_s: usage_of(|x| x.ta_dwell_time_s),

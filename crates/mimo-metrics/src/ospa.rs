@@ -22,6 +22,12 @@ pub struct OspaGospa {
     pub ospa_m: f64,
     /// GOSPA distance with α = 2 (m).
     pub gospa_m: f64,
+    /// GOSPA's localisation part: `(Σ d^p)^(1/p)` over the pairs closer than `c` (m).
+    pub gospa_localisation_m: f64,
+    /// GOSPA's missed truths: truths left unpaired or paired at `c` or farther.
+    pub gospa_missed: u32,
+    /// GOSPA's false tracks: tracks left unpaired or paired at `c` or farther.
+    pub gospa_false: u32,
 }
 
 /// OSPA and GOSPA (α = 2) between truths `x` and tracks `y` with cut-off `c_m` (m) and order `p`.
@@ -29,7 +35,7 @@ pub fn ospa_gospa(x: &[DVec3], y: &[DVec3], c_m: f64, p: f64) -> OspaGospa {
     let (a, b) = if x.len() <= y.len() { (x, y) } else { (y, x) };
     let (n, m) = (a.len(), b.len());
     if m == 0 {
-        return OspaGospa { ospa_m: 0.0, gospa_m: 0.0 };
+        return OspaGospa { ospa_m: 0.0, gospa_m: 0.0, gospa_localisation_m: 0.0, gospa_missed: 0, gospa_false: 0 };
     }
     let cp = c_m.powf(p);
     let mut cost = vec![0.0; n * m];
@@ -38,12 +44,23 @@ pub fn ospa_gospa(x: &[DVec3], y: &[DVec3], c_m: f64, p: f64) -> OspaGospa {
             cost[i * m + j] = ai.distance(*bj).min(c_m).powf(p);
         }
     }
-    let loc: f64 =
-        if n == 0 { 0.0 } else { solve(&cost, n, m).iter().enumerate().map(|(i, &j)| cost[i * m + j]).sum() };
+    let pairs: Vec<f64> = if n == 0 {
+        Vec::new()
+    } else {
+        solve(&cost, n, m).iter().enumerate().map(|(i, &j)| cost[i * m + j]).collect()
+    };
+    let loc: f64 = pairs.iter().sum();
+    // A pair at the cut-off costs c^p = c^p/2 (a miss) + c^p/2 (a false track): GOSPA's split.
+    let cut = pairs.iter().filter(|&&d| d >= cp).count() as u32;
+    let inside: f64 = pairs.iter().filter(|&&d| d < cp).sum();
     let unmatched = (m - n) as f64;
+    let (missed, false_) = if x.len() <= y.len() { (cut, cut + (m - n) as u32) } else { (cut + (m - n) as u32, cut) };
     OspaGospa {
         ospa_m: ((loc + cp * unmatched) / m as f64).powf(1.0 / p),
         gospa_m: (loc + 0.5 * cp * unmatched).powf(1.0 / p),
+        gospa_localisation_m: inside.powf(1.0 / p),
+        gospa_missed: missed,
+        gospa_false: false_,
     }
 }
 
@@ -60,17 +77,26 @@ mod tests {
         let r = ospa_gospa(&truths, &tracks, c, 2.0);
         assert!((r.ospa_m - (5450.0f64).sqrt()).abs() < 1e-9, "{r:?}");
         assert!((r.gospa_m - (10_900.0f64).sqrt()).abs() < 1e-9, "{r:?}");
+        // Its parts: 30 m of localisation, the far truth missed, the far track false; and
+        // GOSPA^p = localisation^p + c^p/2 · (missed + false).
+        assert!((r.gospa_localisation_m - 30.0).abs() < 1e-9 && (r.gospa_missed, r.gospa_false) == (1, 1), "{r:?}");
+        let parts = r.gospa_localisation_m.powi(2) + 0.5 * c * c * f64::from(r.gospa_missed + r.gospa_false);
+        assert!((parts - r.gospa_m.powi(2)).abs() < 1e-6);
         // A third track, also far: m − n = 1.
         let tracks3 = [tracks[0], tracks[1], DVec3::new(0.0, -50_000.0, 0.0)];
         let r = ospa_gospa(&truths, &tracks3, c, 2.0);
         assert!((r.ospa_m - (20_900.0f64 / 3.0).sqrt()).abs() < 1e-9, "{r:?}");
         assert!((r.gospa_m - (15_900.0f64).sqrt()).abs() < 1e-9, "{r:?}");
+        assert_eq!((r.gospa_missed, r.gospa_false), (1, 2));
         // Symmetric in its arguments.
         let s = ospa_gospa(&tracks3, &truths, c, 2.0);
         assert!((s.ospa_m - r.ospa_m).abs() < 1e-12 && (s.gospa_m - r.gospa_m).abs() < 1e-12);
+        assert_eq!((s.gospa_missed, s.gospa_false), (2, 1), "misses and false tracks swap with the arguments");
         // Empty cases.
-        assert_eq!(ospa_gospa(&[], &[], c, 2.0), OspaGospa { ospa_m: 0.0, gospa_m: 0.0 });
+        let zero = ospa_gospa(&[], &[], c, 2.0);
+        assert_eq!((zero.ospa_m, zero.gospa_m, zero.gospa_missed, zero.gospa_false), (0.0, 0.0, 0, 0));
         let e = ospa_gospa(&truths, &[], c, 2.0);
+        assert_eq!((e.gospa_missed, e.gospa_false), (2, 0));
         assert!((e.ospa_m - c).abs() < 1e-12);
         assert!((e.gospa_m - (c * c).sqrt()).abs() < 1e-9); // (2 · c²/2)^(1/2) = c
         // p = 1: plain sums.

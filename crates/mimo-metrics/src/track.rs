@@ -324,6 +324,9 @@ pub(crate) fn score_run(input: &RunInput<'_>) -> RunOutput {
             velocity_rmse_mps: (n_assigned > 0).then(|| (vel_sq / f64::from(n_assigned)).sqrt()),
             ospa_m: og.map(|o| o.ospa_m),
             gospa_m: og.map(|o| o.gospa_m),
+            gospa_localisation_m: og.map(|o| o.gospa_localisation_m),
+            gospa_missed: og.map(|o| o.gospa_missed),
+            gospa_false: og.map(|o| o.gospa_false),
         });
     }
     RunOutput { rows, assignments, tally }

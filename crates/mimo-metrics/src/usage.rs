@@ -29,7 +29,7 @@ fn transmit_sums(dwells: &DataFrame, interval_s: f64, keys: &[&str]) -> LazyFram
             when(is_ta.clone()).then(col("duration_s")).otherwise(lit(0.0)).alias("ta_duration_s"),
             when(is_ta).then(col("energy_j")).otherwise(lit(0.0)).alias("ta_energy_j_row"),
         ])
-        .group_by(keys.iter().map(|k| col(*k)).collect::<Vec<_>>())
+        .group_by_stable(keys.iter().map(|k| col(*k)).collect::<Vec<_>>())
         .agg([
             col("duration_s").sum().alias(SUMS[0]),
             col("energy_j").sum().alias(SUMS[1]),
@@ -107,7 +107,7 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
     aggs.push(col("n_scorable").mean().alias("n_scorable_mean"));
     aggs.push(col("run").count().alias("runs"));
     let per = filled
-        .group_by([col("radar"), col("interval")])
+        .group_by_stable([col("radar"), col("interval")])
         .agg(aggs)
         .sort(["radar", "interval"], SortMultipleOptions::default())
         .collect()
@@ -181,7 +181,7 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
         .join(
             interval_sums
                 .lazy()
-                .group_by([col("run"), col("radar")])
+                .group_by_stable([col("run"), col("radar")])
                 .agg(SUMS.iter().map(|s| col(*s).sum()).collect::<Vec<_>>()),
             keys.clone(),
             keys,
@@ -209,7 +209,7 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
 
     let per_radar_df = per_run_df
         .lazy()
-        .group_by([col("radar")])
+        .group_by_stable([col("radar")])
         .agg(SUMS.iter().map(|s| col(*s).mean()).collect::<Vec<_>>())
         .collect()
         .map_err(internal("usage per radar"))?;

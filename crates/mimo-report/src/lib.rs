@@ -24,6 +24,7 @@
 //! `sans-serif` family, so charts look the same on every machine and need no system fonts.
 
 mod draw;
+pub mod study;
 
 pub use draw::{linear_fit, moving_average};
 
@@ -65,6 +66,7 @@ enum Chart {
     Time(TimeChart),
     Bar(BarChart),
     Geo(GeoChart),
+    Study(study::StudyChart),
 }
 
 fn draw_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> DrawResult {
@@ -72,6 +74,7 @@ fn draw_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Dra
         Chart::Time(t) => draw::draw_time_chart(root, t),
         Chart::Bar(b) => draw::draw_bar_chart(root, b),
         Chart::Geo(g) => draw_geo(root, g),
+        Chart::Study(s) => study::draw_study_chart(root, s),
     }?;
     root.present().map_err(e)
 }

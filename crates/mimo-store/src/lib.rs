@@ -12,6 +12,7 @@
 //! * [`rundir`]: the run directory of DESIGN.md §2 — staging, atomic publication, `--force`,
 //!   and [`manifest::Manifest`].
 
+pub mod columns;
 pub mod manifest;
 pub mod rows;
 pub mod rundir;
@@ -74,7 +75,7 @@ pub fn write_table<R: TableRow>(path: &Path, rows: &[R]) -> Result<u64, StoreErr
     Ok(rows.len() as u64)
 }
 
-fn write_batch(path: &Path, batch: &RecordBatch) -> Result<(), StoreError> {
+pub(crate) fn write_batch(path: &Path, batch: &RecordBatch) -> Result<(), StoreError> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     }

@@ -270,12 +270,136 @@ pub const TRACKS: TableSpec = TableSpec {
     ],
 };
 
+// ---- Study tables (docs/studies.md): per cell and Monte Carlo run, or per cell. ----
+
+/// The identifying columns of every study table (a macro: they open three column lists).
+macro_rules! study_ids {
+    () => {
+        [
+            col("method", Utf8, "", "the method's name in the plan"),
+            col("scenario", Utf8, "", "standard scenario number, or the scenario file's stem"),
+            opt("swept", Utf8, "", "with sweep = \"each\": the axis this cell varies; null in a grid"),
+            opt("rcs_offset_db", F64, "dB", "added to every target's RCS; null when the plan has no such axis"),
+            opt("pfa", F64, "", "every radar's false-alarm probability; null when the plan has no such axis"),
+            opt(
+                "formation_spacing_scale",
+                F64,
+                "",
+                "multiplies formation spacing; null when the plan has no such axis",
+            ),
+            opt(
+                "peak_power_offset_db",
+                F64,
+                "dB",
+                "added to every radar's peak power; null when the plan has no such axis",
+            ),
+            opt("search_pulses", F64, "", "pulses of the low search band; null when the plan has no such axis"),
+        ]
+    };
+}
+
+/// Number of identifying columns opening every study table.
+pub const STUDY_ID_COLUMNS: usize = 8;
+
+macro_rules! study_tables {
+    ($( ($name:literal, $unit:literal, $desc:literal) ),* $(,)?) => {
+        /// The per-run metrics of a study, (name, unit, meaning) in column order. Each is null
+        /// when the run failed or the figure is undefined (docs/design.md §6).
+        pub const STUDY_METRICS: &[(&str, &str, &str)] = &[$(($name, $unit, $desc)),*];
+
+        const STUDY_IDS: [ColumnSpec; STUDY_ID_COLUMNS] = study_ids!();
+
+        const STUDY_RESULTS_COLUMNS: &[ColumnSpec] = &[
+            STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
+            RUN,
+            col("seed", U64, "", "master seed of the run"),
+            $(opt($name, F64, $unit, $desc),)*
+            opt("failure", Utf8, "", "why the run failed; null when it completed"),
+        ];
+
+        const STUDY_SUMMARY_COLUMNS: &[ColumnSpec] = &[
+            STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
+            col("runs", U32, "", "Monte Carlo runs of the cell"),
+            col("failed", U32, "", "runs that failed"),
+            opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
+            $(
+                opt(concat!($name, "_mean"), F64, $unit, concat!("mean over completed runs where defined: ", $desc)),
+                opt(concat!($name, "_ci_lo"), F64, $unit, "lower end of the 95 % confidence interval of the mean (Student t); null with fewer than 2 values"),
+                opt(concat!($name, "_ci_hi"), F64, $unit, "upper end of the 95 % confidence interval of the mean"),
+            )*
+        ];
+    };
+}
+
+study_tables![
+    ("completeness", "", "track completeness, mean over scoring times with a scorable truth"),
+    ("redundant_ratio", "", "redundant tracks per scorable truth, mean over scoring times"),
+    ("spurious_ratio", "", "spurious tracks per live track, mean over scoring times"),
+    ("breaks", "", "track breaks in the run"),
+    ("switches", "", "track switches in the run"),
+    ("position_rmse_m", "m", "position RMSE pooled over assigned pairs"),
+    ("velocity_rmse_mps", "m/s", "velocity RMSE pooled over assigned pairs"),
+    ("ospa_m", "m", "OSPA, mean over scoring times"),
+    ("gospa_m", "m", "GOSPA (alpha = 2), mean over scoring times"),
+    ("gospa_localisation_m", "m", "GOSPA's localisation part, mean over scoring times"),
+    ("gospa_missed", "", "GOSPA's missed truths, mean over scoring times"),
+    ("gospa_false", "", "GOSPA's false tracks, mean over scoring times"),
+    ("energy_j", "J", "energy emitted by all radars in the run (search and TA)"),
+    ("dwell_time_s", "s", "transmit dwell time of all radars in the run"),
+    ("ta_energy_j", "J", "energy of the dwells the test article requested"),
+    ("ta_dwell_time_s", "s", "transmit time of the dwells the test article requested"),
+    ("energy_per_object_j", "J", "energy per scorable object: sum over scoring intervals of energy / scorable objects"),
+    ("ta_energy_per_object_j", "J", "the same for the dwells the test article requested"),
+    ("ta_dwell_time_per_object_s", "s", "sum over scoring intervals of TA dwell time / scorable objects"),
+];
+
+/// `DIR/results.parquet` of a study.
+pub const STUDY_RESULTS: TableSpec = TableSpec {
+    name: "study_results",
+    description: "A study's results: one row per cell (method, scenario, stress point) and Monte Carlo run; \
+                  byte-deterministic for a plan and seed.",
+    columns: STUDY_RESULTS_COLUMNS,
+};
+
+/// `DIR/costs.parquet` of a study: timings, which differ from machine to machine.
+pub const STUDY_COSTS: TableSpec = TableSpec {
+    name: "study_costs",
+    description: "A study's computing costs: one row per cell and Monte Carlo run (machine-dependent).",
+    columns: &[
+        STUDY_IDS[0],
+        STUDY_IDS[1],
+        STUDY_IDS[2],
+        STUDY_IDS[3],
+        STUDY_IDS[4],
+        STUDY_IDS[5],
+        STUDY_IDS[6],
+        STUDY_IDS[7],
+        RUN,
+        col("seed", U64, "", "master seed of the run"),
+        col("duration_s", F64, "s", "simulated seconds of the run"),
+        col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
+        col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
+        col("wall_s", F64, "s", "wall time of the run, simulation to score"),
+    ],
+};
+
+/// `DIR/summary.parquet` of a study: one row per cell, the Monte Carlo mean and 95 % confidence
+/// interval of every metric of [`STUDY_RESULTS`].
+pub const STUDY_SUMMARY: TableSpec = TableSpec {
+    name: "study_summary",
+    description: "A study's summary: one row per cell with the mean and 95 % confidence interval of each metric.",
+    columns: STUDY_SUMMARY_COLUMNS,
+};
+
 /// Every table, in pipeline order.
 pub const ALL_TABLES: [TableSpec; 6] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS];
 
+/// The tables a study writes.
+pub const STUDY_TABLES: [TableSpec; 3] = [STUDY_RESULTS, STUDY_COSTS, STUDY_SUMMARY];
+
 /// Look up a table by name.
 pub fn table(name: &str) -> Option<&'static TableSpec> {
-    ALL_TABLES.iter().find(|t| t.name == name)
+    ALL_TABLES.iter().chain(STUDY_TABLES.iter()).find(|t| t.name == name)
 }
 
 /// The manifest's keys and meanings, written to `schemas/manifest.json`.
@@ -307,6 +431,7 @@ pub fn manifest_json() -> serde_json::Value {
 pub fn schema_files() -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = ALL_TABLES
         .iter()
+        .chain(STUDY_TABLES.iter())
         .map(|t| (format!("{}.json", t.name), serde_json::to_string_pretty(&t.to_json()).unwrap_or_default() + "\n"))
         .collect();
     out.push(("manifest.json".into(), serde_json::to_string_pretty(&manifest_json()).unwrap_or_default() + "\n"));

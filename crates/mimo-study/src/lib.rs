@@ -10,12 +10,21 @@
 
 #![warn(missing_docs)]
 
+pub mod charts;
 pub mod cpu;
+pub mod estimate;
 pub mod execute;
 pub mod grid;
 pub mod guard;
+pub mod item;
 pub mod plan;
 pub mod prepare;
+pub mod record;
+pub mod report;
+pub mod runner;
+pub mod study_dir;
+pub mod tables;
 pub mod timed;
 
 pub use plan::{Plan, PlanError};
+pub use runner::{Options, Outcome, StudyError, run_study};

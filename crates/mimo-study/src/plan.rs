@@ -143,6 +143,30 @@ impl Axis {
         }
     }
 
+    /// The axis label on charts, with its unit.
+    pub fn label(self) -> &'static str {
+        match self {
+            Axis::RcsOffsetDb => "RCS offset of every target (dB)",
+            Axis::Pfa => "false-alarm probability of every radar (log)",
+            Axis::FormationSpacingScale => "formation spacing scale",
+            Axis::PeakPowerOffsetDb => "peak power offset of every radar (dB)",
+            Axis::SearchPulses => "pulses per low-band search dwell",
+        }
+    }
+
+    /// Whether a larger value stresses a tracker more (more false alarms); for every other axis
+    /// a smaller value does (weaker echoes, closer targets, fewer search pulses).
+    pub fn harder_when_larger(self) -> bool {
+        matches!(self, Axis::Pfa)
+    }
+
+    /// Values ordered from the least to the most stressing.
+    pub fn by_stress(self, values: &[f64]) -> Vec<f64> {
+        let mut v = values.to_vec();
+        v.sort_by(|a, b| if self.harder_when_larger() { a.total_cmp(b) } else { b.total_cmp(a) });
+        v
+    }
+
     fn check(self, v: f64) -> Result<(), String> {
         let r = |b| {
             check(self.name(), v, b)

@@ -1,0 +1,141 @@
+//! Tables written column by column, for tables whose rows are assembled at run time (the study
+//! tables): each column is a [`Column`] of values, checked against the table's [`TableSpec`]
+//! (names, order, types and nullability) before anything is written.
+
+use crate::schema::{ColType, TableSpec};
+use crate::{StoreError, write_batch};
+use arrow::array::{Array, RecordBatch};
+use arrow::array::{ArrayRef, Float64Array, StringArray, UInt32Array, UInt64Array};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The values of one column.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Column {
+    /// `uint32`.
+    U32(Vec<u32>),
+    /// `uint64`.
+    U64(Vec<u64>),
+    /// `float64`, null where `None`.
+    F64(Vec<Option<f64>>),
+    /// `utf8`, null where `None`.
+    Utf8(Vec<Option<String>>),
+}
+
+impl Column {
+    fn len(&self) -> usize {
+        match self {
+            Column::U32(v) => v.len(),
+            Column::U64(v) => v.len(),
+            Column::F64(v) => v.len(),
+            Column::Utf8(v) => v.len(),
+        }
+    }
+
+    fn ty(&self) -> ColType {
+        match self {
+            Column::U32(_) => ColType::U32,
+            Column::U64(_) => ColType::U64,
+            Column::F64(_) => ColType::F64,
+            Column::Utf8(_) => ColType::Utf8,
+        }
+    }
+
+    fn array(self) -> ArrayRef {
+        match self {
+            Column::U32(v) => Arc::new(UInt32Array::from(v)),
+            Column::U64(v) => Arc::new(UInt64Array::from(v)),
+            Column::F64(v) => Arc::new(Float64Array::from(v)),
+            Column::Utf8(v) => Arc::new(StringArray::from(v)),
+        }
+    }
+}
+
+/// Write `columns` (one per column of `spec`, in order) as one Parquet file, atomically.
+/// Returns the number of rows.
+pub fn write_columns(path: &Path, spec: &TableSpec, columns: Vec<Column>) -> Result<u64, StoreError> {
+    if columns.len() != spec.columns.len() {
+        return Err(StoreError::Arrow(format!(
+            "table {}: {} columns given, the schema has {}",
+            spec.name,
+            columns.len(),
+            spec.columns.len()
+        )));
+    }
+    let rows = columns.first().map_or(0, Column::len);
+    for (c, s) in columns.iter().zip(spec.columns) {
+        if c.ty() != s.ty || c.len() != rows {
+            return Err(StoreError::Arrow(format!(
+                "table {}: column '{}' given as {} × {}, expected {} × {rows}",
+                spec.name,
+                s.name,
+                c.len(),
+                c.ty().name(),
+                s.ty.name()
+            )));
+        }
+    }
+    let arrays: Vec<ArrayRef> = columns.into_iter().map(Column::array).collect();
+    for (a, s) in arrays.iter().zip(spec.columns) {
+        if !s.nullable && a.null_count() > 0 {
+            return Err(StoreError::Arrow(format!("table {}: column '{}' holds nulls", spec.name, s.name)));
+        }
+    }
+    let schema = Arc::new(spec.arrow_schema());
+    let batch = RecordBatch::try_new(schema, arrays).map_err(|e| StoreError::Arrow(e.to_string()))?;
+    write_batch(path, &batch)?;
+    Ok(rows as u64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::schema::{STUDY_COSTS, STUDY_ID_COLUMNS};
+    use arrow::array::AsArray;
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+
+    fn ids(n: usize) -> Vec<Column> {
+        let mut v = vec![
+            Column::Utf8(vec![Some("m".into()); n]),
+            Column::Utf8(vec![Some("7".into()); n]),
+            Column::Utf8(vec![None; n]),
+        ];
+        v.extend((3..STUDY_ID_COLUMNS).map(|i| Column::F64(vec![(i == 3).then_some(-3.0); n])));
+        v
+    }
+
+    #[test]
+    fn columns_round_trip_and_mismatches_are_refused() {
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("costs.parquet");
+        let mut cols = ids(2);
+        cols.push(Column::U32(vec![0, 1]));
+        cols.push(Column::U64(vec![9, 9]));
+        for x in [100.0, 1.5, 2.5, 4.0] {
+            cols.push(Column::F64(vec![Some(x), Some(x + 1.0)]));
+        }
+        assert_eq!(write_columns(&path, &STUDY_COSTS, cols.clone()).expect("write"), 2);
+        let f = std::fs::File::open(&path).expect("open");
+        let batch = ParquetRecordBatchReaderBuilder::try_new(f)
+            .expect("reader")
+            .build()
+            .expect("build")
+            .next()
+            .expect("a batch")
+            .expect("batch");
+        assert_eq!(batch.num_rows(), 2);
+        let wall = batch.column_by_name("wall_s").expect("wall_s").as_primitive::<arrow::datatypes::Float64Type>();
+        assert_eq!(wall.values().to_vec(), vec![4.0, 5.0]);
+        let rcs = batch.column_by_name("rcs_offset_db").expect("rcs");
+        assert_eq!(rcs.null_count(), 0);
+        assert_eq!(batch.column_by_name("pfa").expect("pfa").null_count(), 2);
+        // A missing column, a wrong type and a null in a non-null column are refused.
+        assert!(write_columns(&path, &STUDY_COSTS, cols[..cols.len() - 1].to_vec()).is_err());
+        let mut wrong = cols.clone();
+        wrong[8] = Column::U64(vec![0, 1]);
+        assert!(write_columns(&path, &STUDY_COSTS, wrong).is_err());
+        let mut null = cols;
+        null[0] = Column::Utf8(vec![None, Some("m".into())]);
+        assert!(write_columns(&path, &STUDY_COSTS, null).is_err());
+    }
+}
