@@ -5,10 +5,14 @@
 #
 #   bash scripts/studies.sh              # both studies
 #   bash scripts/studies.sh stability    # one of them
+#   MIMO=target/debug/mimo bash scripts/studies.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --locked -p mimo-cli
-MIMO=target/release/mimo
+# MIMO=path/to/mimo uses an existing binary (the dev build optimises the simulation crates too).
+if [[ -z "${MIMO:-}" ]]; then
+  cargo build --release --locked -p mimo-cli
+  MIMO=target/release/mimo
+fi
 for name in "${@:-challenge stability}"; do
   for study in $name; do
     out=runs/studies/$study

@@ -12,7 +12,6 @@ use crate::study_dir::{Access, DirError, StudyMark, open};
 use crate::tables::{summarize, write_results, write_summary};
 use mimo_store::StoreError;
 use mimo_store::manifest::{MANIFEST_FILE, Manifest, ScenarioInfo, TableFile, TrackerInfo};
-use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -128,21 +127,45 @@ pub fn run_study(
     let total = todo.len() as u64;
     let done = AtomicU64::new(0);
     let failed = AtomicU64::new(0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads)
-        .build()
-        .map_err(|e| StudyError::Report(format!("thread pool: {e}")))?;
-    pool.install(|| {
-        todo.par_iter().with_max_len(1).try_for_each(|it| -> Result<(), StudyError> {
-            let cell = &prep.cells[it.cell];
-            let rec = do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run)?;
-            if rec.failure.is_some() {
-                failed.fetch_add(1, Ordering::Relaxed);
-            }
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-            Ok(())
-        })
-    })?;
+    // Plain worker threads pulling items in order, not a rayon pool: scoring runs polars, whose
+    // own rayon pool would let a waiting rayon worker start further items on the same stack and
+    // finish them in reverse, so that a study killed midway would have recorded nothing.
+    let threads = if opts.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        opts.threads
+    };
+    let next = AtomicU64::new(0);
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let first_error: std::sync::Mutex<Option<StudyError>> = std::sync::Mutex::new(None);
+    std::thread::scope(|scope| {
+        for _ in 0..threads.min(todo.len()).max(1) {
+            scope.spawn(|| {
+                while !stop.load(Ordering::Relaxed) {
+                    let i = next.fetch_add(1, Ordering::Relaxed) as usize;
+                    let Some(it) = todo.get(i) else { break };
+                    let cell = &prep.cells[it.cell];
+                    match do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run) {
+                        Ok(rec) => {
+                            if rec.failure.is_some() {
+                                failed.fetch_add(1, Ordering::Relaxed);
+                            }
+                            progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+                        }
+                        Err(e) => {
+                            stop.store(true, Ordering::Relaxed);
+                            if let Ok(mut slot) = first_error.lock() {
+                                slot.get_or_insert(e.into());
+                            }
+                        }
+                    }
+                }
+            });
+        }
+    });
+    if let Some(e) = first_error.into_inner().ok().flatten() {
+        return Err(e);
+    }
     let merged = opts.shard.is_none() || opts.merge;
     if merged {
         merge(plan, &prep, &dirs, &opts.out)?;
