@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A simple test article in Python: EKF + nearest neighbour, monostatic dwells.
+"""A simple test article in Python: EKF + nearest neighbour, monostatic and MIMO dwells.
 
     mimo simulate --scenario 1 --ta-cmd "python3 python/examples/simple_ta.py" --out runs/s1-py
 
@@ -18,7 +18,8 @@ The template to start from (docs/ta-protocol.md; the model in docs/model.md):
   (§6.4);
 * each track is revisited when its predicted angular uncertainty reaches 0.2 beamwidth (at most
   every 4 s, §7.1), by the radar with the best predicted SNR, with pulses sized for P_D = 0.9
-  (0.7 for a new tentative track) and doubled after each miss (§7.2);
+  (0.7 for a new tentative track) and doubled after each miss (§7.2); for a confirmed track
+  every other radar that can see it receives the echo too (a MIMO dwell, §7.5);
 * it emits a track row after every update and a ``deleted`` row when a track ends or the run
   finishes (docs/design.md §3).
 
@@ -59,6 +60,7 @@ DEFAULTS = {
     "max_coast_s": 30.0,  # confirmed track without update
     "max_coast_tentative_s": 5.0,
     "max_pos_var_m2": 3.0 * 3000.0**2,  # trace of the position covariance that deletes a track
+    "mimo": 1.0,  # 1: confirmed tracks get MIMO dwells (all radars that see the target receive); 0: monostatic
 }
 REVISIT_CANDIDATES_S = np.arange(4.0, 0.2, -0.05)  # longest first
 PENDING_TIMEOUT_S = 2.0  # a requested dwell not reported by then was rejected: plan again
@@ -177,7 +179,7 @@ class SimpleTa(TestArticle):
         rx_origin, rx_rot = self.face_in_enu(prx)
         zs, rs = zip(*(self.z_and_r(m, prx) for m in meas))
         z, r = np.array(zs), np.array(rs)  # (M, 3), (M, 3, 3)
-        cands = [t for t in live if not t.updated]
+        cands = live  # a track takes at most one measurement per channel
         if not cands:
             return list(meas)
         preds = [self.predict(t, t_s) for t in cands]
@@ -347,7 +349,7 @@ class SimpleTa(TestArticle):
             self.wake_at(max(nxt, now_s))
 
     def plan(self, t: Track, now_s: float) -> bool:
-        """Request one monostatic dwell at the track: the radar with the best predicted SNR,
+        """Request one dwell at the track: the radar with the best predicted SNR transmits, with
         pulses for the wanted P_D with pointing and straddle losses (docs/model.md §7.2)."""
         x, p = self.predict(t, now_s)
         aim = self.enu.to_ecef(x[:3])
@@ -362,6 +364,15 @@ class SimpleTa(TestArticle):
             return False
         radar, snr1 = best
         par = self.params[radar]
+        receivers = [radar]
+        if self.cfg["mimo"] and t.status == "confirmed":
+            # Every other radar that can see the target listens too (docs/model.md §7.5): their
+            # bistatic ranges pin down the cross-range position a single radar measures poorly.
+            tx_faces = self.ships[radar].faces_sampled(now_s)
+            for other, ship in self.ships.items():
+                if other != radar and predict_pair(par, tx_faces, self.params[other], ship.faces_sampled(now_s), aim,
+                                                   self.cfg["assumed_rcs_m2"]) is not None:
+                    receivers.append(other)
         fresh = t.status == "tentative" and t.n_updates <= 1
         pd = self.cfg["confirm_pd"] if fresh else self.cfg["pd_target"]
         n = pulses_for(required_snr_sw1(pd, par.pfa), snr1, pointing_loss(0.2) * straddle_loss(), par.max_pulses)
@@ -372,13 +383,13 @@ class SimpleTa(TestArticle):
         hr[:3] = jacobian(x[:3], site, site, I3)[0]
         sigma_rho = 0.5 * math.sqrt(max(hr @ p @ hr, 0.0))
         self.request_dwell(DwellRequest(
-            kind="confirm" if t.status == "tentative" else "track",
+            kind="confirm" if t.status == "tentative" else ("mimo" if len(receivers) > 1 else "track"),
             earliest_s=now_s,
             aim_ecef=aim,
             transmitters=[TxOrder(radar, n)],
-            receivers=[radar],
+            receivers=receivers,
             window_half_m=max(5.0 * sigma_rho, self.cfg["min_window_half_m"]),
-            predicted_snr=snr1 * n,
+            predicted_snr=snr1 * n if len(receivers) == 1 else None,
             tag=[t.id],
         ))
         return True
