@@ -72,8 +72,7 @@ def transition(dt: float, sigma_a: float) -> tuple[np.ndarray, np.ndarray]:
     f = np.eye(6)
     f[:3, 3:] = dt * I3
     t = abs(dt)
-    q = sigma_a**2 * np.block([[t**4 / 4 * I3, t**3 / 2 * I3], [t**3 / 2 * I3, t**2 * I3]])
-    return f, q
+    return f, sigma_a**2 * np.kron([[t**4 / 4, t**3 / 2], [t**3 / 2, t**2]], I3)
 
 
 @dataclass
@@ -283,8 +282,15 @@ class SimpleTa(TestArticle):
             coast = self.cfg["max_coast_s"] if t.status == "confirmed" else self.cfg["max_coast_tentative_s"]
             if now_s - t.last_update_s > coast:
                 self.delete(t, now_s)
-            elif np.trace(self.predict(t, now_s)[1][:3, :3]) > self.cfg["max_pos_var_m2"]:
+            elif self.predicted_position_variance(t, now_s) > self.cfg["max_pos_var_m2"]:
                 self.delete(t, now_s)
+
+    def predicted_position_variance(self, t: Track, t_s: float) -> float:
+        """Trace of the predicted position covariance (the position block of F P F^T + Q)."""
+        dt = t_s - t.t_s
+        p = t.p
+        return float(np.trace(p[:3, :3]) + 2 * dt * np.trace(p[:3, 3:]) + dt**2 * np.trace(p[3:, 3:])
+                     + 3 * self.cfg["sigma_a_mps2"] ** 2 * dt**4 / 4)
 
     def delete(self, t: Track, now_s: float) -> None:
         x, p = self.predict(t, max(now_s, t.t_s))
