@@ -1,0 +1,20 @@
+"""mimo_ta: write a test article for the ``mimo`` radar-tracking benchmark in Python.
+
+The protocol (docs/ta-protocol.md) as message types, a base class with ``on_start`` /
+``on_dwell`` / ``on_wake`` / ``on_finish``, the frames (``geo``), the bistatic (R_B, u, v)
+measurement model (``measurement``) and the radar equation for sizing dwells (``radar``).
+Needs numpy only.
+"""
+
+from .article import TestArticle
+from .messages import (PROTOCOL_VERSION, DwellReport, DwellRequest, GeoPoint, Measurement, PartReport, Primitive,
+                       ProtocolError, ShipInfo, StartInfo, StopLocalTracking, Subscription, TrackRow, TxOrder,
+                       WakeAt, from_upper_triangle, upper_triangle)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "PROTOCOL_VERSION", "DwellReport", "DwellRequest", "GeoPoint", "Measurement", "PartReport", "Primitive",
+    "ProtocolError", "ShipInfo", "StartInfo", "StopLocalTracking", "Subscription", "TestArticle", "TrackRow",
+    "TxOrder", "WakeAt", "from_upper_triangle", "upper_triangle",
+]
