@@ -1,9 +1,10 @@
 //! `mimo simulate`.
 
 use crate::CliError;
+use crate::ta_args::TaArgs;
 use mimo_core::records::RunTables;
 use mimo_scenario::Scenario;
-use mimo_sim::{EngineConfig, RunStats, SearchConfig, World};
+use mimo_sim::{EngineConfig, RunStats, SearchConfig, TaInfo, World};
 use mimo_store::manifest::{Manifest, ScenarioInfo, TableFile, TrackerInfo};
 use mimo_store::rundir::RunDirWriter;
 use std::collections::BTreeMap;
@@ -11,8 +12,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::time::Instant;
 
-/// Default master seed: runs are reproducible unless a seed is given.
-pub const DEFAULT_SEED: u64 = 20_261_122;
+use mimo_sim::DEFAULT_SEED;
 
 /// Run the closed-loop simulation of a scenario.
 ///
@@ -40,9 +40,8 @@ pub struct Args {
     /// Extra tables to record: `voltages` (complex I/Q per range cell; large).
     #[arg(long, value_name = "TABLE")]
     pub record: Vec<String>,
-    /// Test article: default (EKF), imm, cued (truth-cued fixed schedule, no tracking), none.
-    #[arg(long, default_value = "default", value_name = "NAME")]
-    pub tracker: String,
+    #[command(flatten)]
+    pub ta: TaArgs,
     /// Pulses per background search dwell in the low (0–2.5°) search band.
     #[arg(long, default_value_t = 2, value_name = "N")]
     pub search_pulses: u32,
@@ -92,13 +91,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             return Err(CliError::input(format!("--record: unknown table '{}', expected 'voltages'", bad[0])));
         }
     };
-    if !mimo_sim::TRACKERS.contains(&a.tracker.as_str()) {
-        return Err(CliError::input(format!(
-            "--tracker: unknown tracker '{}', expected one of {}",
-            a.tracker,
-            mimo_sim::TRACKERS.join(", ")
-        )));
-    }
+    let ta = a.ta.resolve()?;
     if a.search_pulses == 0 {
         return Err(CliError::input("--search-pulses: expected at least 1"));
     }
@@ -111,6 +104,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         duration_s: world.scenario.duration_s,
         record_voltages,
         search: SearchConfig::default().scaled_pulses(a.search_pulses),
+        ta_config: ta.overrides().clone(),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
@@ -120,18 +114,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let pb = crate::progress::bar(u64::from(a.runs), "simulate", a.quiet);
     let files: Mutex<BTreeMap<String, Vec<TableFile>>> = Mutex::new(BTreeMap::new());
     let totals: Mutex<RunStats> = Mutex::new(RunStats::default());
-    let tracker_name = a.tracker.clone();
-    let probe = mimo_sim::builtin_ta(&tracker_name, &world)
-        .ok_or_else(|| CliError::input(format!("--tracker: unknown tracker '{tracker_name}'")))?;
-    let tracker_info = TrackerInfo { name: probe.name().to_string(), config: probe.config() };
-    drop(probe);
+    let ta_info: Mutex<Option<TaInfo>> = Mutex::new(None);
     let t_sim = Instant::now();
-    let world_ref = &world;
-    let make_ta = |_run: u32| -> Box<dyn mimo_sim::TestArticle + '_> {
-        // The name was checked above.
-        mimo_sim::builtin_ta(&tracker_name, world_ref).unwrap_or_else(|| Box::new(mimo_sim::default_ta::Passive))
-    };
-    let sink = |run: u32, t: RunTables, s: RunStats| -> Result<(), CliError> {
+    let make_ta = |_run: u32| ta.build(&world);
+    let make_sink = |_run: u32| -> Result<RunTables, CliError> { Ok(RunTables::default()) };
+    let done = |run: u32, t: RunTables, s: RunStats, info: TaInfo| -> Result<(), CliError> {
         let mut written = vec![
             ("truth", writer.write_run_table("truth", run, &t.truth)?),
             ("dwells", writer.write_run_table("dwells", run, &t.dwells)?),
@@ -148,10 +135,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
         let mut tot = totals.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
         tot.add(&s);
+        let mut i = ta_info.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
+        if run == 0 || i.is_none() {
+            *i = Some(info);
+        }
         pb.inc(1);
         Ok(())
     };
-    pool.install(|| mimo_sim::run_monte_carlo(&world, &cfg, &runs, &make_ta, &sink))?;
+    pool.install(|| mimo_sim::run_monte_carlo(&world, &cfg, &runs, &make_ta, &make_sink, &done))?;
     pb.finish_and_clear();
     let sim_s = t_sim.elapsed().as_secs_f64();
 
@@ -160,6 +151,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         v.sort_by(|x, y| x.file.cmp(&y.file));
     }
     let stats = totals.into_inner().map_err(|_| CliError::Other("lock poisoned".into()))?;
+    let info = ta_info
+        .into_inner()
+        .map_err(|_| CliError::Other("lock poisoned".into()))?
+        .ok_or_else(|| CliError::Other("no run finished".into()))?;
     let mut timing = BTreeMap::new();
     timing.insert("setup".to_string(), t_setup);
     timing.insert("simulate_and_write".to_string(), sim_s);
@@ -177,8 +172,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         runs: a.runs,
         duration_s: world.scenario.duration_s,
         fidelity,
-        tracker: Some(tracker_info),
-        schedule: mimo_sim::schedule_description(&a.tracker),
+        tracker: Some(TrackerInfo { name: info.name, config: info.config }),
+        schedule: ta.schedule(),
         parent: None,
         tables,
         timing_s: timing,

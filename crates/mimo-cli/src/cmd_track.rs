@@ -1,12 +1,13 @@
 //! `mimo track`: re-run a tracker over a recording.
 
 use crate::CliError;
-use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow};
+use crate::ta_args::TaArgs;
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, RunTables};
 use mimo_scenario::Scenario;
-use mimo_sim::World;
-use mimo_sim::replay::{ReplayFrom, replay};
+use mimo_sim::{EngineConfig, SearchConfig, World};
 use mimo_store::manifest::{Manifest, TableFile, TrackerInfo};
 use mimo_store::rundir::RunDirWriter;
+use mimo_ta::replay::{ReplayFrom, replay};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -24,9 +25,8 @@ use std::time::Instant;
 pub struct Args {
     /// The recorded run directory (made by `mimo simulate`).
     pub run: PathBuf,
-    /// Tracker: default (EKF, NCV) or imm (CV-low + CV-high IMM).
-    #[arg(long, default_value = "default", value_name = "NAME")]
-    pub tracker: String,
+    #[command(flatten)]
+    pub ta: TaArgs,
     /// What to start from: primitives (re-form measurements) or measurements.
     #[arg(long, default_value = "primitives", value_name = "primitives|measurements")]
     pub from: String,
@@ -64,8 +64,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
         "measurements" => ReplayFrom::Measurements,
         other => return Err(CliError::input(format!("--from: expected primitives or measurements, got '{other}'"))),
     };
-    if mimo_track::TrackerKind::parse(&a.tracker).is_none() {
-        return Err(CliError::input(format!("--tracker: unknown tracker '{}', expected default or imm", a.tracker)));
+    let ta = a.ta.resolve()?;
+    if !ta.tracks() {
+        return Err(CliError::input(format!(
+            "--tracker: '{}' forms no tracks, so it cannot re-run a recording (expected a tracker such as default or imm)",
+            ta.label()
+        )));
     }
     if a.threads == Some(0) {
         return Err(CliError::input("--threads: expected at least 1"));
@@ -87,13 +91,20 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
     }
     let writer = RunDirWriter::create(&a.out, a.force)?;
+    let cfg = EngineConfig {
+        seed: manifest.seed,
+        duration_s: manifest.duration_s,
+        record_voltages: false,
+        search: SearchConfig::default(),
+        ta_config: ta.overrides().clone(),
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| CliError::Other(format!("thread pool: {e}")))?;
     let pb = crate::progress::bar(runs.len() as u64, "track", a.quiet);
     let t_track = Instant::now();
-    type RunResult = Result<(u32, Vec<(String, TableFile)>, u64), CliError>;
+    type RunResult = Result<(u32, Vec<(String, TableFile)>, u64, mimo_sim::TaInfo), CliError>;
     let results: Vec<RunResult> = pool.install(|| {
         runs.par_iter()
             .map(|&k| {
@@ -104,8 +115,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
                         (Vec::new(), mimo_store::read_table(&run_file(&a.run, "measurements", k))?)
                     }
                 };
-                let out = replay(&world, &a.tracker, k, &dwells, &prims, &meas, from)
-                    .map_err(|e| CliError::input(format!("{}: {e}", a.run.display())))?;
+                let mut tester = ta.build(&world)?;
+                let mut out = RunTables::default();
+                let stats =
+                    replay(&world, &cfg, tester.as_mut(), k, &dwells, &prims, &meas, from, &mut out).map_err(|e| {
+                        match e {
+                            mimo_ta::replay::ReplayError::UnknownDwell { .. }
+                            | mimo_ta::replay::ReplayError::UnknownFace { .. } => {
+                                CliError::input(format!("{}: {e}", a.run.display()))
+                            }
+                            other => CliError::from(other),
+                        }
+                    })?;
                 let mut files = vec![("tracks".to_string(), writer.write_run_table("tracks", k, &out.tracks)?)];
                 if from == ReplayFrom::Primitives {
                     files.push((
@@ -114,7 +135,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
                     ));
                 }
                 pb.inc(1);
-                Ok((k, files, out.n_measurements))
+                let info = mimo_sim::TaInfo { name: tester.name().to_string(), config: tester.config() };
+                Ok((k, files, stats.measurements, info))
             })
             .collect()
     });
@@ -122,9 +144,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let track_s = t_track.elapsed().as_secs_f64();
     let mut tables: BTreeMap<String, Vec<TableFile>> = BTreeMap::new();
     let mut n_meas = 0u64;
+    let mut info = None;
     for r in results {
-        let (_, files, n) = r?;
+        let (_, files, n, i) = r?;
         n_meas += n;
+        info.get_or_insert(i);
         for (t, f) in files {
             tables.entry(t).or_default().push(f);
         }
@@ -132,9 +156,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     for v in tables.values_mut() {
         v.sort_by(|x, y| x.file.cmp(&y.file));
     }
-    let tracker_cfg = mimo_track::TrackerConfig::for_kind(
-        mimo_track::TrackerKind::parse(&a.tracker).unwrap_or(mimo_track::TrackerKind::Default),
-    );
+    let info = info.ok_or_else(|| CliError::Other("no run was re-run".into()))?;
     let mut timing = BTreeMap::new();
     timing.insert("track".to_string(), track_s);
     timing.insert("total".to_string(), t_start.elapsed().as_secs_f64());
@@ -147,8 +169,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         duration_s: manifest.duration_s,
         fidelity: manifest.fidelity.clone(),
         tracker: Some(TrackerInfo {
-            name: a.tracker.clone(),
-            config: serde_json::json!({"tracker": serde_json::to_value(&tracker_cfg).unwrap_or_default(), "from": a.from}),
+            name: info.name,
+            config: serde_json::json!({"config": info.config, "from": a.from}),
         }),
         schedule: format!("open-loop re-run of the recorded schedule of {}", a.run.display()),
         parent: Some(a.run.display().to_string()),
@@ -161,7 +183,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "tracked {} run(s) of {} with '{}' from {} in {:.2} s ({:.0} measurements/s) -> {}",
             manifest.runs,
             a.run.display(),
-            a.tracker,
+            ta.label(),
             a.from,
             track_s,
             n_meas as f64 / track_s.max(1e-9),

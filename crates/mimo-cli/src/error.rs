@@ -46,3 +46,20 @@ impl From<mimo_scenario::ScenarioError> for CliError {
         CliError::Input(e.to_string())
     }
 }
+
+impl From<mimo_sim::EngineError> for CliError {
+    fn from(e: mimo_sim::EngineError) -> CliError {
+        // A test article that fails, or a sink that cannot write, is not the user's input.
+        CliError::Other(e.to_string())
+    }
+}
+
+impl From<mimo_ta::replay::ReplayError> for CliError {
+    fn from(e: mimo_ta::replay::ReplayError) -> CliError {
+        use mimo_ta::replay::ReplayError as R;
+        match e {
+            R::UnknownDwell { .. } | R::UnknownFace { .. } => CliError::Input(e.to_string()),
+            R::Ta { .. } | R::Sink(_) => CliError::Other(e.to_string()),
+        }
+    }
+}

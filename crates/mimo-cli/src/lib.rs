@@ -12,6 +12,7 @@ mod cmd_simulate;
 mod cmd_track;
 mod error;
 mod progress;
+mod ta_args;
 
 pub use error::CliError;
 

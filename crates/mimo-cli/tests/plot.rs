@@ -115,7 +115,8 @@ fn page_works_offline_in_headless_chromium() {
     assert_eq!(v["errors"], serde_json::json!([]), "console errors: {v}");
     assert_eq!(v["network"], serde_json::json!([]), "network attempts: {v}");
     assert_eq!(v["ok"], true, "{v}");
-    let console_errors: Vec<&str> = stderr.lines().filter(|l| l.contains("CONSOLE") && l.contains("Uncaught")).collect();
+    let console_errors: Vec<&str> =
+        stderr.lines().filter(|l| l.contains("CONSOLE") && l.contains("Uncaught")).collect();
     assert!(console_errors.is_empty(), "uncaught errors: {console_errors:?}");
     // The panel shows the clicked measurement's time, SNR and radars.
     let panel = v["panel"].as_str().expect("panel text");
@@ -177,7 +178,10 @@ fn bad_input_exits_2_and_writes_nothing() {
     assert!(!out.exists());
     // A run with no tracks: simulate with the search-only test article.
     let bare = tmp.path().join("bare");
-    assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "5", "--tracker", "none", "--quiet", "--out", p(&bare)]), 0);
+    assert_eq!(
+        mimo(&["simulate", "--scenario", "1", "--duration", "5", "--tracker", "none", "--quiet", "--out", p(&bare)]),
+        0
+    );
     assert_eq!(mimo(&["plot", p(&bare), "--out", p(&out)]), 2);
     assert!(!out.exists());
 }
@@ -194,7 +198,10 @@ fn output_is_replaced_only_with_force() {
     let page = std::fs::read_to_string(&out).expect("read");
     assert!(page.starts_with("<!DOCTYPE html>") && page.contains("\"from_s\":20.0"));
     // No temporary file is left beside it.
-    let names: Vec<String> =
-        std::fs::read_dir(tmp.path()).expect("dir").filter_map(|e| e.ok()).map(|e| e.file_name().to_string_lossy().into()).collect();
+    let names: Vec<String> = std::fs::read_dir(tmp.path())
+        .expect("dir")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into())
+        .collect();
     assert_eq!(names, vec!["view.html".to_string()]);
 }

@@ -13,7 +13,7 @@
 //! * [`assign`]: an exact rectangular assignment solver (shortest augmenting path, Jonker–Volgenant
 //!   style) shared by the tracker's GNN and the metrics engine's truth–track pairing.
 //! * [`records`]: the plain row structs of the run tables (DESIGN.md §3). Stages push these into
-//!   sinks; only `mimo-store` turns them into Arrow.
+//!   sinks ([`sink::RunSink`]); only `mimo-store` turns them into Arrow.
 //!
 //! Units are SI and carried in names (`range_m`, `t_s`); frames are carried in names too
 //! (`face_from_ecef` maps ECEF vectors into a face frame).
@@ -25,6 +25,7 @@ pub mod ids;
 pub mod params;
 pub mod records;
 pub mod rng;
+pub mod sink;
 pub mod time;
 
 pub use glam::{DMat3, DVec3};

@@ -172,8 +172,12 @@ pub struct VoltageRow {
 }
 
 /// A threshold crossing after monopulse DOA estimation.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PrimitiveRow {
+    #[serde(skip)]
     pub run: u32,
     /// The receiver's dwell part.
     pub dwell_id: u64,
@@ -202,12 +206,17 @@ pub struct PrimitiveRow {
     pub var_u: f64,
     pub var_v: f64,
     /// Truth id of the dominant contributor (evaluation only).
+    #[serde(skip)]
     pub target_hint: Option<String>,
 }
 
 /// A clustered, centroided detection handed to trackers.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct MeasurementRow {
+    #[serde(skip)]
     pub run: u32,
     pub meas_id: u64,
     pub dwell_id: u64,
@@ -226,6 +235,7 @@ pub struct MeasurementRow {
     pub n_primitives: u32,
     pub merged: bool,
     /// Truth id of the dominant contributor; `None` for false alarms. Never shown to a tracker.
+    #[serde(skip)]
     pub target_hint: Option<String>,
 }
 
@@ -257,8 +267,12 @@ impl TrackStatus {
 }
 
 /// A track's state at an update (or the final `deleted` row).
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Serialized (for the test-article protocol) without `run`, which the engine fills in.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct TrackRow {
+    #[serde(skip)]
     pub run: u32,
     pub t_s: f64,
     pub track_id: u64,

@@ -45,7 +45,9 @@ pub enum PlotError {
     },
 
     /// The time window is empty, reversed or outside the run.
-    #[error("--from/--to: window [{from_s} s, {to_s} s] is outside the run (0 to {duration_s} s; expected 0 <= FROM < TO <= {duration_s})")]
+    #[error(
+        "--from/--to: window [{from_s} s, {to_s} s] is outside the run (0 to {duration_s} s; expected 0 <= FROM < TO <= {duration_s})"
+    )]
     BadWindow {
         /// Window start (s).
         from_s: f64,

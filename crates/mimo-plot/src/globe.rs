@@ -21,7 +21,8 @@ pub fn coastlines_deg() -> Vec<Vec<(f64, f64)>> {
         .lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
         .map(|l| {
-            let v: Vec<f64> = l.split_ascii_whitespace().filter_map(|s| s.parse::<i64>().ok()).map(|x| x as f64 / 100.0).collect();
+            let v: Vec<f64> =
+                l.split_ascii_whitespace().filter_map(|s| s.parse::<i64>().ok()).map(|x| x as f64 / 100.0).collect();
             v.chunks_exact(2).map(|c| (c[0], c[1])).collect()
         })
         .collect()

@@ -54,19 +54,19 @@ fn read_frame(file: &Path) -> Result<DataFrame, PlotError> {
 fn col_f64(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<f64>>, PlotError> {
     let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
     let c = c.cast(&DataType::Float64).map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
-    Ok(c.f64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.into_iter().collect())
+    Ok(c.f64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.iter().collect())
 }
 
 fn col_u64(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<u64>>, PlotError> {
     let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
     let c = c.cast(&DataType::UInt64).map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
-    Ok(c.u64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.into_iter().collect())
+    Ok(c.u64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.iter().collect())
 }
 
 fn col_str(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<String>>, PlotError> {
     let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
     let s = c.str().map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
-    Ok(s.into_iter().map(|x| x.map(str::to_string)).collect())
+    Ok(s.iter().map(|x| x.map(str::to_string)).collect())
 }
 
 /// Read run `run`'s figures from a `mimo score` output directory.

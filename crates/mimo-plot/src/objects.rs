@@ -10,7 +10,7 @@ use glam::{DMat3, DVec3};
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, MeasurementRow, Requester, TrackRow, TrackStatus, TruthRow};
 use mimo_radar::geometry::{bistatic_ruv_to_ecef, ruv_to_ecef_jacobian};
-use mimo_scenario::Ship;
+use mimo_scenario::{Ship, ShipFrames};
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
 
@@ -96,7 +96,14 @@ pub struct TruthPath {
 
 /// Truth paths per target (in `targets` order), keeping the samples within `[t0, t1]` that fall
 /// on multiples of `step_s` (and each target's first and last sample in the window).
-pub fn truth_paths(frame: &PlotFrame, rows: &[TruthRow], targets: &[String], t0: f64, t1: f64, step_s: f64) -> Vec<TruthPath> {
+pub fn truth_paths(
+    frame: &PlotFrame,
+    rows: &[TruthRow],
+    targets: &[String],
+    t0: f64,
+    t1: f64,
+    step_s: f64,
+) -> Vec<TruthPath> {
     let mut by: BTreeMap<&str, Vec<&TruthRow>> = BTreeMap::new();
     for r in rows.iter().filter(|r| r.t_s >= t0 && r.t_s <= t1) {
         by.entry(r.target.as_str()).or_default().push(r);
@@ -146,7 +153,14 @@ pub struct TrackCols {
 }
 
 /// Track rows within `[t0, t1]`, sorted by time then track id.
-pub fn track_cols(frame: &PlotFrame, rows: &[TrackRow], score: &RunScore, targets: &[String], t0: f64, t1: f64) -> TrackCols {
+pub fn track_cols(
+    frame: &PlotFrame,
+    rows: &[TrackRow],
+    score: &RunScore,
+    targets: &[String],
+    t0: f64,
+    t1: f64,
+) -> TrackCols {
     let mut v: Vec<&TrackRow> = rows.iter().filter(|r| r.t_s >= t0 && r.t_s <= t1).collect();
     v.sort_by(|a, b| a.t_s.total_cmp(&b.t_s).then(a.track_id.cmp(&b.track_id)));
     let mut c = TrackCols::default();
@@ -214,6 +228,9 @@ pub fn meas_cols(
     (t0, t1): (f64, f64),
 ) -> (MeasCols, MeasDropped) {
     let idx = |id: RadarId| ships.iter().position(|s| s.id == id);
+    // The engine's own face samples (docs/model.md §1.3), so each measurement is placed with the
+    // faces it was measured with, without a geodetic conversion per row.
+    let frames: Vec<ShipFrames> = ships.iter().map(|s| ShipFrames::new(s, t1)).collect();
     let mut v: Vec<&MeasurementRow> = rows.iter().filter(|r| r.t_s >= t0 && r.t_s <= t1).collect();
     v.sort_by(|a, b| a.t_s.total_cmp(&b.t_s).then(a.meas_id.cmp(&b.meas_id)));
     let mut c = MeasCols::default();
@@ -223,15 +240,14 @@ pub fn meas_cols(
             dropped.unknown_radar += 1;
             continue;
         };
-        let faces = ships[ri].faces_at(r.t_s);
-        let Some(face) = faces.get(usize::from(r.rx_face)) else {
+        let Some(face) = frames[ri].face_at(r.t_s, usize::from(r.rx_face)) else {
             dropped.unknown_radar += 1;
             continue;
         };
-        let tx = ships[ti].position_at(r.t_s).to_ecef();
+        let tx = frames[ti].site_at(r.t_s);
         let r_b = 2.0 * r.range_m;
         let (Some(p), Some(j)) =
-            (bistatic_ruv_to_ecef(r_b, r.u, r.v, tx, face), ruv_to_ecef_jacobian(r_b, r.u, r.v, tx, face))
+            (bistatic_ruv_to_ecef(r_b, r.u, r.v, tx, &face), ruv_to_ecef_jacobian(r_b, r.u, r.v, tx, &face))
         else {
             dropped.unplaceable += 1;
             continue;
@@ -281,8 +297,10 @@ pub fn beam_cols(frame: &PlotFrame, ships: &[Ship], dwells: &[DwellRow], t0: f64
     for d in dwells.iter().filter(|d| d.requested_by == Requester::Ta && d.t_s >= t0 && d.t_s <= t1) {
         groups.entry(d.group_id).or_default().push(d);
     }
-    let mut v: Vec<(f64, u64, Vec<&DwellRow>)> =
-        groups.into_iter().map(|(g, parts)| (parts.iter().map(|d| d.t_s).fold(f64::INFINITY, f64::min), g, parts)).collect();
+    let mut v: Vec<(f64, u64, Vec<&DwellRow>)> = groups
+        .into_iter()
+        .map(|(g, parts)| (parts.iter().map(|d| d.t_s).fold(f64::INFINITY, f64::min), g, parts))
+        .collect();
     v.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let bit = |id: RadarId| ships.iter().position(|s| s.id == id).map_or(0, |i| 1u32 << i.min(31));
     let mut c = BeamCols::default();

@@ -151,9 +151,8 @@ fn region(frame: &PlotFrame, truth: &[TruthPath], radars: &[RadarView]) -> Regio
     let half = ((hi[0] - lo[0]).max(hi[1] - lo[1]) as f64 * 0.65).max(30_000.0);
     let (cx, cy) = ((lo[0] + hi[0]) as f64 / 2.0, (lo[1] + hi[1]) as f64 / 2.0);
     let (x0, x1, y0, y1) = (cx - half, cx + half, cy - half, cy + half);
-    let corners = [(x0, y0), (x0, y1), (x1, y0), (x1, y1)].map(|(x, y)| {
-        ecef_to_geodetic(frame.enu.to_ecef(glam::DVec3::new(x, y, 0.0)))
-    });
+    let corners = [(x0, y0), (x0, y1), (x1, y0), (x1, y1)]
+        .map(|(x, y)| ecef_to_geodetic(frame.enu.to_ecef(glam::DVec3::new(x, y, 0.0))));
     let lat = corners.iter().map(|g| g.lat_deg());
     let lon = corners.iter().map(|g| g.lon_deg());
     let (la0, la1) = lat.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
@@ -190,7 +189,8 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
     let frame = PlotFrame::at(src.scenario.centre());
     let ships = &src.scenario.ships;
     let targets: Vec<String> = src.scenario.targets.iter().map(|t| t.id.clone()).collect();
-    let radars: Vec<RadarView> = ships.iter().map(|s| objects::radar_view(&frame, s, t0, t1, opts.ship_step_s)).collect();
+    let radars: Vec<RadarView> =
+        ships.iter().map(|s| objects::radar_view(&frame, s, t0, t1, opts.ship_step_s)).collect();
     let truth = objects::truth_paths(&frame, &tables.truth, &targets, t0, t1, opts.truth_step_s);
     let tracks = objects::track_cols(&frame, &tables.tracks, &score, &targets, t0, t1);
 
@@ -202,7 +202,8 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
             *e = (*e).min(r.track_id);
         }
     }
-    let (meas, meas_dropped) = objects::meas_cols(&frame, ships, &tables.measurements, &kinds, &used_by, &targets, (t0, t1));
+    let (meas, meas_dropped) =
+        objects::meas_cols(&frame, ships, &tables.measurements, &kinds, &used_by, &targets, (t0, t1));
     let beams = objects::beam_cols(&frame, ships, &tables.dwells, t0, t1);
 
     let n = score.t_s.len();

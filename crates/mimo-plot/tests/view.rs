@@ -166,10 +166,8 @@ fn make_run(tracks: Vec<TrackRow>) -> Run {
         dwell(3, 2, 2, Role::Rx, DwellKind::Mimo, Requester::Ta, 20.0, p20),
         dwell(4, 2, 3, Role::Rx, DwellKind::Mimo, Requester::Ta, 20.0, p20),
     ];
-    let meas = vec![
-        measure(&scenario, 1 << 12, 1, 1, 1, 10.005, p10),
-        measure(&scenario, (2 << 12) + 1, 3, 1, 2, 20.0, p20),
-    ];
+    let meas =
+        vec![measure(&scenario, 1 << 12, 1, 1, 1, 10.005, p10), measure(&scenario, (2 << 12) + 1, 3, 1, 2, 20.0, p20)];
     mimo_store::write_table(&dir.join("truth/run-0000.parquet"), &truth_rows()).expect("truth");
     mimo_store::write_table(&dir.join("dwells/run-0000.parquet"), &dwells).expect("dwells");
     mimo_store::write_table(&dir.join("measurements/run-0000.parquet"), &meas).expect("measurements");
@@ -360,7 +358,8 @@ fn linked_metrics_follow_the_scoring_rules() {
 #[test]
 fn a_window_keeps_only_its_objects() {
     let run = make_run(track_rows());
-    let view = view_of(&run, &ViewOptions { from_s: Some(15.0), to_s: Some(25.0), ..ViewOptions::default() }).expect("view");
+    let view =
+        view_of(&run, &ViewOptions { from_s: Some(15.0), to_s: Some(25.0), ..ViewOptions::default() }).expect("view");
     assert!(view.tracks.t.iter().all(|&t| (15.0..=25.0).contains(&t)));
     assert_eq!(view.tracks.t.len(), 11);
     assert_eq!(view.meas.t, vec![20.0]);
@@ -379,7 +378,8 @@ fn bad_input_is_refused_with_a_message_naming_it() {
         assert!(e.is_bad_input() && e.to_string().starts_with("--from/--to"), "{e}");
     }
     // A window without tracks, and a run without tracks.
-    let e = view_of(&run, &ViewOptions { from_s: Some(0.0), to_s: Some(5.0), ..ViewOptions::default() }).expect_err("empty");
+    let e = view_of(&run, &ViewOptions { from_s: Some(0.0), to_s: Some(5.0), ..ViewOptions::default() })
+        .expect_err("empty");
     assert!(e.to_string().contains("has no tracks in [0, 5] s"), "{e}");
     let empty = make_run(Vec::new());
     let e = view_of(&empty, &ViewOptions::default()).expect_err("no tracks");

@@ -40,6 +40,8 @@ mod flight;
 mod load;
 mod model;
 mod ship;
+pub mod ship_frames;
+pub mod stress;
 mod trajectory;
 mod validate;
 
@@ -50,6 +52,8 @@ pub use model::{
     Aircraft, AircraftType, Crossover, DEFAULT_ARRAY_HEIGHT_M, DEFAULT_DURATION_S, DEFAULT_RAMP_S, Envelope, Formation,
     Group, LatLonAlt, Manoeuvre, Member, Move, Offset, Scenario, Ship, Split, Target,
 };
+pub use ship_frames::ShipFrames;
+pub use stress::Stress;
 pub use trajectory::{MARGIN_S, TargetState, Trajectories};
 pub use validate::MAX_DURATION_S;
 

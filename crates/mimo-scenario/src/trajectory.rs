@@ -308,6 +308,11 @@ impl Trajectories {
         self.pos_vel_at(i, t_s).0
     }
 
+    /// Mean RCS of target `i` (m²). Panics if `i >= self.len()`.
+    pub fn rcs_m2(&self, i: usize) -> f64 {
+        self.rcs[i]
+    }
+
     /// Full state of target `i` at `t_s`. Panics if `i >= self.len()`.
     pub fn state_at(&self, i: usize, t_s: f64) -> TargetState {
         let (pos_ecef, vel_ecef) = self.pos_vel_at(i, t_s);

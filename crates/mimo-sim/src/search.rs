@@ -1,5 +1,5 @@
 //! Background search: each radar's own raster of beams, which fills every idle moment of its
-//! timeline (DESIGN.md §5).
+//! timeline (docs/design.md §5, docs/model.md §7.4).
 //!
 //! The raster is a horizon fence of elevation bands: beams on a u–v lattice (spacing
 //! `spacing_beamwidths`·θ) of each face, kept where the beam is inside the scan limit, its
@@ -33,6 +33,7 @@ pub struct SearchBand {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SearchConfig {
+    /// The elevation bands, searched as described above.
     pub bands: Vec<SearchBand>,
     /// Beam spacing on the u–v lattice in beamwidths.
     pub spacing_beamwidths: f64,
@@ -63,9 +64,13 @@ impl SearchConfig {
 /// One search beam.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SearchBeam {
+    /// Array face (0-based).
     pub face: u8,
+    /// Beam direction in the face's sine space.
     pub u: f64,
+    /// Beam direction in the face's sine space.
     pub v: f64,
+    /// Pulses per dwell.
     pub n_pulses: u32,
 }
 

@@ -1,28 +1,38 @@
 //! The simulated world of one scenario: ships (sites and faces over time) and target truth.
+//! It is the engine's alone: a test article learns the ships from its `start` event and never
+//! sees the targets.
 
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
 use mimo_core::params::RadarParams;
-use mimo_scenario::{Scenario, ScenarioError, Trajectories};
+use mimo_scenario::{Scenario, ScenarioError, ShipFrames, Trajectories};
 
-/// A scenario with its trajectories built: everything the engine and the test article may ask
-/// about geometry. Truth ([`World::targets_at`]) is for the engine only; a test article sees
-/// ships and radars, never targets.
+/// A scenario with its trajectories built.
 #[derive(Debug, Clone)]
 pub struct World {
+    /// The validated scenario.
     pub scenario: Scenario,
+    /// Every target's trajectory.
     pub trajectories: Trajectories,
+    /// Every ship's faces over the run, sampled and interpolated.
+    frames: Vec<ShipFrames>,
 }
 
 /// A target at one instant, as the radar model needs it.
 #[derive(Debug, Clone)]
 pub struct TargetNow<'w> {
+    /// Target id (`F-1`, `A`, …).
     pub id: &'w str,
+    /// Index of the target in the scenario.
     pub index: u32,
+    /// Position (ECEF, m).
     pub pos_ecef: DVec3,
+    /// Velocity (ECEF, m/s).
     pub vel_ecef: DVec3,
+    /// Height above the ellipsoid (m).
     pub alt_m: f64,
+    /// Mean RCS (m²).
     pub rcs_m2: f64,
 }
 
@@ -30,7 +40,8 @@ impl World {
     /// Build the trajectories of a validated scenario.
     pub fn new(scenario: Scenario) -> Result<World, ScenarioError> {
         let trajectories = scenario.build_trajectories()?;
-        Ok(World { scenario, trajectories })
+        let frames = scenario.ships.iter().map(|s| ShipFrames::new(s, scenario.duration_s)).collect();
+        Ok(World { scenario, trajectories, frames })
     }
 
     /// Number of radars (ships).
@@ -48,14 +59,34 @@ impl World {
         &self.scenario.ships[r.index()].radar
     }
 
-    /// A radar's faces at time `t_s` (their origins are the array centre).
+    /// A radar's faces at time `t_s` (their origins are the array centre), from
+    /// [`ShipFrames`].
     pub fn faces_at(&self, r: RadarId, t_s: f64) -> Vec<FaceFrame> {
-        self.scenario.ships[r.index()].faces_at(t_s)
+        self.frames[r.index()].faces_at(t_s)
+    }
+
+    /// One face of a radar at `t_s` (`None` for a face it does not have).
+    pub fn face_at(&self, r: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
+        self.frames[r.index()].face_at(t_s, face as usize)
     }
 
     /// A radar's array-centre position (ECEF) at `t_s`.
     pub fn site_at(&self, r: RadarId, t_s: f64) -> DVec3 {
-        self.scenario.ships[r.index()].position_at(t_s).to_ecef()
+        self.frames[r.index()].site_at(t_s)
+    }
+
+    /// Every target's position and mean RCS at `t_s`, as the radar model takes them, into `out`
+    /// (cleared first; no geodetic conversion).
+    pub fn radar_targets_into<'w>(&'w self, t_s: f64, out: &mut Vec<mimo_radar::Target<'w>>) {
+        out.clear();
+        for (i, t) in self.scenario.targets.iter().enumerate() {
+            out.push(mimo_radar::Target {
+                id: t.id.as_str(),
+                index: i as u32,
+                pos_ecef: self.trajectories.position_at(i, t_s),
+                rcs_m2: self.trajectories.rcs_m2(i),
+            });
+        }
     }
 
     /// Every target's truth at `t_s`.
@@ -73,59 +104,5 @@ impl World {
                 }
             })
             .collect()
-    }
-}
-
-impl mimo_track::SensorGeometry for World {
-    fn site_ecef(&self, radar: RadarId, t_s: f64) -> Option<DVec3> {
-        (radar.index() < self.n_radars()).then(|| self.site_at(radar, t_s))
-    }
-    fn face(&self, radar: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
-        if radar.index() >= self.n_radars() {
-            return None;
-        }
-        self.faces_at(radar, t_s).get(face as usize).copied()
-    }
-}
-
-/// What a test article may know of the world: the ships and their radars, never the targets.
-#[derive(Debug, Clone, Copy)]
-pub struct Radars<'w> {
-    world: &'w World,
-}
-
-impl<'w> Radars<'w> {
-    /// The radar view of a world.
-    pub fn of(world: &'w World) -> Radars<'w> {
-        Radars { world }
-    }
-    /// All radar ids.
-    pub fn ids(&self) -> Vec<RadarId> {
-        self.world.radar_ids()
-    }
-    /// A radar's parameters.
-    pub fn params(&self, r: RadarId) -> &'w RadarParams {
-        &self.world.scenario.ships[r.index()].radar
-    }
-    /// A radar's faces at `t_s`.
-    pub fn faces_at(&self, r: RadarId, t_s: f64) -> Vec<FaceFrame> {
-        self.world.faces_at(r, t_s)
-    }
-    /// A radar's array-centre position (ECEF) at `t_s`.
-    pub fn site_at(&self, r: RadarId, t_s: f64) -> DVec3 {
-        self.world.site_at(r, t_s)
-    }
-    /// The scenario centre (origin of a local tracking frame).
-    pub fn centre(&self) -> mimo_core::geo::Geodetic {
-        self.world.scenario.centre()
-    }
-}
-
-impl mimo_track::SensorGeometry for Radars<'_> {
-    fn site_ecef(&self, radar: RadarId, t_s: f64) -> Option<DVec3> {
-        self.world.site_ecef(radar, t_s)
-    }
-    fn face(&self, radar: RadarId, face: u8, t_s: f64) -> Option<FaceFrame> {
-        mimo_track::SensorGeometry::face(self.world, radar, face, t_s)
     }
 }

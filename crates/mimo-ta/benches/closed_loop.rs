@@ -1,4 +1,4 @@
-//! Closed-loop throughput, single thread: `cargo bench -p mimo-sim`.
+//! Closed-loop throughput, single thread: `cargo bench -p mimo-ta`.
 //!
 //! For standard scenarios 1 and 7 (1000 s, one run, seed 1): the closed loop with the default
 //! test article (engine, radar model and tracker together), background search alone (the `none`
@@ -8,11 +8,13 @@
 //! measurements per second, whether the replay reproduced the closed loop's tracks, and the
 //! peak resident memory (VmHWM, reset before each scenario where the kernel allows it, so it
 //! covers that scenario's closed loop, replay and search-only run). Plain `std::time`, no
-//! harness. `cargo bench -p mimo-sim -- 7` runs scenario 7 only.
+//! harness. `cargo bench -p mimo-ta -- 7` runs scenario 7 only.
 
-use mimo_sim::default_ta::{DefaultTa, Passive};
-use mimo_sim::replay::{ReplayFrom, replay};
+use mimo_core::records::RunTables;
 use mimo_sim::{EngineConfig, SearchConfig, World};
+use mimo_ta::passive::Passive;
+use mimo_ta::registry;
+use mimo_ta::replay::{ReplayFrom, replay};
 use std::time::Instant;
 
 /// Peak resident set size of this process (MiB), from /proc/self/status.
@@ -37,6 +39,7 @@ struct Row {
     search_dwells: u64,
     replay_s: f64,
     replayed: u64,
+    replayed_dwells: u64,
     replay_identical: bool,
     peak_mib: Option<f64>,
 }
@@ -49,21 +52,36 @@ fn bench(n: u32) -> Result<Row, Box<dyn std::error::Error>> {
         duration_s: world.scenario.duration_s,
         record_voltages: false,
         search: SearchConfig::default(),
+        ta_config: serde_json::Value::Null,
     };
+    let config = registry::default_config("default")?;
 
     let t = Instant::now();
-    let mut ta = DefaultTa::by_name("default", &world).ok_or("default TA")?;
-    let (tables, stats) = mimo_sim::run_one(&world, &cfg, 0, &mut ta);
+    let mut ta = registry::build("default", &config, &world)?;
+    let mut tables = RunTables::default();
+    let stats = mimo_sim::run_one(&world, &cfg, 0, ta.as_mut(), &mut tables)?;
     let closed_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let out = replay(&world, "default", 0, &tables.dwells, &[], &tables.measurements, ReplayFrom::Measurements)?;
+    let mut ta = registry::build("default", &config, &world)?;
+    let mut out = RunTables::default();
+    let rs = replay(
+        &world,
+        &cfg,
+        ta.as_mut(),
+        0,
+        &tables.dwells,
+        &[],
+        &tables.measurements,
+        ReplayFrom::Measurements,
+        &mut out,
+    )?;
     let replay_s = t.elapsed().as_secs_f64();
     let replay_identical = out.tracks == tables.tracks;
     drop(tables);
 
     let t = Instant::now();
-    let (_, search_stats) = mimo_sim::run_one(&world, &cfg, 0, &mut Passive);
+    let search_stats = mimo_sim::run_one(&world, &cfg, 0, &mut Passive, &mut RunTables::default())?;
     let search_only_s = t.elapsed().as_secs_f64();
 
     Ok(Row {
@@ -74,7 +92,8 @@ fn bench(n: u32) -> Result<Row, Box<dyn std::error::Error>> {
         search_only_s,
         search_dwells: search_stats.dwells,
         replay_s,
-        replayed: out.n_measurements,
+        replayed: rs.measurements,
+        replayed_dwells: rs.dwells,
         replay_identical,
         peak_mib: peak_rss_mib(),
     })
@@ -94,7 +113,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         rows.push(row);
     }
     let rss = if resettable { "peak RSS MiB" } else { "peak RSS MiB (cumulative)" };
-    println!("mimo-sim closed loop, 1000 s, 1 run, seed 1, single thread");
+    println!("mimo-ta closed loop, 1000 s, 1 run, seed 1, single thread");
     println!(
         "| scenario | closed loop s | dwells | dwells/s | measurements | measurements/s | search-only s | search dwells/s | \
          replay s | tracker dwells/s | tracker measurements/s | replay = closed loop | {rss} |"
@@ -112,7 +131,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             r.search_only_s,
             r.search_dwells as f64 / r.search_only_s,
             r.replay_s,
-            r.dwells as f64 / r.replay_s,
+            r.replayed_dwells as f64 / r.replay_s,
             r.replayed as f64 / r.replay_s,
             if r.replay_identical { "yes" } else { "NO" },
             r.peak_mib.map_or("n/a".to_string(), |m| format!("{m:.0}")),

@@ -1,0 +1,201 @@
+//! Executing a dwell group: evaluate the radar model at mid-dwell and produce the group's rows
+//! and, when the test article wants it, its report (docs/design.md §5, docs/model.md §4–§5).
+
+use super::group::Group;
+use crate::messages::{DwellReport, PartReport};
+use crate::world::World;
+use mimo_core::DVec3;
+use mimo_core::face::FaceFrame;
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, VoltageRow};
+use mimo_radar::dwell::RangeWindow;
+use mimo_radar::energy::dwell_energy_j;
+
+/// Measurement ids of a dwell group start at `group_id << 12`, so they depend only on the group
+/// (offline re-forming of measurements from primitives reproduces them without replaying the
+/// engine's order). A dwell yields far fewer than 4096 measurements.
+pub fn first_meas_id(group_id: u64) -> u64 {
+    group_id << 12
+}
+
+/// Everything one executed group produced.
+pub(crate) struct Executed {
+    pub dwells: Vec<DwellRow>,
+    pub primitives: Vec<PrimitiveRow>,
+    pub measurements: Vec<MeasurementRow>,
+    pub voltages: Vec<VoltageRow>,
+    /// The participants' faces at mid-dwell (for the report).
+    pub frames: Vec<FaceFrame>,
+    /// The aim point actually used.
+    pub aim: DVec3,
+}
+
+/// What the engine knows of the run when it executes a group.
+pub(crate) struct RunKeys {
+    pub seed: u64,
+    pub run: u32,
+    pub record_voltages: bool,
+}
+
+/// The aim of a search beam: its direction at half the instrumented range.
+fn search_aim(world: &World, g: &Group, frame: &FaceFrame) -> DVec3 {
+    let p = &g.parts[0];
+    let w = (1.0 - p.beam_u * p.beam_u - p.beam_v * p.beam_v).max(0.0).sqrt();
+    let d = frame.face_from_ecef.transpose() * DVec3::new(p.beam_u, p.beam_v, w);
+    frame.origin_ecef + d * (0.5 * world.params(p.radar).instrumented_range_m)
+}
+
+/// Execute group `gid` that starts at `t0_s`.
+pub(crate) fn execute<'w>(
+    world: &'w World,
+    keys: &RunKeys,
+    gid: u64,
+    g: &Group,
+    t0_s: f64,
+    targets: &mut Vec<mimo_radar::Target<'w>>,
+) -> Executed {
+    let t_mid = t0_s + 0.5 * g.duration_s;
+    // Participants' faces at mid-dwell (a part's face was chosen from the same frames).
+    let frames: Vec<FaceFrame> = g.parts.iter().filter_map(|p| world.face_at(p.radar, p.face, t_mid)).collect();
+    let aim = g.aim.unwrap_or_else(|| search_aim(world, g, &frames[0]));
+    let txs: Vec<mimo_radar::Transmitter> = g
+        .parts
+        .iter()
+        .zip(&frames)
+        .filter(|(p, _)| p.role.transmits())
+        .map(|(p, f)| mimo_radar::Transmitter {
+            radar: p.radar,
+            params: world.params(p.radar),
+            frame: *f,
+            beam_u: p.beam_u,
+            beam_v: p.beam_v,
+            n_pulses: p.n_pulses,
+            waveform: p.waveform,
+        })
+        .collect();
+    let rxs: Vec<mimo_radar::Receiver> = g
+        .parts
+        .iter()
+        .enumerate()
+        .zip(&frames)
+        .filter(|((_, p), _)| p.receives())
+        .map(|((i, p), f)| {
+            let params = world.params(p.radar);
+            let window = match g.window_half_m {
+                None => RangeWindow::Fixed { rho_min_m: params.min_range_m, rho_max_m: params.instrumented_range_m },
+                Some(half) => RangeWindow::AroundAim { aim_ecef: aim, half_width_m: half },
+            };
+            mimo_radar::Receiver {
+                radar: p.radar,
+                dwell_id: gid + i as u64,
+                params,
+                face: p.face,
+                frame: *f,
+                beam_u: p.beam_u,
+                beam_v: p.beam_v,
+                window,
+                predicted_snr: g.predicted_snr,
+            }
+        })
+        .collect();
+    world.radar_targets_into(t_mid, targets);
+    let stream_keys = [u64::from(keys.run), gid];
+    let dwell = mimo_radar::Dwell {
+        run: keys.run,
+        t_s: t_mid,
+        seed: keys.seed,
+        keys: &stream_keys,
+        transmitters: &txs,
+        receivers: &rxs,
+        fidelity: &world.scenario.fidelity,
+        record_voltages: keys.record_voltages,
+        simulate_all_cells: false,
+    };
+    let out = mimo_radar::evaluate(&dwell, targets);
+    let measurements = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
+    let dwells = g
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let params = world.params(p.radar);
+            let tx = p.role.transmits();
+            DwellRow {
+                run: keys.run,
+                dwell_id: gid + i as u64,
+                group_id: gid,
+                radar: p.radar,
+                role: p.role,
+                kind: g.kind,
+                requested_by: g.requested_by,
+                t_s: t0_s,
+                duration_s: g.duration_s,
+                pulse_width_s: params.pulse_width_s,
+                n_pulses: p.n_pulses,
+                peak_power_w: if tx { params.peak_power_w } else { 0.0 },
+                energy_j: if tx { dwell_energy_j(params, p.n_pulses) } else { 0.0 },
+                waveform: p.waveform,
+                face: p.face,
+                beam_u: p.beam_u,
+                beam_v: p.beam_v,
+                aim_x_m: aim.x,
+                aim_y_m: aim.y,
+                aim_z_m: aim.z,
+            }
+        })
+        .collect();
+    Executed { dwells, primitives: out.primitives, measurements, voltages: out.voltages, frames, aim }
+}
+
+/// The test article's view of an executed group: no truth (`target_hint` cleared); primitives
+/// only when asked for.
+pub(crate) fn report(
+    run: u32,
+    gid: u64,
+    g: &Group,
+    t0_s: f64,
+    end_s: f64,
+    ex: &Executed,
+    with_primitives: bool,
+) -> DwellReport {
+    let mut measurements = ex.measurements.clone();
+    measurements.iter_mut().for_each(|m| m.target_hint = None);
+    let primitives = if with_primitives {
+        let mut p = ex.primitives.clone();
+        p.iter_mut().for_each(|p| p.target_hint = None);
+        p
+    } else {
+        Vec::new()
+    };
+    let parts = g
+        .parts
+        .iter()
+        .zip(&ex.frames)
+        .enumerate()
+        .map(|(i, (p, f))| PartReport {
+            radar: p.radar,
+            dwell_id: gid + i as u64,
+            transmits: p.role.transmits(),
+            receives: p.receives(),
+            face: p.face,
+            beam_u: p.beam_u,
+            beam_v: p.beam_v,
+            n_pulses: p.n_pulses,
+            site_ecef: f.origin_ecef,
+            face_from_ecef: PartReport::rows_of(f),
+        })
+        .collect();
+    DwellReport {
+        run,
+        group_id: gid,
+        kind: g.kind,
+        requested_by: g.requested_by,
+        t_s: t0_s + 0.5 * g.duration_s,
+        duration_s: g.duration_s,
+        end_s,
+        aim_ecef: ex.aim,
+        tag: g.tag.clone(),
+        parts,
+        measurements,
+        primitives,
+    }
+}

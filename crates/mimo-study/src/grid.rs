@@ -1,0 +1,213 @@
+//! The grid of a study: cells (method × scenario × stress point), the (cell, run) items, their
+//! deterministic split into shards, and each cell's hive-style directory.
+
+use crate::plan::{Axis, Plan, Sweep};
+use std::path::PathBuf;
+
+/// One point of the stress axes: a value for every axis of the plan, in [`Axis::ALL`] order.
+pub type AxisPoint = Vec<(Axis, f64)>;
+
+/// One cell: a method on a scenario at one stress point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    /// Index into the plan's methods.
+    pub method: usize,
+    /// Index into the plan's scenarios.
+    pub scenario: usize,
+    /// The stress point. With `sweep = "each"`, axes other than the swept one sit at their
+    /// baseline and are not applied.
+    pub point: AxisPoint,
+    /// With `sweep = "each"`, the one axis this cell varies (`None` in a grid).
+    pub swept: Option<Axis>,
+}
+
+/// A value as it appears in a path or a label: the shortest text that reads back the same.
+pub fn value_text(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:e}").replace("e0", "").replace("e-0", "e-")
+    }
+}
+
+/// Every stress point of the plan, in a fixed order.
+pub fn points(plan: &Plan) -> Vec<(AxisPoint, Option<Axis>)> {
+    if plan.axes.is_empty() {
+        return vec![(Vec::new(), None)];
+    }
+    match plan.sweep {
+        Sweep::Grid => {
+            let mut out: Vec<AxisPoint> = vec![Vec::new()];
+            for (axis, values) in &plan.axes {
+                out = out
+                    .into_iter()
+                    .flat_map(|p| {
+                        values.iter().map(move |&v| {
+                            let mut q = p.clone();
+                            q.push((*axis, v));
+                            q
+                        })
+                    })
+                    .collect();
+            }
+            out.into_iter().map(|p| (p, None)).collect()
+        }
+        Sweep::Each => {
+            let mut out = Vec::new();
+            for (axis, values) in &plan.axes {
+                for &v in values {
+                    let p = plan.axes.iter().map(|(a, _)| (*a, if a == axis { v } else { a.baseline() })).collect();
+                    out.push((p, Some(*axis)));
+                }
+            }
+            out
+        }
+    }
+}
+
+/// Every cell: methods × scenarios × points, in that nesting order.
+pub fn cells(plan: &Plan) -> Vec<Cell> {
+    let pts = points(plan);
+    let mut out = Vec::new();
+    for method in 0..plan.methods.len() {
+        for scenario in 0..plan.scenarios.len() {
+            for (point, swept) in &pts {
+                out.push(Cell { method, scenario, point: point.clone(), swept: *swept });
+            }
+        }
+    }
+    out
+}
+
+impl Cell {
+    /// The cell's directory under the study's `runs/`, hive style:
+    /// `method=NAME/scenario=S/axis=value/…`.
+    pub fn rel_dir(&self, plan: &Plan) -> PathBuf {
+        let mut p = PathBuf::from(format!("method={}", plan.methods[self.method].name));
+        p.push(format!("scenario={}", plan.scenarios[self.scenario].label()));
+        if let Some(axis) = self.swept {
+            // One axis at a time: the swept axis names a partition of its own, so that every
+            // cell of the study still has every axis column.
+            p.push(format!("swept={}", axis.name()));
+        }
+        for (axis, v) in &self.point {
+            p.push(format!("{}={}", axis.name(), value_text(*v)));
+        }
+        p
+    }
+
+    /// The value of an axis at this cell, if the plan has the axis.
+    pub fn value(&self, axis: Axis) -> Option<f64> {
+        self.point.iter().find(|(a, _)| *a == axis).map(|(_, v)| *v)
+    }
+
+    /// The value an axis is applied with (`None`: leave the scenario's own value).
+    pub fn applied(&self, axis: Axis) -> Option<f64> {
+        match self.swept {
+            Some(s) if s != axis => None,
+            _ => self.value(axis),
+        }
+    }
+}
+
+/// One (cell, run) item.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Item {
+    /// Index into [`cells`].
+    pub cell: usize,
+    /// Monte Carlo run.
+    pub run: u32,
+}
+
+/// Every item, cell-major.
+pub fn items(n_cells: usize, runs: u32) -> Vec<Item> {
+    (0..n_cells).flat_map(|cell| (0..runs).map(move |run| Item { cell, run })).collect()
+}
+
+/// A shard `K/N` (0 ≤ K < N): item `i` of the item list belongs to shard `i mod N`, so shards are
+/// balanced over cells and runs and the split never depends on the machine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard (0-based).
+    pub k: usize,
+    /// Number of shards.
+    pub n: usize,
+}
+
+impl Shard {
+    /// Parse `K/N`.
+    pub fn parse(s: &str) -> Result<Shard, String> {
+        let (k, n) = s.split_once('/').ok_or_else(|| format!("expected K/N (for example 0/4), got '{s}'"))?;
+        let k: usize = k.trim().parse().map_err(|_| format!("K in K/N: expected a whole number, got '{k}'"))?;
+        let n: usize = n.trim().parse().map_err(|_| format!("N in K/N: expected a whole number, got '{n}'"))?;
+        if n == 0 || k >= n {
+            return Err(format!(
+                "expected 0 <= K < N (shards are numbered from 0, like Slurm array and Kubernetes job indices), got {k}/{n}"
+            ));
+        }
+        Ok(Shard { k, n })
+    }
+
+    /// The items of this shard.
+    pub fn select(&self, items: &[Item]) -> Vec<Item> {
+        items.iter().enumerate().filter(|(i, _)| i % self.n == self.k).map(|(_, it)| *it).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn plan(axes: &str, sweep: &str) -> Plan {
+        let text = format!(
+            "scenarios = [7, 1]\nruns = 3\nsweep = \"{sweep}\"\n[[methods]]\nname = \"a\"\nta = \"default\"\n\
+             [[methods]]\nname = \"b\"\nta = \"imm\"\n[axes]\n{axes}"
+        );
+        Plan::parse(&text, Path::new("p.toml")).expect("plan")
+    }
+
+    #[test]
+    fn a_grid_is_every_combination_and_each_is_one_axis_at_a_time() {
+        let p = plan("pfa = [1e-6, 1e-4]\nrcs_offset_db = [-3, 0, 3]", "grid");
+        let c = cells(&p);
+        assert_eq!(c.len(), 2 * 2 * 6);
+        assert_eq!(c[0].rel_dir(&p), PathBuf::from("method=a/scenario=7/rcs_offset_db=-3/pfa=1e-6"));
+        assert_eq!(c[5].rel_dir(&p), PathBuf::from("method=a/scenario=7/rcs_offset_db=3/pfa=1e-4"));
+        let q = plan("pfa = [1e-6, 1e-4]\nrcs_offset_db = [-3, 0, 3]", "each");
+        let c = cells(&q);
+        assert_eq!(c.len(), 2 * 2 * 5);
+        assert_eq!(c[1].rel_dir(&q), PathBuf::from("method=a/scenario=7/swept=rcs_offset_db/rcs_offset_db=0/pfa=1e-6"));
+        assert_eq!(c[1].applied(Axis::RcsOffsetDb), Some(0.0));
+        assert_eq!(c[1].applied(Axis::Pfa), None, "not swept here: the scenario's own value");
+        // Every directory is distinct.
+        let mut dirs: Vec<_> = c.iter().map(|x| x.rel_dir(&q)).collect();
+        dirs.sort();
+        dirs.dedup();
+        assert_eq!(dirs.len(), c.len());
+    }
+
+    #[test]
+    fn shards_partition_the_items() {
+        let it = items(7, 3);
+        assert_eq!(it.len(), 21);
+        let mut all: Vec<Item> = (0..4).flat_map(|k| Shard { k, n: 4 }.select(&it)).collect();
+        all.sort();
+        assert_eq!(all, it);
+        assert_eq!(Shard::parse("2/4"), Ok(Shard { k: 2, n: 4 }));
+        assert!(Shard::parse("4/4").is_err());
+        assert!(Shard::parse("1/0").is_err());
+        assert!(Shard::parse("x").is_err());
+    }
+
+    #[test]
+    fn values_read_back() {
+        for v in [0.0, -3.0, 1e-6, 2.5, 0.05, 1e-12, 16.0, -0.5] {
+            let t = value_text(v);
+            assert_eq!(t.parse::<f64>().expect("number"), v, "{t}");
+        }
+        assert_eq!(value_text(1e-6), "1e-6");
+        assert_eq!(value_text(0.05), "5e-2");
+        assert_eq!(value_text(-3.0), "-3");
+    }
+}

@@ -1,0 +1,21 @@
+//! # mimo-study
+//!
+//! Studies compare methods side by side: a plan ([`plan::Plan`]) names methods (test articles
+//! and their configurations), scenarios, stress axes and Monte Carlo runs; the grid
+//! ([`grid`]) makes every (method, scenario, stress point) a cell, each an ordinary run
+//! directory in a hive-style path, and every (cell, run) an item that any machine can run
+//! (`--shard K/N`). Results, costs and a summary with confidence intervals are Parquet tables;
+//! charts and a report page show energy against completeness, compute against accuracy and
+//! where each method fails (docs/studies.md).
+
+#![warn(missing_docs)]
+
+pub mod cpu;
+pub mod execute;
+pub mod grid;
+pub mod guard;
+pub mod plan;
+pub mod prepare;
+pub mod timed;
+
+pub use plan::{Plan, PlanError};

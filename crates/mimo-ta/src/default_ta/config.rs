@@ -1,0 +1,76 @@
+//! Configuration of the default test article: the tracker's and the resource manager's.
+
+use mimo_track::TrackerConfig;
+use serde::{Deserialize, Serialize};
+
+/// Settings of the default test article's resource manager (docs/model.md §7).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ResourceConfig {
+    /// Detection probability each track look is sized for. Default 0.9.
+    pub pd_target: f64,
+    /// Detection probability the confirmation looks of a tentative track are sized for until it
+    /// is seen again (without doubling on a miss). Most tentative tracks are false alarms, so
+    /// these looks are cheap; once a tentative track has been seen again, looks are sized for
+    /// `pd_target`. Default 0.7.
+    pub confirm_pd: f64,
+    /// RCS assumed when sizing dwells (m²): the fighters' 2 m², so airliners are over-served.
+    pub assumed_rcs_m2: f64,
+    /// Pointing error the energy budget allows for, in beamwidths (V₀). Default 0.2.
+    pub pointing_sharpness: f64,
+    /// Use MIMO dwells for confirmed tracks seen by more than one radar. Default true; false is
+    /// a conventional phased-array network (monostatic dwells only).
+    pub mimo: bool,
+    /// Smallest half-width of a track dwell's range window (m). Default 1000.
+    pub min_window_half_m: f64,
+    /// Range window half-width in predicted range standard deviations. Default 5.
+    pub window_sigmas: f64,
+}
+
+impl Default for ResourceConfig {
+    fn default() -> Self {
+        ResourceConfig {
+            pd_target: 0.9,
+            confirm_pd: 0.7,
+            assumed_rcs_m2: 2.0,
+            pointing_sharpness: 0.2,
+            mimo: true,
+            min_window_half_m: 1000.0,
+            window_sigmas: 5.0,
+        }
+    }
+}
+
+impl ResourceConfig {
+    /// Check the values; the error names the key and what was expected.
+    pub fn validate(&self) -> Result<(), (String, String)> {
+        let prob = |k: &str, x: f64| {
+            if x > 0.0 && x < 1.0 { Ok(()) } else { Err((k.to_string(), format!("a probability in (0, 1), got {x}"))) }
+        };
+        let pos = |k: &str, x: f64| {
+            if x.is_finite() && x > 0.0 {
+                Ok(())
+            } else {
+                Err((k.to_string(), format!("a positive finite number, got {x}")))
+            }
+        };
+        prob("resource_manager.pd_target", self.pd_target)?;
+        prob("resource_manager.confirm_pd", self.confirm_pd)?;
+        pos("resource_manager.assumed_rcs_m2", self.assumed_rcs_m2)?;
+        pos("resource_manager.pointing_sharpness", self.pointing_sharpness)?;
+        pos("resource_manager.min_window_half_m", self.min_window_half_m)?;
+        pos("resource_manager.window_sigmas", self.window_sigmas)?;
+        Ok(())
+    }
+}
+
+/// The whole configuration of the default test article, as recorded in the manifest and as
+/// `--ta-config` / `--set` address it (`tracker.kind`, `resource_manager.mimo`, …).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct DefaultTaConfig {
+    /// The multi-target tracker.
+    pub tracker: TrackerConfig,
+    /// The resource manager (scheduling and energy).
+    pub resource_manager: ResourceConfig,
+}

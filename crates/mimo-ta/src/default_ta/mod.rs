@@ -1,0 +1,155 @@
+//! The default solution: the paper's baseline test article.
+//!
+//! * Tracking: a [`MultiTargetTracker`] (EKF with NCV by default, or IMM) in a fixed ENU frame at
+//!   the scenario centre, with χ² gating, GNN per dwell and channel, one-point initiation,
+//!   2-of-3 confirmation and deletion after missed looks (see `mimo-track`, docs/model.md §6).
+//! * Every delivered dwell goes to the tracker through [`dwell_context`], which depends only on
+//!   what the dwells table records, so `mimo track` replays a recording with exactly the same
+//!   inputs. Misses are counted from the dwell's beams (a track predicted inside a non-search
+//!   beam and not updated has missed a look). It subscribes to dwells with detections and its
+//!   own dwells: an empty search dwell changes nothing in its tracks.
+//! * Scheduling ([`planner`]): each track is looked at when the tracker says it is due
+//!   (covariance-based revisit, docs/model.md §7.1), with one dwell aimed at its predicted
+//!   position and pulses sized for the wanted detection probability (§7.2); MIMO dwells for
+//!   confirmed tracks more than one radar can see (§7.5).
+
+mod config;
+pub mod planner;
+
+pub use config::{DefaultTaConfig, ResourceConfig};
+
+use crate::geometry::ShipGeometry;
+use mimo_core::records::{DwellKind, TrackStatus};
+use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo};
+use mimo_sim::test_article::{TaFault, TestArticle};
+use mimo_track::{DwellContext, Look, MultiTargetTracker};
+use std::collections::BTreeMap;
+
+/// The tracker's view of a finished dwell: everything comes from what the dwells table records
+/// (kind, time, and each part's radar, role, face and beam), so closed loop and replay agree.
+pub fn dwell_context(run: u32, group_id: u64, kind: DwellKind, t_mid_s: f64, parts: &[PartReport]) -> DwellContext {
+    if kind == DwellKind::Search {
+        return DwellContext::search(run, group_id, t_mid_s);
+    }
+    let mut ctx = DwellContext::aimed(run, group_id, t_mid_s, kind, Vec::new());
+    for tx in parts.iter().filter(|p| p.transmits) {
+        for rx in parts.iter().filter(|p| p.receives) {
+            ctx.looks.push(Look {
+                tx: tx.radar,
+                rx: rx.radar,
+                rx_face: rx.face,
+                beam_u: rx.beam_u,
+                beam_v: rx.beam_v,
+                rho_window_m: None,
+            });
+        }
+    }
+    ctx
+}
+
+/// What the test article has once the run started.
+struct Running {
+    geom: ShipGeometry,
+    tracker: MultiTargetTracker,
+    run: u32,
+    closed_loop: bool,
+}
+
+/// The default test article.
+pub struct DefaultTa {
+    name: String,
+    cfg: DefaultTaConfig,
+    state: Option<Running>,
+    /// Tracks with a dwell requested and not yet reported.
+    pending: BTreeMap<u64, f64>,
+    /// Earliest wake-up already asked for.
+    next_wake_s: f64,
+}
+
+impl DefaultTa {
+    /// A default test article with this configuration, recorded under `name`.
+    pub fn new(name: &str, cfg: DefaultTaConfig) -> DefaultTa {
+        DefaultTa { name: name.to_string(), cfg, state: None, pending: BTreeMap::new(), next_wake_s: f64::INFINITY }
+    }
+
+    /// The configuration.
+    pub fn settings(&self) -> &DefaultTaConfig {
+        &self.cfg
+    }
+
+    /// The tracker (for statistics after a run; `None` before `start`).
+    pub fn tracker(&self) -> Option<&MultiTargetTracker> {
+        self.state.as_ref().map(|s| &s.tracker)
+    }
+
+    fn not_started() -> TaFault {
+        TaFault::BadMessage("an event arrived before `start`".into())
+    }
+
+    /// Requests for every due track, and a wake-up for the next one.
+    fn schedule(&mut self, now: f64) -> Vec<Request> {
+        let Some(st) = &self.state else { return Vec::new() };
+        if !st.closed_loop {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        let mut next = f64::INFINITY;
+        for info in st.tracker.tracks() {
+            if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
+                continue;
+            }
+            if info.next_due_s <= now + 1e-9 {
+                if let Some(req) = planner::plan(&self.cfg.resource_manager, &st.tracker, &st.geom, now, &info) {
+                    self.pending.insert(info.id, now);
+                    out.push(Request::Dwell(req));
+                }
+            } else {
+                next = next.min(info.next_due_s);
+            }
+        }
+        if next.is_finite() && (next < self.next_wake_s - 1e-9 || self.next_wake_s <= now) {
+            self.next_wake_s = next;
+            out.push(Request::WakeAt(next));
+        }
+        out
+    }
+}
+
+impl TestArticle for DefaultTa {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn config(&self) -> serde_json::Value {
+        serde_json::to_value(&self.cfg).unwrap_or_default()
+    }
+    fn on_start(&mut self, start: &StartInfo) -> Result<Reply, TaFault> {
+        let geom = ShipGeometry::from_start(start);
+        let tracker = MultiTargetTracker::new(self.cfg.tracker.clone(), geom.centre());
+        self.state = Some(Running { geom, tracker, run: start.run, closed_loop: start.closed_loop });
+        self.pending.clear();
+        self.next_wake_s = f64::INFINITY;
+        Ok(Reply::default())
+    }
+    fn on_dwell(&mut self, report: &DwellReport) -> Result<Reply, TaFault> {
+        for id in &report.tag {
+            self.pending.remove(id);
+        }
+        let st = self.state.as_mut().ok_or_else(Self::not_started)?;
+        let dctx = dwell_context(st.run, report.group_id, report.kind, report.t_s, &report.parts);
+        let rows = st.tracker.process_dwell(&dctx, &report.measurements, &st.geom);
+        let changed = !rows.is_empty() || !report.tag.is_empty();
+        for r in &rows {
+            if r.status == TrackStatus::Deleted {
+                self.pending.remove(&r.track_id);
+            }
+        }
+        let requests = if changed { self.schedule(report.end_s) } else { Vec::new() };
+        Ok(Reply { requests, tracks: rows })
+    }
+    fn on_wake(&mut self, t_s: f64) -> Result<Reply, TaFault> {
+        if t_s + 1e-9 >= self.next_wake_s {
+            self.next_wake_s = f64::INFINITY;
+        }
+        Ok(Reply::requests(self.schedule(t_s)))
+    }
+}

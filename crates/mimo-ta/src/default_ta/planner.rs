@@ -1,0 +1,93 @@
+//! Planning one dwell for a due track: which radar transmits, with how many pulses, which radars
+//! receive, and the range window (docs/model.md §7.2, §7.5).
+
+use super::config::ResourceConfig;
+use crate::geometry::ShipGeometry;
+use mimo_core::ids::RadarId;
+use mimo_core::records::{DwellKind, TrackStatus};
+use mimo_radar::energy::{pointing_loss, predict_pair, pulses_for, required_snr_sw1, straddle_loss};
+use mimo_sim::messages::{DwellRequest, TxOrder};
+use mimo_track::{MultiTargetTracker, TrackInfo};
+
+/// Immediate re-dwells with doubled energy after a miss before the test article tries another
+/// radar (docs/model.md §7.2).
+pub const MAX_REDWELLS: u32 = 2;
+
+/// One dwell for track `info` at time `t_s`:
+///
+/// * the transmitter is the radar with the best predicted monostatic SNR for an
+///   `assumed_rcs_m2` target at the predicted position; after [`MAX_REDWELLS`] misses in a row
+///   the best radar may not see the target at all (a track just above its predicted horizon,
+///   say), so the track is handed to the next radar;
+/// * pulses are sized for `pd_target` (tentative tracks not yet seen again: `confirm_pd`) with the
+///   expected pointing and straddle losses, doubled on each miss up to [`MAX_REDWELLS`] times;
+/// * the range window is `ρ̂ ± max(window_sigmas·σ_ρ, min_window_half_m)`;
+/// * a confirmed track that other radars can see gets a MIMO dwell: the transmitter also
+///   receives, and so does every other radar that can see the aim point.
+pub fn plan(
+    cfg: &ResourceConfig,
+    tracker: &MultiTargetTracker,
+    geom: &ShipGeometry,
+    t_s: f64,
+    info: &TrackInfo,
+) -> Option<DwellRequest> {
+    let (id, status, misses, n_updates) = (info.id, info.status, info.consecutive_misses, info.n_updates);
+    let pred = tracker.predict(id, t_s)?;
+    let aim = pred.pos;
+    let ids = geom.ids();
+    let faces: Vec<_> = ids.iter().map(|&r| geom.faces_at(r, t_s)).collect();
+    // Candidate transmitters: monostatic predictions.
+    let mut candidates: Vec<(RadarId, f64, u8)> = ids
+        .iter()
+        .zip(&faces)
+        .filter_map(|(&r, f)| {
+            let p = geom.params(r)?;
+            predict_pair(p, f, p, f, aim, cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face))
+        })
+        .collect();
+    // Best predicted SNR first (ties by radar id, so the choice is deterministic).
+    candidates.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    if candidates.is_empty() {
+        return None;
+    }
+    let k = (misses / (MAX_REDWELLS + 1)) as usize % candidates.len();
+    let (tx, snr1, face) = candidates[k];
+    let p = geom.params(tx)?;
+    let losses = pointing_loss(cfg.pointing_sharpness, cfg.pointing_sharpness, true) * straddle_loss();
+    // Until a tentative track is seen again, its looks are cheap (most are false alarms).
+    let unconfirmed = status == TrackStatus::Tentative && n_updates <= 1;
+    let pd = if unconfirmed { cfg.confirm_pd } else { cfg.pd_target };
+    let mut n = pulses_for(required_snr_sw1(pd, p.pfa), snr1, losses, p.max_pulses);
+    if !unconfirmed {
+        // Re-dwell with doubled energy, up to twice (docs/model.md §7.2).
+        n = n.saturating_mul(1 << (misses % (MAX_REDWELLS + 1))).min(p.max_pulses);
+    }
+    let pm = tracker.predict_measurement(id, t_s, tx, tx, face, geom);
+    let sigma_rho = pm.map(|m| m.sigma_rho_m).unwrap_or(0.0);
+    let half = (cfg.window_sigmas * sigma_rho).max(cfg.min_window_half_m);
+    let mut receivers = vec![tx];
+    if cfg.mimo && status == TrackStatus::Confirmed {
+        let tx_faces = &faces[tx.index()];
+        for (&r, f) in ids.iter().zip(&faces) {
+            let Some(pr) = geom.params(r) else { continue };
+            if r != tx && predict_pair(p, tx_faces, pr, f, aim, cfg.assumed_rcs_m2).is_some() {
+                receivers.push(r);
+            }
+        }
+    }
+    let kind = match (status, receivers.len() > 1) {
+        (TrackStatus::Tentative, _) => DwellKind::Confirm,
+        (_, true) => DwellKind::Mimo,
+        _ => DwellKind::Track,
+    };
+    Some(DwellRequest {
+        kind,
+        earliest_s: t_s,
+        aim_ecef: aim,
+        transmitters: vec![TxOrder { radar: tx, n_pulses: n }],
+        predicted_snr: (receivers.len() == 1).then(|| snr1 * f64::from(n)),
+        receivers,
+        window_half_m: half,
+        tag: vec![id],
+    })
+}

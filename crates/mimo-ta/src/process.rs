@@ -1,0 +1,242 @@
+//! A test article in another process, in any language: the protocol of docs/ta-protocol.md over
+//! the child's stdin and stdout, one JSON message per line.
+//!
+//! `mimo` writes one [`EventMessage`] line and waits for exactly one [`ReplyMessage`] line before
+//! the simulation goes on, so the run stays a deterministic function of the seed and the test
+//! article. The child's stderr is passed through. A reader thread feeds the child's stdout lines
+//! to the adapter through a channel, so a child that stops answering is caught after
+//! `--ta-timeout` seconds; a child that exits, writes something that is not a reply, or asks for
+//! something impossible is a [`TaFault`] that stops the run.
+
+use mimo_sim::messages::{DwellReport, Reply, ReplyMessage, StartInfo, Subscription, TaEvent};
+use mimo_sim::test_article::{TaFault, TestArticle};
+use serde::Serialize;
+use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
+use std::time::Duration;
+
+/// One line from the child's stdout, or how its output ended.
+enum Line {
+    Text(String),
+    Eof,
+    Error(String),
+}
+
+/// An event as it is written, borrowing the engine's report (no copy of the measurements).
+#[derive(Serialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+enum EventRef<'a> {
+    Start(&'a StartInfo),
+    DwellEnded(&'a DwellReport),
+    Wake { t_s: f64 },
+    Finish { t_s: f64 },
+}
+
+#[derive(Serialize)]
+struct MessageRef<'a> {
+    t_s: f64,
+    events: Vec<EventRef<'a>>,
+}
+
+impl<'a> From<&'a TaEvent> for EventRef<'a> {
+    fn from(e: &'a TaEvent) -> EventRef<'a> {
+        match e {
+            TaEvent::Start(s) => EventRef::Start(s),
+            TaEvent::DwellEnded(r) => EventRef::DwellEnded(r),
+            TaEvent::Wake { t_s } => EventRef::Wake { t_s: *t_s },
+            TaEvent::Finish { t_s } => EventRef::Finish { t_s: *t_s },
+        }
+    }
+}
+
+/// A command line split into words the way a POSIX shell would (quotes, escapes) without
+/// running one; `None` when it is empty or its quotes do not balance.
+pub fn split_command(cmd: &str) -> Option<Vec<String>> {
+    shlex::split(cmd).filter(|w| !w.is_empty())
+}
+
+/// A test article run as a child process.
+pub struct ProcessTa {
+    cmd: String,
+    child: Child,
+    stdin: Option<BufWriter<ChildStdin>>,
+    lines: Receiver<Line>,
+    timeout: Duration,
+    declared_name: Option<String>,
+    declared_config: serde_json::Value,
+    subscription: Subscription,
+    buf: Vec<u8>,
+    messages: u64,
+}
+
+impl ProcessTa {
+    /// Start `cmd` (split like a POSIX shell would, without running one). `timeout_s` bounds the
+    /// wait for each reply.
+    pub fn spawn(cmd: &str, timeout_s: f64) -> Result<ProcessTa, TaFault> {
+        let words = split_command(cmd).ok_or_else(|| {
+            TaFault::Crashed("cannot split the command line (unbalanced quotes?) or it is empty".into())
+        })?;
+        let (prog, args) = words.split_first().ok_or_else(|| TaFault::Crashed("empty command".into()))?;
+        let mut child = Command::new(prog)
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| TaFault::Crashed(format!("cannot start it: {e}")))?;
+        let stdin = child.stdin.take().map(BufWriter::new);
+        let stdout = child.stdout.take().ok_or_else(|| TaFault::Io("no stdout pipe".into()))?;
+        let (tx, rx) = channel();
+        std::thread::spawn(move || {
+            let mut reader = BufReader::new(stdout);
+            loop {
+                let mut s = String::new();
+                let line = match reader.read_line(&mut s) {
+                    Ok(0) => Line::Eof,
+                    Ok(_) => Line::Text(s),
+                    Err(e) => Line::Error(e.to_string()),
+                };
+                let last = !matches!(line, Line::Text(_));
+                if tx.send(line).is_err() || last {
+                    return;
+                }
+            }
+        });
+        let timeout = if timeout_s.is_finite() && timeout_s > 0.0 {
+            Duration::from_secs_f64(timeout_s)
+        } else {
+            Duration::from_secs(60)
+        };
+        Ok(ProcessTa {
+            cmd: cmd.to_string(),
+            child,
+            stdin,
+            lines: rx,
+            timeout,
+            declared_name: None,
+            declared_config: serde_json::Value::Null,
+            subscription: Subscription::default(),
+            buf: Vec::with_capacity(1 << 16),
+            messages: 0,
+        })
+    }
+
+    /// Messages exchanged so far.
+    pub fn messages(&self) -> u64 {
+        self.messages
+    }
+
+    /// How the child ended, for a crash message.
+    fn exit_note(&mut self) -> String {
+        for _ in 0..50 {
+            match self.child.try_wait() {
+                Ok(Some(status)) => return format!("it exited ({status})"),
+                Ok(None) => std::thread::sleep(Duration::from_millis(10)),
+                Err(e) => return format!("it cannot be waited for ({e})"),
+            }
+        }
+        "it closed its output".into()
+    }
+
+    fn send(&mut self, t_s: f64, events: Vec<EventRef<'_>>) -> Result<ReplyMessage, TaFault> {
+        self.buf.clear();
+        serde_json::to_writer(&mut self.buf, &MessageRef { t_s, events })
+            .map_err(|e| TaFault::Io(format!("encoding a message: {e}")))?;
+        self.buf.push(b'\n');
+        let Some(w) = self.stdin.as_mut() else { return Err(TaFault::Io("its input is closed".into())) };
+        if let Err(e) = w.write_all(&self.buf).and_then(|()| w.flush()) {
+            let note = self.exit_note();
+            return Err(TaFault::Crashed(format!("{note}; writing to it failed: {e}")));
+        }
+        self.messages += 1;
+        let line = match self.lines.recv_timeout(self.timeout) {
+            Ok(Line::Text(s)) => s,
+            Ok(Line::Eof) | Err(RecvTimeoutError::Disconnected) => {
+                let note = self.exit_note();
+                return Err(TaFault::Crashed(format!("{note} before replying to the message at t = {t_s} s")));
+            }
+            Ok(Line::Error(e)) => return Err(TaFault::Io(format!("reading its output: {e}"))),
+            Err(RecvTimeoutError::Timeout) => {
+                let _ = self.child.kill();
+                return Err(TaFault::Timeout(self.timeout.as_secs_f64()));
+            }
+        };
+        let text = line.trim_end();
+        serde_json::from_str::<ReplyMessage>(text).map_err(|e| {
+            let shown: String = text.chars().take(120).collect();
+            TaFault::BadMessage(format!("{e} in reply to the message at t = {t_s} s: `{shown}`"))
+        })
+    }
+
+    fn exchange(&mut self, t_s: f64, events: Vec<EventRef<'_>>) -> Result<Reply, TaFault> {
+        let is_start = matches!(events.first(), Some(EventRef::Start(_)));
+        let r = self.send(t_s, events)?;
+        if is_start {
+            self.declared_name = r.name;
+            self.declared_config = r.config.unwrap_or(serde_json::Value::Null);
+            self.subscription = r.subscribe.unwrap_or_default();
+        } else if r.name.is_some() || r.config.is_some() || r.subscribe.is_some() {
+            return Err(TaFault::BadMessage(format!(
+                "`name`, `config` and `subscribe` belong in the reply to `start` only (message at t = {t_s} s)"
+            )));
+        }
+        Ok(Reply { requests: r.requests, tracks: r.tracks })
+    }
+}
+
+impl TestArticle for ProcessTa {
+    /// The command line: what errors and the manifest name.
+    fn name(&self) -> &str {
+        &self.cmd
+    }
+    fn config(&self) -> serde_json::Value {
+        serde_json::json!({"name": self.declared_name, "config": self.declared_config})
+    }
+    fn subscription(&self) -> Subscription {
+        self.subscription
+    }
+    fn on_start(&mut self, start: &StartInfo) -> Result<Reply, TaFault> {
+        self.exchange(0.0, vec![EventRef::Start(start)])
+    }
+    fn on_dwell(&mut self, report: &DwellReport) -> Result<Reply, TaFault> {
+        self.exchange(report.end_s, vec![EventRef::DwellEnded(report)])
+    }
+    fn on_wake(&mut self, t_s: f64) -> Result<Reply, TaFault> {
+        self.exchange(t_s, vec![EventRef::Wake { t_s }])
+    }
+    fn on_finish(&mut self, t_s: f64) -> Result<Reply, TaFault> {
+        let reply = self.exchange(t_s, vec![EventRef::Finish { t_s }])?;
+        // The run is over: close its input and let it exit.
+        self.stdin = None;
+        let deadline = std::time::Instant::now() + self.timeout;
+        loop {
+            match self.child.try_wait() {
+                Ok(Some(status)) if status.success() => return Ok(reply),
+                Ok(Some(status)) => return Err(TaFault::Crashed(format!("it exited with {status} after `finish`"))),
+                Ok(None) if std::time::Instant::now() < deadline => std::thread::sleep(Duration::from_millis(2)),
+                Ok(None) => {
+                    let _ = self.child.kill();
+                    return Err(TaFault::Timeout(self.timeout.as_secs_f64()));
+                }
+                Err(e) => return Err(TaFault::Io(e.to_string())),
+            }
+        }
+    }
+    fn on_events(&mut self, t_s: f64, events: &[TaEvent]) -> Result<Reply, TaFault> {
+        if let [TaEvent::Finish { t_s }] = events {
+            return self.on_finish(*t_s);
+        }
+        self.exchange(t_s, events.iter().map(EventRef::from).collect())
+    }
+}
+
+impl Drop for ProcessTa {
+    fn drop(&mut self) {
+        self.stdin = None;
+        if !matches!(self.child.try_wait(), Ok(Some(_))) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
