@@ -37,7 +37,9 @@ fn recording() -> &'static Path {
 
 fn chromium() -> PathBuf {
     if let Some(p) = std::env::var_os("MIMO_CHROMIUM") {
-        return PathBuf::from(p);
+        let p = PathBuf::from(p);
+        assert!(p.is_file(), "Chromium is missing: MIMO_CHROMIUM={} is not a file", p.display());
+        return p;
     }
     for c in ["/usr/bin/chromium", "/usr/bin/chromium-browser"] {
         if Path::new(c).is_file() {
@@ -204,4 +206,34 @@ fn output_is_replaced_only_with_force() {
         .map(|e| e.file_name().to_string_lossy().into())
         .collect();
     assert_eq!(names, vec!["view.html".to_string()]);
+}
+
+/// The view data embedded in a page.
+fn page_data(page: &str) -> serde_json::Value {
+    let start = page.find("id=\"mimo-data\">").expect("data element") + "id=\"mimo-data\">".len();
+    let end = start + page[start..].find("</script>").expect("end of data");
+    serde_json::from_str(&page[start..end].replace("<\\/", "</")).expect("view json")
+}
+
+#[test]
+fn a_track_output_is_plotted_with_its_parents_truth_and_dwells() {
+    let run = recording();
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let rerun = tmp.path().join("s7-imm");
+    assert_eq!(mimo(&["track", p(run), "--tracker", "imm", "--quiet", "--out", p(&rerun)]), 0);
+    let out = tmp.path().join("view.html");
+    assert_eq!(mimo(&["plot", p(&rerun), "--out", p(&out), "--quiet"]), 0);
+    let v = page_data(&std::fs::read_to_string(&out).expect("page"));
+    let parent = page_data(&{
+        let o = tmp.path().join("parent.html");
+        assert_eq!(mimo(&["plot", p(run), "--out", p(&o), "--quiet"]), 0);
+        std::fs::read_to_string(&o).expect("page")
+    });
+    // Truth and beams are the parent's; the tracks are the re-run's own (scored in memory,
+    // since the re-run has no score directory).
+    assert_eq!(v["truth"], parent["truth"]);
+    assert_eq!(v["beams"], parent["beams"]);
+    assert!(!v["tracks"]["t"].as_array().expect("tracks").is_empty());
+    assert_eq!(v["meta"]["tracker"], "imm");
+    assert!(v["metrics"]["source"].as_str().expect("source").contains("computed in memory"));
 }
