@@ -5,6 +5,7 @@
 //! was at fault (a file, a field, a flag value) and 1 otherwise. [`main_with_args`] is what the
 //! binary runs, and what the end-to-end tests call in-process.
 
+mod cmd_plot;
 mod cmd_scenarios;
 mod cmd_score;
 mod cmd_simulate;
@@ -68,6 +69,14 @@ pub enum Command {
     /// accuracy, stability per axis) and report.md. Resumable (--resume) and spread over machines
     /// (--shard K/N, then --merge).
     Study(cmd_study::Args),
+    /// Plot a run in 3-D on the globe into one self-contained, offline HTML page.
+    ///
+    /// Truth, tracks (by id and status), measurements (monostatic and bistatic apart) and the
+    /// test article's beams over Natural Earth coastlines, with a time slider, a click panel
+    /// (position, SNR, radars, track, assigned truth, 1σ/3σ ellipsoid, sensor lines) and
+    /// completeness and energy linked to the 3-D view. Uses RUN/score when present, otherwise
+    /// scores run K in memory (nothing is written to RUN).
+    Plot(cmd_plot::Args),
 }
 
 /// Parse arguments and run; returns the process exit status.
@@ -101,5 +110,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Track(a) => cmd_track::run(a),
         Command::Score(a) => cmd_score::run(a),
         Command::Study(a) => cmd_study::run(a),
+        Command::Plot(a) => cmd_plot::run(a),
     }
 }

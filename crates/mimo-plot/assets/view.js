@@ -1,0 +1,461 @@
+// mimo plot: the page's logic. Data (D) are built by crates/mimo-plot (see its docs); positions
+// are whole metres in a local ENU frame at the scenario centre (docs/model.md §1.2).
+(function () {
+  'use strict';
+  var MARKS = window.__mimo.marks;
+  MARKS.plotly_loaded_ms = performance.now();
+  var D = JSON.parse(document.getElementById('mimo-data').textContent);
+  MARKS.data_parsed_ms = performance.now();
+  var F = D.frame, R = F.enu_from_ecef, O = F.origin_ecef_m;
+  var KIND_COLORS = ['#9e9e9e', '#ff7f0e', '#2ca02c', '#9467bd'];
+  var RADAR_COLORS = ['#d62728', '#1f77b4', '#2ca02c', '#8c564b', '#e377c2', '#17becf', '#bcbd22', '#7f7f7f'];
+  var TRACK_COLORS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#bcbd22', '#393b79'];
+  var SHIP_FACE_HALF_M = 4000, FACE_OFFSET_M = 5000, BORESIGHT_M = 12000;
+
+  var S = {
+    t: D.meta.from_s, trail: 30, playing: false, speed: 5, sel: null, mode: 'region', vex: 5,
+    layers: { earth: true, coast: true, ships: true, faces: true, truth: true, tracks: true, meas: true, beams: true },
+    radarsOn: D.radars.map(function () { return true; }),
+    kindsOn: D.meta.kinds.map(function () { return true; }),
+    sig1: true, sig3: true
+  };
+
+  // ---- frames (docs/model.md §1.1, §1.2) ----
+  function toEcef(x, y, z) { // ECEF = o + Rᵀ p
+    return [O[0] + R[0] * x + R[3] * y + R[6] * z, O[1] + R[1] * x + R[4] * y + R[7] * z, O[2] + R[2] * x + R[5] * y + R[8] * z];
+  }
+  function geodetic(p) { // WGS-84, iterative (docs/model.md §1.1)
+    var a = 6378137.0, f = 1 / 298.257223563, e2 = f * (2 - f);
+    var x = p[0], y = p[1], z = p[2], r = Math.hypot(x, y), lon = Math.atan2(y, x);
+    var lat = Math.atan2(z, r * (1 - e2)), h = 0;
+    for (var i = 0; i < 8; i++) {
+      var s = Math.sin(lat), N = a / Math.sqrt(1 - e2 * s * s);
+      h = r / Math.cos(lat) - N;
+      lat = Math.atan2(z, r * (1 - e2 * N / (N + h)));
+    }
+    return [lat * 180 / Math.PI, lon * 180 / Math.PI, h];
+  }
+  window.__mimo.toEcef = toEcef; window.__mimo.geodetic = geodetic;
+
+  // ---- helpers ----
+  function lowerBound(a, x) { var lo = 0, hi = a.length; while (lo < hi) { var m = (lo + hi) >> 1; if (a[m] < x) lo = m + 1; else hi = m; } return lo; }
+  function upperBound(a, x) { var lo = 0, hi = a.length; while (lo < hi) { var m = (lo + hi) >> 1; if (a[m] <= x) lo = m + 1; else hi = m; } return lo; }
+  function pt(arr, i) { return [arr[3 * i], arr[3 * i + 1], arr[3 * i + 2]]; }
+  function fmt(x, d) { return x === null || x === undefined ? 'n/a' : Number(x).toFixed(d); }
+  function radarNames(mask) { var o = []; D.radars.forEach(function (r, i) { if (mask & (1 << i)) o.push(r.id); }); return o; }
+  function radarsVisible(mask) { for (var i = 0; i < D.radars.length; i++) if ((mask & (1 << i)) && S.radarsOn[i]) return true; return false; }
+  function trackColor(id) { return TRACK_COLORS[id % TRACK_COLORS.length]; }
+  function interp(ts, ps, t) { // linear interpolation of a sampled path
+    var n = ts.length; if (!n) return null;
+    var j = upperBound(ts, t);
+    if (j <= 0) return t < ts[0] ? null : pt(ps, 0);
+    if (j >= n) return pt(ps, n - 1);
+    var a = ts[j - 1], b = ts[j], w = b > a ? (t - a) / (b - a) : 0, p = pt(ps, j - 1), q = pt(ps, j);
+    return [p[0] + w * (q[0] - p[0]), p[1] + w * (q[1] - p[1]), p[2] + w * (q[2] - p[2])];
+  }
+  function shipAt(i, t) { var r = D.radars[i]; return interp(r.t, r.p, t); }
+
+  // ---- static traces ----
+  function meshTrace(m, name, color) {
+    var x = [], y = [], z = [], i = [], j = [], k = [];
+    for (var n = 0; n < m.p.length; n += 3) { x.push(m.p[n]); y.push(m.p[n + 1]); z.push(m.p[n + 2]); }
+    for (n = 0; n < m.tri.length; n += 3) { i.push(m.tri[n]); j.push(m.tri[n + 1]); k.push(m.tri[n + 2]); }
+    return { type: 'mesh3d', name: name, x: x, y: y, z: z, i: i, j: j, k: k, color: color, opacity: 1, flatshading: false,
+      lighting: { ambient: 0.9, diffuse: 0.2, specular: 0 }, hoverinfo: 'skip', showlegend: false, meta: 'earth' };
+  }
+  var GLOBE = meshTrace(D.globe, 'earth', '#dcebf5');
+  var REGION = meshTrace(D.region.surface, 'earth', '#dcebf5');
+  var COAST = (function () {
+    var x = [], y = [], z = [], s = D.coast.starts.concat([D.coast.p.length / 3]);
+    for (var l = 0; l + 1 < s.length; l++) {
+      for (var n = s[l]; n < s[l + 1]; n++) { x.push(D.coast.p[3 * n]); y.push(D.coast.p[3 * n + 1]); z.push(D.coast.p[3 * n + 2]); }
+      x.push(null); y.push(null); z.push(null);
+    }
+    return { type: 'scatter3d', mode: 'lines', name: 'coastlines', x: x, y: y, z: z, line: { color: '#4a4a4a', width: 2 },
+      hoverinfo: 'skip', showlegend: false, meta: 'coast' };
+  })();
+
+  // ---- per-time traces ----
+  function lines(name, color, dash, width, meta) {
+    return { type: 'scatter3d', mode: 'lines', name: name, x: [], y: [], z: [], line: { color: color, width: width, dash: dash },
+      hoverinfo: 'skip', showlegend: false, meta: meta };
+  }
+  function markers(name, symbol, size, meta) {
+    return { type: 'scatter3d', mode: 'markers', name: name, x: [], y: [], z: [], customdata: [], text: [],
+      marker: { symbol: symbol, size: size, color: [], line: { width: 0 } }, hoverinfo: 'text', showlegend: false, meta: meta };
+  }
+  function push(tr, p, cd, color, text) {
+    tr.x.push(p[0]); tr.y.push(p[1]); tr.z.push(p[2]);
+    if (tr.customdata) tr.customdata.push(cd);
+    if (color !== undefined) { if (tr.marker) tr.marker.color.push(color); else tr.line.color.push(color); }
+    if (text !== undefined && tr.text) tr.text.push(text);
+  }
+  function gap(tr) { tr.x.push(null); tr.y.push(null); tr.z.push(null); if (Array.isArray(tr.line.color)) tr.line.color.push('#000'); }
+
+  function build(t) {
+    var t0 = t - S.trail, out = [];
+    // Earth and coastlines.
+    out.push(Object.assign({}, S.mode === 'globe' ? GLOBE : REGION, { visible: S.layers.earth }));
+    out.push(Object.assign({}, COAST, { visible: S.layers.coast }));
+    // Ships and faces.
+    var ships = markers('ships', 'square', 6, 'ship'), faces = lines('faces', [], 'solid', 3, 'faces');
+    ships.mode = 'markers+text'; ships.textposition = 'top center';
+    D.radars.forEach(function (r, i) {
+      if (!S.radarsOn[i]) return;
+      var c = RADAR_COLORS[i % RADAR_COLORS.length], p = shipAt(i, t);
+      if (!p) return;
+      push(ships, p, i, c, r.id);
+      r.faces.forEach(function (a) {
+        var xh = [a[0], a[1], a[2]], yh = [a[3], a[4], a[5]], n = [a[6], a[7], a[8]];
+        var cen = [0, 1, 2].map(function (k) { return p[k] + FACE_OFFSET_M * n[k]; });
+        var corner = function (sx, sy) { return [0, 1, 2].map(function (k) { return cen[k] + SHIP_FACE_HALF_M * (sx * xh[k] + sy * yh[k]); }); };
+        [corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1), corner(-1, -1)].forEach(function (q) { push(faces, q, undefined, c); });
+        gap(faces);
+        push(faces, cen, undefined, c); push(faces, [0, 1, 2].map(function (k) { return cen[k] + BORESIGHT_M * n[k]; }), undefined, c); gap(faces);
+      });
+    });
+    ships.visible = S.layers.ships; faces.visible = S.layers.ships && S.layers.faces;
+    out.push(ships, faces);
+    // Truth: trails and current positions.
+    var tl = lines('truth trails', '#222', 'solid', 2, 'truthline'), th = markers('truth', 'circle', 4, 'truth');
+    th.mode = 'markers+text'; th.textposition = 'bottom center';
+    D.truth.forEach(function (p, ti) {
+      var a = lowerBound(p.t, t0), b = upperBound(p.t, t);
+      for (var n = a; n < b; n++) push(tl, pt(p.p, n));
+      var now = interp(p.t, p.p, t);
+      if (now && t <= p.t[p.t.length - 1]) { push(tl, now); push(th, now, [ti, Math.max(b - 1, 0)], '#222', p.id); }
+      gap(tl);
+    });
+    tl.visible = th.visible = S.layers.truth;
+    out.push(tl, th);
+    // Tracks: dotted while tentative, solid once confirmed, × where deleted; coloured by id.
+    var T = D.tracks, ta = lowerBound(T.t, t0), tb = upperBound(T.t, t), per = new Map();
+    for (var i = ta; i < tb; i++) { var id = T.id[i]; if (!per.has(id)) per.set(id, []); per.get(id).push(i); }
+    var tent = lines('tentative tracks', [], 'dot', 3, 'trackline'), conf = lines('confirmed tracks', [], 'solid', 3, 'trackline');
+    var tpts = markers('track states', 'circle', 2.5, 'track'), heads = markers('tracks now', 'circle', 5, 'track'), dels = markers('deleted', 'x', 5, 'track');
+    per.forEach(function (rows, id) {
+      var c = trackColor(id), prev = null;
+      rows.forEach(function (r) {
+        var p = pt(T.p, r), tr = T.st[r] === 0 ? tent : conf;
+        if (prev !== null) { push(tr, pt(T.p, prev), undefined, c); push(tr, p, undefined, c); gap(tr); }
+        push(tpts, p, r, c, 'track ' + id);
+        prev = r;
+      });
+      var last = rows[rows.length - 1];
+      if (T.st[last] === 2) push(dels, pt(T.p, last), last, c, 'track ' + id + ' deleted');
+      else push(heads, pt(T.p, last), last, c, 'track ' + id + ' (' + D.meta.statuses[T.st[last]] + ')');
+    });
+    [tent, conf, tpts, heads, dels].forEach(function (tr) { tr.visible = S.layers.tracks; out.push(tr); });
+    // Measurements: monostatic circles, bistatic diamonds; coloured by receiving radar.
+    var M = D.meas, ma = lowerBound(M.t, t0), mb = upperBound(M.t, t);
+    var mono = markers('monostatic measurements', 'circle', 2.5, 'meas'), bi = markers('bistatic measurements', 'diamond', 3.5, 'meas');
+    for (i = ma; i < mb; i++) {
+      if (!S.kindsOn[M.kind[i]] || !(S.radarsOn[M.tx[i]] || S.radarsOn[M.rx[i]])) continue;
+      var bist = M.tx[i] !== M.rx[i];
+      push(bist ? bi : mono, pt(M.p, i), i, RADAR_COLORS[M.rx[i] % RADAR_COLORS.length],
+        (bist ? D.radars[M.tx[i]].id + '→' + D.radars[M.rx[i]].id : D.radars[M.rx[i]].id) + ' ' + fmt(M.snr[i], 1) + ' dB');
+    }
+    mono.visible = bi.visible = S.layers.meas;
+    out.push(mono, bi);
+    // Beam points of the test article's dwells, coloured by kind.
+    var B = D.beams, ba = lowerBound(B.t, t0), bb = upperBound(B.t, t), beams = markers('beams', 'square-open', 3, 'beam');
+    for (i = ba; i < bb; i++) {
+      if (!S.kindsOn[B.kind[i]] || !radarsVisible(B.tx[i] | B.rx[i])) continue;
+      push(beams, pt(B.p, i), i, KIND_COLORS[B.kind[i]], D.meta.kinds[B.kind[i]] + ' dwell');
+    }
+    beams.visible = S.layers.beams;
+    out.push(beams);
+    // Selection: ellipsoids, sensor lines, highlight.
+    out = out.concat(selectionTraces());
+    return out;
+  }
+
+  // ---- selection ----
+  function ellipsoid(c, ax, k, color, opacity, name) {
+    var x = [], y = [], z = [], I = [], J = [], K = [], nu = 16, nv = 10;
+    for (var a = 0; a <= nv; a++) {
+      var th = Math.PI * a / nv;
+      for (var b = 0; b < nu; b++) {
+        var ph = 2 * Math.PI * b / nu, e = [Math.sin(th) * Math.cos(ph), Math.sin(th) * Math.sin(ph), Math.cos(th)];
+        x.push(c[0] + k * (e[0] * ax[0] + e[1] * ax[3] + e[2] * ax[6]));
+        y.push(c[1] + k * (e[0] * ax[1] + e[1] * ax[4] + e[2] * ax[7]));
+        z.push(c[2] + k * (e[0] * ax[2] + e[1] * ax[5] + e[2] * ax[8]));
+      }
+    }
+    for (a = 0; a < nv; a++) for (b = 0; b < nu; b++) {
+      var p0 = a * nu + b, p1 = a * nu + (b + 1) % nu, q0 = p0 + nu, q1 = p1 + nu;
+      I.push(p0, p1); J.push(p1, q1); K.push(q0, q0);
+    }
+    return { type: 'mesh3d', name: name, x: x, y: y, z: z, i: I, j: J, k: K, color: color, opacity: opacity, hoverinfo: 'skip', showlegend: false, meta: 'ellipsoid' };
+  }
+  function selectionInfo() { // position, axes, time, transmitters and receivers of the selection
+    var s = S.sel; if (!s) return null;
+    if (s.layer === 'meas') { var M = D.meas; return { p: pt(M.p, s.i), ax: M.ax.slice(9 * s.i, 9 * s.i + 9), t: M.t[s.i], tx: 1 << M.tx[s.i], rx: 1 << M.rx[s.i] }; }
+    if (s.layer === 'beam') { var B = D.beams; return { p: pt(B.p, s.i), ax: null, t: B.t[s.i], tx: B.tx[s.i], rx: B.rx[s.i] }; }
+    if (s.layer === 'track') { var T = D.tracks; return { p: pt(T.p, s.i), ax: T.ax.slice(9 * s.i, 9 * s.i + 9), t: T.t[s.i], tx: 0, rx: 0 }; }
+    if (s.layer === 'truth') { var P = D.truth[s.i[0]]; return { p: pt(P.p, s.i[1]), ax: null, t: P.t[s.i[1]], tx: 0, rx: 0 }; }
+    if (s.layer === 'ship') { return { p: shipAt(s.i, S.t), ax: null, t: S.t, tx: 0, rx: 0 }; }
+    return null;
+  }
+  // Sensor lines of a selection: a solid line from each transmitter, a dotted one from each
+  // receiver, each from the ship's position at the object's time.
+  function sensorLines(info) {
+    var out = [];
+    D.radars.forEach(function (r, i) {
+      var q = shipAt(i, info.t); if (!q) return;
+      if (info.tx & (1 << i)) out.push({ radar: r.id, role: 'tx', from: q, to: info.p });
+      if (info.rx & (1 << i)) out.push({ radar: r.id, role: 'rx', from: q, to: info.p });
+    });
+    return out;
+  }
+  function selectionTraces() {
+    var info = selectionInfo();
+    var txl = lines('transmit lines', '#d62728', 'solid', 4, 'sensorline'), rxl = lines('receive lines', '#1f77b4', 'dot', 4, 'sensorline');
+    var hl = markers('selected', 'circle-open', 10, 'none');
+    var out = [];
+    if (info) {
+      if (info.ax) {
+        if (S.sig3) out.push(ellipsoid(info.p, info.ax, 3, '#ff9800', 0.25, '3σ'));
+        if (S.sig1) out.push(ellipsoid(info.p, info.ax, 1, '#e65100', 0.6, '1σ'));
+      }
+      sensorLines(info).forEach(function (l) { var tr = l.role === 'tx' ? txl : rxl; push(tr, l.from); push(tr, l.to); gap(tr); });
+      push(hl, info.p, -1, '#000', 'selected');
+    }
+    return out.concat([txl, rxl, hl]);
+  }
+
+  function row(k, v) { return '<tr><td>' + k + '</td><td>' + v + '</td></tr>'; }
+  function posRows(p) {
+    var e = toEcef(p[0], p[1], p[2]), g = geodetic(e);
+    return row('lat, lon', fmt(g[0], 5) + '°, ' + fmt(g[1], 5) + '°') + row('alt', fmt(g[2], 0) + ' m') +
+      row('ECEF', fmt(e[0], 0) + ', ' + fmt(e[1], 0) + ', ' + fmt(e[2], 0) + ' m') + row('ENU (plot)', p.join(', ') + ' m');
+  }
+  function axRows(ax) {
+    var L = [0, 3, 6].map(function (o) { return Math.hypot(ax[o], ax[o + 1], ax[o + 2]); });
+    return row('1σ semi-axes', L.map(function (x) { return fmt(x, 1); }).join(', ') + ' m');
+  }
+  function renderPanel() {
+    var s = S.sel, h = '', body = document.getElementById('infobody');
+    if (!s) { body.innerHTML = 'Click a truth, track, measurement, beam or ship.'; body.dataset.layer = ''; return; }
+    if (s.layer === 'meas') {
+      var M = D.meas, i = s.i, bist = M.tx[i] !== M.rx[i];
+      h = row('object', (bist ? 'bistatic' : 'monostatic') + ' measurement ' + M.id[i]) + row('time', fmt(M.t[i], 3) + ' s') + posRows(pt(M.p, i)) +
+        row('SNR', fmt(M.snr[i], 1) + ' dB') + row('dwell kind', D.meta.kinds[M.kind[i]]) +
+        row('transmitter', D.radars[M.tx[i]].id) + row('receiver', D.radars[M.rx[i]].id) +
+        row('track', M.trk[i] >= 0 ? 'updated track ' + M.trk[i] : 'none') +
+        row('truth (hint)', M.hint[i] >= 0 ? D.targets[M.hint[i]] : 'false alarm') + row('merged', M.merged[i] ? 'yes' : 'no') + axRows(M.ax.slice(9 * i, 9 * i + 9));
+    } else if (s.layer === 'beam') {
+      var B = D.beams; i = s.i;
+      h = row('object', D.meta.kinds[B.kind[i]] + ' dwell (group ' + B.gid[i] + ')') + row('time', fmt(B.t[i], 3) + ' s (start)') + posRows(pt(B.p, i)) +
+        row('dwell kind', D.meta.kinds[B.kind[i]]) + row('transmitters', radarNames(B.tx[i]).join(', ')) + row('receivers', radarNames(B.rx[i]).join(', ')) +
+        row('pulses', B.np[i]) + row('energy', fmt(B.e[i], 1) + ' J');
+    } else if (s.layer === 'track') {
+      var T = D.tracks; i = s.i;
+      h = row('object', 'track ' + T.id[i] + ' (' + D.meta.statuses[T.st[i]] + ')') + row('time', fmt(T.t[i], 3) + ' s') + posRows(pt(T.p, i)) +
+        row('velocity', pt(T.v, i).join(', ') + ' m/s (ENU)') + row('updates', T.n[i]) +
+        row('assigned truth', (T.truth[i] >= 0 ? D.targets[T.truth[i]] : 'none') + ' at scoring time ' + fmt(T.tk[i], 1) + ' s') + axRows(T.ax.slice(9 * i, 9 * i + 9));
+    } else if (s.layer === 'truth') {
+      var P = D.truth[s.i[0]]; i = s.i[1];
+      h = row('object', 'truth ' + P.id) + row('time', fmt(P.t[i], 3) + ' s') + posRows(pt(P.p, i)) + row('velocity', pt(P.v, i).join(', ') + ' m/s (ENU)');
+    } else if (s.layer === 'ship') {
+      h = row('object', 'radar ' + D.radars[s.i].id + ' (' + D.radars[s.i].faces.length + ' faces)') + row('time', fmt(S.t, 1) + ' s') + posRows(shipAt(s.i, S.t).map(Math.round));
+    }
+    body.innerHTML = '<table>' + h + '</table>';
+    body.dataset.layer = s.layer;
+  }
+
+  // ---- drawing ----
+  var gd = document.getElementById('scene'), mg = document.getElementById('metrics');
+  function sceneLayout() {
+    var lo = D.region.lo, hi = D.region.hi, sc;
+    var ax = function (title, r) { return { title: { text: title }, range: r, showbackground: false, showspikes: false, zeroline: false }; };
+    if (S.mode === 'region') {
+      var w = hi[0] - lo[0];
+      sc = { xaxis: ax('east (m)', [lo[0], hi[0]]), yaxis: ax('north (m)', [lo[1], hi[1]]), zaxis: ax('up (m)', [lo[2], hi[2]]),
+        aspectmode: 'manual', aspectratio: { x: 1, y: (hi[1] - lo[1]) / w, z: Math.max(0.05, S.vex * (hi[2] - lo[2]) / w) },
+        camera: { eye: { x: -0.9, y: -1.3, z: 0.9 }, center: { x: 0, y: 0, z: -0.1 } } };
+    } else {
+      sc = { xaxis: ax('east (m)', [-6.5e6, 6.5e6]), yaxis: ax('north (m)', [-6.5e6, 6.5e6]), zaxis: ax('up (m)', [-12.8e6, 2e5]),
+        aspectmode: 'data', camera: { eye: { x: 0, y: -0.25, z: 0.9 }, center: { x: 0, y: 0, z: 0 } } };
+    }
+    return { scene: sc, margin: { l: 0, r: 0, t: 0, b: 0 }, height: gd.clientHeight, uirevision: S.mode + S.vex, showlegend: false, paper_bgcolor: '#fff' };
+  }
+  // Renders run one at a time; a draw() asked for while one is queued joins it (its promise
+  // resolves after a render that saw every change made before it started).
+  var CONFIG = { displaylogo: false, responsive: true };
+  var running = Promise.resolve(), queued = null, inflight = 0, rendered = 0;
+  function draw() {
+    if (queued) return queued;
+    inflight++;
+    var p = running.then(function () {
+      queued = null;
+      return Plotly.react(gd, build(S.t), sceneLayout(), CONFIG);
+    }).then(function () {
+      inflight--; rendered++;
+      document.getElementById('tlabel').textContent = 't = ' + S.t.toFixed(1) + ' s';
+      return Plotly.relayout(mg, { 'shapes[0].x0': S.t, 'shapes[0].x1': S.t });
+    });
+    queued = p;
+    running = p.catch(function (e) { inflight = 0; window.__mimo.errors.push('draw: ' + e); });
+    return p;
+  }
+  function setTime(t) {
+    S.t = Math.min(D.meta.to_s, Math.max(D.meta.from_s, t));
+    document.getElementById('time').value = S.t;
+    return draw();
+  }
+  function select(layer, i) { S.sel = { layer: layer, i: i }; renderPanel(); return draw(); }
+  window.__mimo.select = select; window.__mimo.setTime = setTime; window.__mimo.state = S;
+  window.__mimo.selectionInfo = selectionInfo; window.__mimo.sensorLines = function () { var i = selectionInfo(); return i ? sensorLines(i) : []; };
+
+  function metricsPlot() {
+    var m = D.metrics;
+    var traces = [
+      { x: m.t, y: m.completeness, name: 'completeness', type: 'scatter', mode: 'lines', line: { color: '#1f77b4' }, connectgaps: false },
+      { x: m.t, y: m.energy_j, name: 'energy per interval (J)', type: 'scatter', mode: 'lines', yaxis: 'y2', line: { color: '#ff7f0e', width: 1 } },
+      { x: m.t, y: m.ta_energy_j, name: 'TA energy per interval (J)', type: 'scatter', mode: 'lines', yaxis: 'y2', line: { color: '#2ca02c', width: 1 } }
+    ];
+    var layout = {
+      margin: { l: 50, r: 60, t: 24, b: 36 }, height: mg.clientHeight, hovermode: 'x', showlegend: true, legend: { orientation: 'h', y: 1.18 },
+      xaxis: { title: { text: 'scoring time (s)' }, range: [D.meta.from_s, D.meta.to_s] },
+      yaxis: { title: { text: 'completeness' }, range: [0, 1.05] },
+      yaxis2: { title: { text: 'J' }, overlaying: 'y', side: 'right', rangemode: 'tozero' },
+      shapes: [{ type: 'line', xref: 'x', yref: 'paper', x0: S.t, x1: S.t, y0: 0, y1: 1, line: { color: '#d62728', width: 2 } },
+        { type: 'line', xref: 'paper', yref: 'y', x0: 0, x1: 1, y0: 0.98, y1: 0.98, line: { color: '#888', width: 1, dash: 'dash' } }]
+    };
+    return Plotly.newPlot(mg, traces, layout, CONFIG).then(function () {
+      mg.on('plotly_click', function (ev) { if (ev.points && ev.points.length) setTime(Number(ev.points[0].x)); });
+    });
+  }
+
+  // ---- controls ----
+  function checkbox(parent, label, checked, onchange, color) {
+    var l = document.createElement('label'), c = document.createElement('input');
+    c.type = 'checkbox'; c.checked = checked; c.addEventListener('change', function () { onchange(c.checked); draw(); });
+    l.appendChild(c);
+    if (color) { var s = document.createElement('span'); s.className = 'sw'; s.style.background = color; l.appendChild(s); }
+    l.appendChild(document.createTextNode(label)); parent.appendChild(l); return c;
+  }
+  function controls() {
+    var names = { earth: 'earth', coast: 'coastlines', ships: 'ships', faces: 'faces', truth: 'truth', tracks: 'tracks', meas: 'measurements', beams: 'beams' };
+    var lay = document.getElementById('layers');
+    Object.keys(names).forEach(function (k) { checkbox(lay, names[k], S.layers[k], function (v) { S.layers[k] = v; }).id = 'layer-' + k; });
+    var rd = document.getElementById('radars');
+    D.radars.forEach(function (r, i) { checkbox(rd, r.id, true, function (v) { S.radarsOn[i] = v; }, RADAR_COLORS[i % RADAR_COLORS.length]).id = 'radar-' + r.id; });
+    var kd = document.getElementById('kinds');
+    D.meta.kinds.forEach(function (k, i) { checkbox(kd, k, true, function (v) { S.kindsOn[i] = v; }, KIND_COLORS[i]).id = 'kind-' + k; });
+    document.getElementById('sig1').addEventListener('change', function (e) { S.sig1 = e.target.checked; draw(); });
+    document.getElementById('sig3').addEventListener('change', function (e) { S.sig3 = e.target.checked; draw(); });
+    var slider = document.getElementById('time');
+    slider.min = D.meta.from_s; slider.max = D.meta.to_s; slider.value = S.t;
+    slider.addEventListener('input', function () { setTime(Number(slider.value)); });
+    document.getElementById('trail').addEventListener('change', function (e) { S.trail = Number(e.target.value); draw(); });
+    document.getElementById('speed').addEventListener('change', function (e) { S.speed = Number(e.target.value); });
+    document.getElementById('mode').addEventListener('change', function (e) { S.mode = e.target.value; draw(); });
+    document.getElementById('vex').addEventListener('change', function (e) { S.vex = Number(e.target.value); draw(); });
+    var btn = document.getElementById('play'), last = null;
+    function tick(now) {
+      if (!S.playing) return;
+      if (last !== null && inflight === 0) {
+        var nt = S.t + S.speed * (now - last) / 1000;
+        if (nt >= D.meta.to_s) { S.playing = false; btn.textContent = '▶ play'; }
+        setTime(nt);
+      }
+      if (inflight === 0) last = now;
+      requestAnimationFrame(tick);
+    }
+    btn.addEventListener('click', function () {
+      S.playing = !S.playing; btn.textContent = S.playing ? '❚❚ pause' : '▶ play'; last = null;
+      if (S.playing) requestAnimationFrame(tick);
+    });
+    gd.on('plotly_click', function (ev) {
+      var p = ev.points && ev.points[0]; if (!p) return;
+      var layer = p.data && p.data.meta;
+      if (['meas', 'beam', 'track', 'truth', 'ship'].indexOf(layer) >= 0 && p.customdata !== undefined && p.customdata !== -1) select(layer, p.customdata);
+    });
+    var legend = document.getElementById('legend');
+    legend.innerHTML = '<h3>Legend</h3>truth: black line, ● now · tracks: coloured by id, ⋯ tentative, — confirmed, × deleted · ' +
+      'measurements: ● monostatic, ◆ bistatic, coloured by receiver · beams: □ by kind · selection: red — transmitter, blue ⋯ receiver, orange 1σ/3σ ellipsoid';
+    document.getElementById('subtitle').textContent = ' run ' + D.meta.run + ' of ' + D.meta.run_dir + ' · ' + D.meta.tracker +
+      ' · ' + D.meta.from_s + '–' + D.meta.to_s + ' s · metrics: ' + D.metrics.source;
+    var dl = document.getElementById('dropped');
+    D.meta.dropped.forEach(function (s) { var li = document.createElement('li'); li.textContent = s; dl.appendChild(li); });
+  }
+
+  // ---- self-test (view.html#selftest): click a measurement, move the slider, report ----
+  function selftest() {
+    var v = { ok: false, checks: {} }, out = document.getElementById('selftest');
+    function finish() {
+      v.errors = window.__mimo.errors; v.network = window.__mimo.network;
+      v.ok = Object.keys(v.checks).every(function (k) { return v.checks[k] === true; }) && !v.errors.length && !v.network.length;
+      out.textContent = 'MIMO-SELFTEST ' + JSON.stringify(v);
+    }
+    try {
+      v.first_render_ms = window.__mimo.firstRenderMs;
+      v.marks = MARKS;
+      var M = D.meas, target = -1;
+      for (var i = 0; i < M.t.length && target < 0; i++) if (M.tx[i] !== M.rx[i]) target = i;
+      if (target < 0 && M.t.length) target = 0;
+      v.checks.has_measurement = target >= 0;
+      v.checks.scene_has_webgl = !!gd.querySelector('canvas');
+      if (target < 0) { finish(); return; }
+      setTime(M.t[target]).then(function () {
+        // The click goes through plotly's own click event, as a user's does.
+        var trace = gd.data.find(function (d) { return d.meta === 'meas' && d.customdata.indexOf(target) >= 0; });
+        v.checks.measurement_drawn = !!trace;
+        gd.emit('plotly_click', { points: [{ data: trace, customdata: target }] });
+        return draw();
+      }).then(function () {
+        var body = document.getElementById('infobody');
+        v.panel = body.innerText;
+        v.checks.panel_filled = body.dataset.layer === 'meas' && /SNR/.test(v.panel) && /transmitter/.test(v.panel) && /lat, lon/.test(v.panel);
+        var ls = window.__mimo.sensorLines();
+        v.sensor_lines = ls.map(function (l) { return l.role + ':' + l.radar; });
+        var want = ['tx:' + D.radars[M.tx[target]].id, 'rx:' + D.radars[M.rx[target]].id];
+        v.checks.sensor_lines_join_the_radars = want.every(function (w) { return v.sensor_lines.indexOf(w) >= 0; });
+        var drawnTx = gd.data.find(function (d) { return d.name === 'transmit lines'; });
+        v.checks.sensor_lines_drawn = !!drawnTx && drawnTx.x.length >= 2;
+        v.selected = { meas_id: M.id[target], t: M.t[target], enu: pt(M.p, target) };
+        var truthBefore = JSON.stringify(gd.data.find(function (d) { return d.meta === 'truth'; }).x);
+        var slider = document.getElementById('time'), t2 = Math.min(D.meta.to_s, M.t[target] + 20);
+        slider.value = t2;
+        slider.dispatchEvent(new Event('input'));
+        return draw().then(function () {
+          var truthAfter = JSON.stringify(gd.data.find(function (d) { return d.meta === 'truth'; }).x);
+          v.checks.slider_moves_state = Math.abs(S.t - t2) < 0.11 && truthAfter !== truthBefore &&
+            document.getElementById('tlabel').textContent.indexOf(t2.toFixed(1)) >= 0;
+          v.renders = rendered;
+          // Speed: ten slider steps of 1 s, rendered one after the other.
+          var k = 0, start = performance.now();
+          function step() {
+            if (k >= 10) { v.step_render_ms = (performance.now() - start) / 10; finish(); return; }
+            k++;
+            return setTime(t2 - k).then(step);
+          }
+          return step();
+        });
+      }).catch(function (e) { window.__mimo.errors.push('selftest: ' + e); finish(); });
+    } catch (e) { window.__mimo.errors.push('selftest: ' + e); finish(); }
+  }
+
+  // ---- start ----
+  var hash = {};
+  location.hash.replace(/^#/, '').split('&').forEach(function (kv) { var p = kv.split('='); if (p[0]) hash[p[0]] = p.length > 1 ? decodeURIComponent(p[1]) : true; });
+  if (hash.t !== undefined && isFinite(Number(hash.t))) S.t = Math.min(D.meta.to_s, Math.max(D.meta.from_s, Number(hash.t)));
+  if (hash.mode === 'globe') { S.mode = 'globe'; document.getElementById('mode').value = 'globe'; }
+  Plotly.newPlot(gd, build(S.t), sceneLayout(), CONFIG).then(function () {
+    controls();
+    return metricsPlot();
+  }).then(function () {
+    document.getElementById('time').value = S.t;
+    document.getElementById('tlabel').textContent = 't = ' + S.t.toFixed(1) + ' s';
+    window.__mimo.firstRenderMs = MARKS.first_render_ms = performance.now();
+    document.body.dataset.ready = '1';
+    if (hash.select === 'mimo') { // open with a bistatic measurement near t selected (for screenshots)
+      var M = D.meas, best = -1;
+      for (var i = lowerBound(M.t, S.t - S.trail); i < upperBound(M.t, S.t); i++) if (M.tx[i] !== M.rx[i]) best = i;
+      if (best >= 0) select('meas', best);
+    }
+    if (hash.selftest) selftest();
+  }).catch(function (e) { window.__mimo.errors.push('start: ' + e); });
+})();

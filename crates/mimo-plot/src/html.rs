@@ -1,0 +1,55 @@
+//! The page: one self-contained HTML file with plotly.js (the gl3d partial bundle, MIT, shipped
+//! in `assets/`), the view's data as JSON and the page's script. Nothing is fetched when the
+//! page is viewed; its content security policy forbids any connection.
+
+use crate::view::View;
+
+/// plotly.js 4.1.1, gl3d partial bundle (scatter, scatter3d, mesh3d, …), minified (MIT).
+pub const PLOTLY_JS: &str = include_str!("../assets/plotly-gl3d.min.js");
+/// plotly.js licence, repeated in the page.
+pub const PLOTLY_LICENSE: &str = include_str!("../assets/LICENSE-plotly.js");
+const TEMPLATE: &str = include_str!("../assets/view.html");
+const VIEW_JS: &str = include_str!("../assets/view.js");
+
+/// Escape text for an HTML text node.
+fn escape_text(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// JSON safe inside a `<script>` element: `</` never appears.
+fn script_json(json: &str) -> String {
+    json.replace("</", "<\\/")
+}
+
+/// Render the page of a view.
+pub fn render(view: &View) -> Result<String, serde_json::Error> {
+    let data = script_json(&serde_json::to_string(view)?);
+    let title = escape_text(&format!("mimo plot — {} run {}", view.meta.scenario, view.meta.run));
+    let licence = format!("/*! plotly.js licence:\n{}*/\n", PLOTLY_LICENSE.replace("*/", "* /"));
+    // Replace the script placeholders last, so nothing inside plotly.js or the data is touched.
+    let page = TEMPLATE.replace("__TITLE__", &title);
+    let page = page.replacen("/*__VIEWJS__*/", VIEW_JS, 1);
+    let page = page.replacen("__DATA__", &data, 1);
+    let (head, tail) = page.split_once("/*__PLOTLY__*/").unwrap_or((page.as_str(), ""));
+    let mut out = String::with_capacity(head.len() + licence.len() + PLOTLY_JS.len() + tail.len());
+    out.push_str(head);
+    out.push_str(&licence);
+    out.push_str(PLOTLY_JS);
+    out.push_str(tail);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn embedded_scripts_cannot_close_their_element() {
+        assert!(!PLOTLY_JS.contains("</script"));
+        assert!(!VIEW_JS.contains("</script"));
+        assert_eq!(script_json(r#"{"a":"</script>"}"#), r#"{"a":"<\/script>"}"#);
+        assert_eq!(TEMPLATE.matches("__DATA__").count(), 1);
+        assert_eq!(TEMPLATE.matches("/*__PLOTLY__*/").count(), 1);
+        assert_eq!(TEMPLATE.matches("/*__VIEWJS__*/").count(), 1);
+    }
+}

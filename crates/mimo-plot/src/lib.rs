@@ -1,0 +1,67 @@
+//! # mimo-plot
+//!
+//! `mimo plot`: one run in 3-D on the globe, in one self-contained, offline HTML page. The
+//! page shows the earth (Natural Earth 110 m coastlines, shipped in the crate), the ships and
+//! their array faces, truth paths, tracks (coloured by id, styled by status), measurements
+//! (monostatic and bistatic apart) and the beams of the test article's dwells, at a time chosen
+//! with a slider (with play/pause and a trailing window). Clicking an object shows its position
+//! (lat/lon/alt, ECEF), time, SNR, dwell kind, transmitting and receiving radars, track and
+//! assigned truth, and its 1σ/3σ covariance ellipsoid; a selected measurement or dwell draws a
+//! solid line from each transmitter and a dotted line from each receiver. A linked 2-D panel
+//! plots completeness and energy per scoring interval (docs/design.md §6); clicking it moves the
+//! 3-D view to that time.
+//!
+//! * [`source`] opens a run directory (following `parent` links, docs/design.md §2).
+//! * [`view`] builds the [`View`]: every position in a local ENU plot frame ([`frame`]), objects
+//!   as time-sorted columns ([`objects`]), the earth ([`globe`]), the linked metrics
+//!   ([`linked`]), covariance ellipsoid axes ([`ellipsoid`]).
+//! * [`html`] renders the page with plotly.js (gl3d bundle) inlined; [`write_page`] writes it.
+//!
+//! Rendering uses plotly.js rather than hand-written WebGL; see docs/DECISIONS.md for the
+//! choice of bundle. What the view thins or leaves out to stay small is listed on the page and
+//! in [`view`].
+
+#![warn(missing_docs)]
+
+mod error;
+
+pub mod ellipsoid;
+pub mod frame;
+pub mod globe;
+pub mod html;
+pub mod linked;
+pub mod objects;
+pub mod source;
+pub mod view;
+
+pub use error::PlotError;
+pub use source::RunSource;
+pub use view::{View, ViewOptions, build_view};
+
+use std::path::Path;
+
+/// Build the page of a run: open it, build its view and render the HTML.
+pub fn plot_run(run_dir: &Path, opts: &ViewOptions) -> Result<String, PlotError> {
+    let src = RunSource::open(run_dir)?;
+    let view = build_view(&src, opts)?;
+    html::render(&view).map_err(|e| PlotError::Internal(format!("cannot encode the view: {e}")))
+}
+
+/// Write a page to `out` atomically (a hidden temporary file beside it, then a rename). An
+/// existing file is replaced only with `force`.
+pub fn write_page(out: &Path, page: &str, force: bool) -> Result<(), PlotError> {
+    if out.exists() && !force {
+        return Err(PlotError::Exists { path: out.to_path_buf() });
+    }
+    if out.is_dir() {
+        return Err(PlotError::Io { path: out.to_path_buf(), why: "is a directory".into() });
+    }
+    let name = out.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_else(|| "view.html".into());
+    let tmp = out.with_file_name(format!(".{name}.tmp"));
+    let io = |e: std::io::Error| PlotError::Io { path: out.to_path_buf(), why: e.to_string() };
+    std::fs::write(&tmp, page).map_err(io)?;
+    std::fs::rename(&tmp, out).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}

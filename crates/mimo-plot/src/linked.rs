@@ -1,0 +1,168 @@
+//! The linked metrics: completeness at each scoring time, the truth each track was assigned to,
+//! and the energy spent per scoring interval, for one run (docs/design.md §6).
+//!
+//! Completeness and assignments come from `RUN/score/` when `mimo score` has been run (its
+//! `track_metrics.parquet`, `assignments.parquet` and the interval of `summary.json`), so the
+//! page agrees with the charts; otherwise the run is scored in memory with `mimo score`'s
+//! defaults and nothing is written. Energy per interval is summed here from the run's own
+//! dwells (the raw sums of docs/design.md §6: transmit parts, interval `⌊t/Δ⌋ + 1`), because
+//! the `usage` tables average over the Monte Carlo runs.
+
+use crate::PlotError;
+use crate::source::{RunSource, RunTables};
+use mimo_core::records::{DwellRow, Requester};
+use mimo_metrics::polars::prelude::*;
+use mimo_metrics::{ScorablePredicate, ScoreInput, ScoreOptions};
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::path::Path;
+
+/// Scoring results of one run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunScore {
+    /// Scoring interval Δ (s).
+    pub interval_s: f64,
+    /// Where the figures come from (for the page).
+    pub source: String,
+    /// Scoring times `t_k` (s), ascending.
+    pub t_s: Vec<f64>,
+    /// Completeness at each scoring time (None when nothing was scorable).
+    pub completeness: Vec<Option<f64>>,
+    /// Scorable truths at each scoring time.
+    pub n_scorable: Vec<u32>,
+    /// (scoring time index k ≥ 1, track id) → the truth assigned to that track at `t_k`.
+    pub assigned: BTreeMap<(u64, u64), String>,
+}
+
+impl RunScore {
+    /// Index k (1-based) of the scoring time at or after `t_s`: the first scoring time at which
+    /// a track state of time `t_s` counts.
+    pub fn k_at_or_after(&self, t_s: f64) -> u64 {
+        (t_s / self.interval_s - 1e-9).ceil().max(1.0) as u64
+    }
+}
+
+fn bad(file: &Path, why: impl std::fmt::Display) -> PlotError {
+    PlotError::BadScore { file: file.to_path_buf(), why: why.to_string() }
+}
+
+fn read_frame(file: &Path) -> Result<DataFrame, PlotError> {
+    let f = File::open(file).map_err(|e| bad(file, e))?;
+    ParquetReader::new(f).finish().map_err(|e| bad(file, format!("not a readable score table ({e})")))
+}
+
+fn col_f64(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<f64>>, PlotError> {
+    let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
+    let c = c.cast(&DataType::Float64).map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
+    Ok(c.f64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.iter().collect())
+}
+
+fn col_u64(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<u64>>, PlotError> {
+    let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
+    let c = c.cast(&DataType::UInt64).map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
+    Ok(c.u64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.iter().collect())
+}
+
+fn col_str(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<String>>, PlotError> {
+    let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
+    let s = c.str().map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
+    Ok(s.iter().map(|x| x.map(str::to_string)).collect())
+}
+
+/// Read run `run`'s figures from a `mimo score` output directory.
+pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
+    let summary_f = dir.join("summary.json");
+    let text = std::fs::read_to_string(&summary_f).map_err(|e| bad(&summary_f, e))?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(&summary_f, e))?;
+    let interval_s = v["interval_s"].as_f64().filter(|x| x.is_finite() && *x > 0.0);
+    let interval_s = interval_s.ok_or_else(|| bad(&summary_f, "field 'interval_s': expected a positive number"))?;
+
+    let tm_f = dir.join("track_metrics.parquet");
+    let df = read_frame(&tm_f)?;
+    let runs = col_u64(&df, &tm_f, "run")?;
+    let t = col_f64(&df, &tm_f, "t_s")?;
+    let comp = col_f64(&df, &tm_f, "completeness")?;
+    let ns = col_u64(&df, &tm_f, "n_scorable")?;
+    let mut rows: Vec<(f64, Option<f64>, u32)> = Vec::new();
+    for i in 0..runs.len() {
+        if runs[i] == Some(u64::from(run)) {
+            let ti = t[i].ok_or_else(|| bad(&tm_f, format!("column `t_s` is null at row {i}")))?;
+            rows.push((ti, comp[i], ns[i].unwrap_or(0) as u32));
+        }
+    }
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = RunScore { interval_s, source: format!("{}", dir.display()), ..RunScore::default() };
+    for (ti, c, n) in rows {
+        out.t_s.push(ti);
+        out.completeness.push(c);
+        out.n_scorable.push(n);
+    }
+
+    let as_f = dir.join("assignments.parquet");
+    let df = read_frame(&as_f)?;
+    let runs = col_u64(&df, &as_f, "run")?;
+    let t = col_f64(&df, &as_f, "t_s")?;
+    let target = col_str(&df, &as_f, "target")?;
+    let track = col_u64(&df, &as_f, "track_id")?;
+    for i in 0..runs.len() {
+        if let (Some(r), Some(ti), Some(tg), Some(tr)) = (runs[i], t[i], &target[i], track[i])
+            && r == u64::from(run)
+        {
+            out.assigned.insert(((ti / interval_s).round() as u64, tr), tg.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// Score run `run` in memory with `mimo score`'s defaults (nothing is written).
+pub fn computed(src: &RunSource, tables: &RunTables) -> Result<RunScore, PlotError> {
+    let ships = src.scenario.ships.clone();
+    let scorable: ScorablePredicate = Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt)));
+    let input = ScoreInput {
+        truth: vec![tables.files[0].clone()],
+        dwells: vec![tables.files[1].clone()],
+        tracks: vec![tables.files[3].clone()],
+        scorable,
+    };
+    let opts = ScoreOptions {
+        scenario: src.scenario.name.clone(),
+        radars: src.scenario.ships.iter().map(|s| s.id.to_string()).collect(),
+        threads: 1,
+        ..ScoreOptions::default()
+    };
+    let score = mimo_metrics::score(&input, &opts)?;
+    let mut out = RunScore {
+        interval_s: opts.interval_s,
+        source: "computed in memory (mimo score defaults; RUN/score absent)".into(),
+        ..RunScore::default()
+    };
+    for r in &score.track_metrics {
+        out.t_s.push(r.t_s);
+        out.completeness.push(r.completeness);
+        out.n_scorable.push(r.n_scorable);
+    }
+    for a in &score.assignments {
+        if let Some(tr) = a.track_id {
+            out.assigned.insert(((a.t_s / opts.interval_s).round() as u64, tr), a.target.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// Energy emitted per scoring interval `j = ⌊t/Δ⌋ + 1` (J): all transmit parts, and those the
+/// test article requested. Interval `j` is closed by scoring time `t_j = jΔ`; the result has
+/// one entry per `j = 1 … n`.
+pub fn energy_per_interval(dwells: &[DwellRow], interval_s: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut all = vec![0.0; n];
+    let mut ta = vec![0.0; n];
+    for d in dwells.iter().filter(|d| d.role.transmits()) {
+        let j = (d.t_s / interval_s).floor();
+        if j >= 0.0 && (j as usize) < n {
+            all[j as usize] += d.energy_j;
+            if d.requested_by == Requester::Ta {
+                ta[j as usize] += d.energy_j;
+            }
+        }
+    }
+    (all, ta)
+}

@@ -1,0 +1,116 @@
+//! The run to plot: its manifest, scenario and the tables of one Monte Carlo run
+//! (docs/design.md §2), following the `parent` link of a `mimo track` output for truth, dwells
+//! and (when the re-run did not re-form them) measurements.
+
+use crate::PlotError;
+use mimo_core::records::{DwellRow, MeasurementRow, TrackRow, TruthRow};
+use mimo_scenario::Scenario;
+use mimo_store::manifest::{MANIFEST_FILE, Manifest};
+use mimo_store::{StoreError, read_table, run_file_name};
+use std::path::{Path, PathBuf};
+
+/// A run directory opened for plotting.
+#[derive(Debug, Clone)]
+pub struct RunSource {
+    /// The run directory given (its tracks are plotted).
+    pub run_dir: PathBuf,
+    /// Its manifest.
+    pub manifest: Manifest,
+    /// The resolved scenario of the manifest.
+    pub scenario: Scenario,
+    /// The run directory holding truth and dwells: `run_dir`, or the end of its parent chain.
+    pub source_dir: PathBuf,
+}
+
+/// The tables of one Monte Carlo run.
+#[derive(Debug, Clone, Default)]
+pub struct RunTables {
+    /// Truth samples.
+    pub truth: Vec<TruthRow>,
+    /// Dwell parts.
+    pub dwells: Vec<DwellRow>,
+    /// Measurements.
+    pub measurements: Vec<MeasurementRow>,
+    /// Track rows.
+    pub tracks: Vec<TrackRow>,
+    /// The files read, for messages: truth, dwells, measurements, tracks.
+    pub files: [PathBuf; 4],
+}
+
+/// The manifest's resolved scenario, validated.
+fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, PlotError> {
+    let file = run_dir.join(MANIFEST_FILE);
+    let s: Scenario = serde_json::from_value(m.scenario.resolved.clone())
+        .map_err(|e| PlotError::Scenario { file: file.clone(), why: e.to_string() })?;
+    s.validate().map_err(|e| PlotError::Scenario { file, why: e.to_string() })?;
+    Ok(s)
+}
+
+/// Follow `parent` links to the run that holds truth and dwells. The parent is resolved
+/// relative to the directory holding the run first, then as written.
+fn source_dir(run_dir: &Path, m: &Manifest, depth: usize) -> Result<PathBuf, PlotError> {
+    let Some(parent) = &m.parent else { return Ok(run_dir.to_path_buf()) };
+    let given = PathBuf::from(parent);
+    let beside = run_dir.parent().map(|d| d.join(&given));
+    for c in beside.into_iter().chain([given.clone()]) {
+        if depth < 16 && c.join(MANIFEST_FILE).is_file() {
+            let pm = Manifest::read(&c)?;
+            return source_dir(&c, &pm, depth + 1);
+        }
+    }
+    Err(PlotError::MissingParent { file: run_dir.join(MANIFEST_FILE), parent: parent.clone() })
+}
+
+impl RunSource {
+    /// Open a run directory: manifest, scenario, parent chain.
+    pub fn open(run_dir: &Path) -> Result<RunSource, PlotError> {
+        let manifest = Manifest::read(run_dir)?;
+        let scenario = scenario_of(run_dir, &manifest)?;
+        let source_dir = source_dir(run_dir, &manifest, 0)?;
+        Ok(RunSource { run_dir: run_dir.to_path_buf(), manifest, scenario, source_dir })
+    }
+
+    /// Check that run `run` exists.
+    pub fn check_run(&self, run: u32) -> Result<(), PlotError> {
+        if run >= self.manifest.runs {
+            return Err(PlotError::NoSuchRun {
+                dir: self.run_dir.clone(),
+                run,
+                last: self.manifest.runs.saturating_sub(1),
+            });
+        }
+        Ok(())
+    }
+
+    /// The file of `table` for `run` in `dir`.
+    pub fn file(dir: &Path, table: &str, run: u32) -> PathBuf {
+        dir.join(table).join(run_file_name(run))
+    }
+
+    /// Read the tables of run `run`. Measurements come from the run directory when it has them
+    /// (a simulation, or a re-run from primitives), otherwise from the source run. A missing
+    /// tracks file is a run without tracks.
+    pub fn read(&self, run: u32) -> Result<RunTables, PlotError> {
+        self.check_run(run)?;
+        let truth_f = Self::file(&self.source_dir, "truth", run);
+        let dwells_f = Self::file(&self.source_dir, "dwells", run);
+        let own_meas = Self::file(&self.run_dir, "measurements", run);
+        let meas_f = if own_meas.is_file() { own_meas } else { Self::file(&self.source_dir, "measurements", run) };
+        let tracks_f = Self::file(&self.run_dir, "tracks", run);
+        let tracks = match read_table::<TrackRow>(&tracks_f) {
+            Ok(t) => t,
+            Err(StoreError::Missing { .. }) => Vec::new(),
+            Err(e) => return Err(e.into()),
+        };
+        if tracks.is_empty() {
+            return Err(PlotError::NoTracks { file: tracks_f, run, where_: String::new() });
+        }
+        Ok(RunTables {
+            truth: read_table(&truth_f)?,
+            dwells: read_table(&dwells_f)?,
+            measurements: read_table(&meas_f)?,
+            tracks,
+            files: [truth_f, dwells_f, meas_f, tracks_f],
+        })
+    }
+}

@@ -1,0 +1,270 @@
+//! The view: everything the page shows, built from a run (docs/design.md §2–§3, §6).
+//!
+//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run near 10 MB:
+//! truth at 1 Hz (the tables hold 10 Hz; the path between samples is a straight chord),
+//! ship paths at 1 Hz, every track row, every measurement, and one beam point per dwell group
+//! the test article requested. Background search dwells (over 90 % of all dwells) are not drawn
+//! as beams — they are the radars' own raster — but their detections are drawn as
+//! measurements. The page lists these choices under "dropped".
+
+use crate::PlotError;
+use crate::frame::{FrameJson, PlotFrame};
+use crate::globe::{Mesh, Polylines, coastlines, globe_mesh, surface_mesh};
+use crate::linked::{self, RunScore};
+use crate::objects::{self, BeamCols, MeasCols, RadarView, TrackCols, TruthPath};
+use crate::source::RunSource;
+use mimo_core::geo::ecef_to_geodetic;
+use mimo_core::records::DwellKind;
+use serde::Serialize;
+use std::collections::HashMap;
+
+/// What to plot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViewOptions {
+    /// Monte Carlo run id.
+    pub run: u32,
+    /// Window start (s); the run's start when None.
+    pub from_s: Option<f64>,
+    /// Window end (s); the run's end when None.
+    pub to_s: Option<f64>,
+    /// Truth samples kept every this many seconds.
+    pub truth_step_s: f64,
+    /// Ship positions sampled every this many seconds.
+    pub ship_step_s: f64,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        ViewOptions { run: 0, from_s: None, to_s: None, truth_step_s: 1.0, ship_step_s: 1.0 }
+    }
+}
+
+/// About the view.
+#[derive(Debug, Clone, Serialize)]
+pub struct Meta {
+    /// Scenario name.
+    pub scenario: String,
+    /// Run directory, as given.
+    pub run_dir: String,
+    /// Monte Carlo run id.
+    pub run: u32,
+    /// Test article name.
+    pub tracker: String,
+    /// The run's duration (s).
+    pub duration_s: f64,
+    /// Window start (s).
+    pub from_s: f64,
+    /// Window end (s).
+    pub to_s: f64,
+    /// What was thinned or left out, one sentence each.
+    pub dropped: Vec<String>,
+    /// Dwell kind names by code.
+    pub kinds: Vec<&'static str>,
+    /// Track status names by code.
+    pub statuses: Vec<&'static str>,
+}
+
+/// The linked metrics panel.
+#[derive(Debug, Clone, Serialize)]
+pub struct MetricsCols {
+    /// Where completeness comes from.
+    pub source: String,
+    /// Scoring interval (s).
+    pub interval_s: f64,
+    /// Scoring times in the window (s).
+    pub t: Vec<f64>,
+    /// Completeness at those times (null when nothing was scorable).
+    pub completeness: Vec<Option<f64>>,
+    /// Scorable truths.
+    pub n_scorable: Vec<u32>,
+    /// Energy emitted in the interval closed by each time (J), all dwells.
+    pub energy_j: Vec<f64>,
+    /// The same, dwells the test article requested.
+    pub ta_energy_j: Vec<f64>,
+}
+
+/// The region around the scenario: a box in the plot frame and the earth's surface under it.
+#[derive(Debug, Clone, Serialize)]
+pub struct Region {
+    /// Lower corner (m).
+    pub lo: [i64; 3],
+    /// Upper corner (m).
+    pub hi: [i64; 3],
+    /// The ellipsoid surface under the box.
+    pub surface: Mesh,
+}
+
+/// Everything the page shows.
+#[derive(Debug, Clone, Serialize)]
+pub struct View {
+    /// About the view.
+    pub meta: Meta,
+    /// The plot frame.
+    pub frame: FrameJson,
+    /// Radars in scenario order.
+    pub radars: Vec<RadarView>,
+    /// Target ids in scenario order.
+    pub targets: Vec<String>,
+    /// Truth paths per target.
+    pub truth: Vec<TruthPath>,
+    /// Track states.
+    pub tracks: TrackCols,
+    /// Measurements.
+    pub meas: MeasCols,
+    /// Beams of the test article's dwells.
+    pub beams: BeamCols,
+    /// Linked metrics.
+    pub metrics: MetricsCols,
+    /// Coastlines.
+    pub coast: Polylines,
+    /// The whole earth.
+    pub globe: Mesh,
+    /// The region around the scenario.
+    pub region: Region,
+}
+
+/// Check and resolve the time window against the run's duration.
+pub fn window(opts: &ViewOptions, duration_s: f64) -> Result<(f64, f64), PlotError> {
+    let from_s = opts.from_s.unwrap_or(0.0);
+    let to_s = opts.to_s.unwrap_or(duration_s);
+    let ok = from_s.is_finite() && to_s.is_finite() && from_s >= 0.0 && from_s < to_s && to_s <= duration_s;
+    if !ok {
+        return Err(PlotError::BadWindow { from_s, to_s, duration_s });
+    }
+    Ok((from_s, to_s))
+}
+
+fn region(frame: &PlotFrame, truth: &[TruthPath], radars: &[RadarView]) -> Region {
+    let mut lo = [i64::MAX; 3];
+    let mut hi = [i64::MIN; 3];
+    let pts = truth.iter().flat_map(|t| t.p.chunks_exact(3)).chain(radars.iter().flat_map(|r| r.p.chunks_exact(3)));
+    for c in pts {
+        for (k, &x) in c.iter().enumerate() {
+            lo[k] = lo[k].min(x);
+            hi[k] = hi[k].max(x);
+        }
+    }
+    if lo[0] > hi[0] {
+        (lo, hi) = ([-50_000, -50_000, -1000], [50_000, 50_000, 12_000]);
+    }
+    // A square horizontal box with a 15 % margin (at least 30 km).
+    let half = ((hi[0] - lo[0]).max(hi[1] - lo[1]) as f64 * 0.65).max(30_000.0);
+    let (cx, cy) = ((lo[0] + hi[0]) as f64 / 2.0, (lo[1] + hi[1]) as f64 / 2.0);
+    let (x0, x1, y0, y1) = (cx - half, cx + half, cy - half, cy + half);
+    let corners = [(x0, y0), (x0, y1), (x1, y0), (x1, y1)]
+        .map(|(x, y)| ecef_to_geodetic(frame.enu.to_ecef(glam::DVec3::new(x, y, 0.0))));
+    let lat = corners.iter().map(|g| g.lat_deg());
+    let lon = corners.iter().map(|g| g.lon_deg());
+    let (la0, la1) = lat.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    let (lo0, lo1) = lon.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    let surface = surface_mesh(frame, (la0, la1), (lo0, lo1), 32, 32);
+    let zmin = surface.p.chunks_exact(3).map(|c| c[2]).min().unwrap_or(-1000);
+    Region {
+        lo: [x0.round() as i64, y0.round() as i64, zmin - 1000],
+        hi: [x1.round() as i64, y1.round() as i64, hi[2].max(1000) + 3000],
+        surface,
+    }
+}
+
+/// Build the view of one run.
+pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError> {
+    src.check_run(opts.run)?;
+    let duration_s = src.manifest.duration_s;
+    let (t0, t1) = window(opts, duration_s)?;
+    let tables = src.read(opts.run)?;
+    if !tables.tracks.iter().any(|r| r.t_s >= t0 && r.t_s <= t1) {
+        return Err(PlotError::NoTracks {
+            file: tables.files[3].clone(),
+            run: opts.run,
+            where_: format!(" in [{t0}, {t1}] s"),
+        });
+    }
+    let score_dir = src.run_dir.join("score");
+    let score: RunScore = if score_dir.join("summary.json").is_file() {
+        linked::from_score_dir(&score_dir, opts.run)?
+    } else {
+        linked::computed(src, &tables)?
+    };
+
+    let frame = PlotFrame::at(src.scenario.centre());
+    let ships = &src.scenario.ships;
+    let targets: Vec<String> = src.scenario.targets.iter().map(|t| t.id.clone()).collect();
+    let radars: Vec<RadarView> =
+        ships.iter().map(|s| objects::radar_view(&frame, s, t0, t1, opts.ship_step_s)).collect();
+    let truth = objects::truth_paths(&frame, &tables.truth, &targets, t0, t1, opts.truth_step_s);
+    let tracks = objects::track_cols(&frame, &tables.tracks, &score, &targets, t0, t1);
+
+    let kinds: HashMap<u64, DwellKind> = tables.dwells.iter().map(|d| (d.dwell_id, d.kind)).collect();
+    let mut used_by: HashMap<u64, u64> = HashMap::new();
+    for r in &tables.tracks {
+        if let Some(m) = r.last_meas_id {
+            let e = used_by.entry(m).or_insert(r.track_id);
+            *e = (*e).min(r.track_id);
+        }
+    }
+    let (meas, meas_dropped) =
+        objects::meas_cols(&frame, ships, &tables.measurements, &kinds, &used_by, &targets, (t0, t1));
+    let beams = objects::beam_cols(&frame, ships, &tables.dwells, t0, t1);
+
+    let n = score.t_s.len();
+    let (energy, ta_energy) = linked::energy_per_interval(&tables.dwells, score.interval_s, n);
+    let keep: Vec<usize> = (0..n).filter(|&i| score.t_s[i] >= t0 && score.t_s[i] <= t1).collect();
+    let metrics = MetricsCols {
+        source: score.source.clone(),
+        interval_s: score.interval_s,
+        t: keep.iter().map(|&i| score.t_s[i]).collect(),
+        completeness: keep.iter().map(|&i| score.completeness[i]).collect(),
+        n_scorable: keep.iter().map(|&i| score.n_scorable[i]).collect(),
+        energy_j: keep.iter().map(|&i| energy[i]).collect(),
+        ta_energy_j: keep.iter().map(|&i| ta_energy[i]).collect(),
+    };
+
+    let in_window = |t: f64| t >= t0 && t <= t1;
+    let truth_rows = tables.truth.iter().filter(|r| in_window(r.t_s)).count();
+    let truth_kept: usize = truth.iter().map(|p| p.t.len()).sum();
+    let search_parts = tables.dwells.iter().filter(|d| d.kind == DwellKind::Search && in_window(d.t_s)).count();
+    let mut dropped = vec![
+        format!(
+            "truth thinned from {truth_rows} samples (10 Hz) to {truth_kept} (every {} s); paths are chords between them",
+            opts.truth_step_s
+        ),
+        format!(
+            "{search_parts} background-search dwell parts are not drawn as beams (the radars' own raster); their detections are drawn as measurements"
+        ),
+        "primitives are not drawn (each measurement is its strongest primitive, docs/model.md §4.5)".to_string(),
+    ];
+    if meas_dropped.unplaceable + meas_dropped.unknown_radar > 0 {
+        dropped.push(format!(
+            "{} measurements could not be placed in space (docs/model.md §5.4 conversion refused: {}, unknown radar or face: {})",
+            meas_dropped.unplaceable + meas_dropped.unknown_radar,
+            meas_dropped.unplaceable,
+            meas_dropped.unknown_radar
+        ));
+    }
+    let region = region(&frame, &truth, &radars);
+    Ok(View {
+        meta: Meta {
+            scenario: src.scenario.name.clone(),
+            run_dir: src.run_dir.display().to_string(),
+            run: opts.run,
+            tracker: src.manifest.tracker.as_ref().map_or_else(|| "(none)".to_string(), |t| t.name.clone()),
+            duration_s,
+            from_s: t0,
+            to_s: t1,
+            dropped,
+            kinds: objects::KINDS.iter().map(|k| k.as_str()).collect(),
+            statuses: vec!["tentative", "confirmed", "deleted"],
+        },
+        frame: frame.json(),
+        radars,
+        targets,
+        truth,
+        tracks,
+        meas,
+        beams,
+        metrics,
+        coast: coastlines(&frame),
+        globe: globe_mesh(&frame),
+        region,
+    })
+}
