@@ -15,7 +15,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("mimo-store", &["mimo-core"]),
     ("mimo-metrics", &["mimo-core"]),
     ("mimo-report", &["mimo-metrics"]),
-    ("mimo-plot", &["mimo-core", "mimo-scenario", "mimo-store", "mimo-metrics"]),
+    ("mimo-plot", &["mimo-core", "mimo-scenario", "mimo-radar", "mimo-store", "mimo-metrics"]),
     ("mimo-study", &["mimo-core", "mimo-scenario", "mimo-sim", "mimo-ta", "mimo-store", "mimo-metrics", "mimo-report"]),
     ("mimo-cli", &["*"]),
 ];

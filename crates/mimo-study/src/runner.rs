@@ -130,11 +130,8 @@ pub fn run_study(
     // Plain worker threads pulling items in order, not a rayon pool: scoring runs polars, whose
     // own rayon pool would let a waiting rayon worker start further items on the same stack and
     // finish them in reverse, so that a study killed midway would have recorded nothing.
-    let threads = if opts.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        opts.threads
-    };
+    let threads =
+        if opts.threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { opts.threads };
     let next = AtomicU64::new(0);
     let stop = std::sync::atomic::AtomicBool::new(false);
     let first_error: std::sync::Mutex<Option<StudyError>> = std::sync::Mutex::new(None);
