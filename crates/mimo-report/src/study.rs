@@ -7,7 +7,7 @@
 //! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; each method's failure point (the first value, from the least to the most stressing, where mean completeness falls below the requirement or a run fails) marked with a cross |
 //!
 //! The charts take plain figures ([`StudyCell`]), so this crate needs nothing of the study
-//! machinery. Logarithmic axes are drawn on log10 of the value with tick labels `1e-6`, ….
+//! machinery. Logarithmic axes are drawn on log10 of the value with tick labels `1.0e-6`, ….
 
 use crate::draw::{
     AXIS_DESC_PX, DrawResult, FONT, LEGEND_PX, PALETTE, PANEL_TITLE_PX, Swatch, TICK_PX, TITLE_PX, darken, draw_legend,
@@ -15,6 +15,7 @@ use crate::draw::{
 };
 use crate::{Chart, ReportError, ensure_font, save};
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -370,7 +371,7 @@ fn stability(charts: &StudyCharts, ax: &StudyAxis) -> StudyChart {
 }
 
 fn x_fmt(log: bool) -> impl Fn(&f64) -> String {
-    move |v: &f64| if log { format!("1e{}", fmt_num(*v)) } else { fmt_num(*v) }
+    move |v: &f64| if log { format!("{:.1e}", 10f64.powf(*v)) } else { fmt_num(*v) }
 }
 
 fn padded(lo: f64, hi: f64) -> (f64, f64) {
@@ -389,27 +390,33 @@ fn range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
     values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)))
 }
 
-fn draw_scatter<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &ScatterPanel) -> DrawResult {
-    let xs: Vec<f64> =
-        p.dots.iter().flat_map(|d| [Some(d.x), d.x_bar.map(|b| b.0), d.x_bar.map(|b| b.1)]).flatten().collect();
-    let mut ys: Vec<f64> =
-        p.dots.iter().flat_map(|d| [Some(d.y), d.y_bar.map(|b| b.0), d.y_bar.map(|b| b.1)]).flatten().collect();
-    ys.extend(p.hline);
-    let (x0, x1) = padded(range(xs.iter()).0, range(xs.iter()).1);
-    let (y0, y1) = padded(range(ys.iter()).0, range(ys.iter()).1);
+type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A panel's axes and grid: an optional title, the ranges, the axis labels, `1eN` tick labels on
+/// a log10 x axis.
+fn framed<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    title: Option<&str>,
+    x: (f64, f64),
+    y: (f64, f64),
+    labels: (&str, &str),
+    log_x: bool,
+) -> Result<Chart2d<'a, DB>, String> {
     let mut b = ChartBuilder::on(area);
     b.margin_top(8).margin_right(24).margin_left(8).x_label_area_size(48).y_label_area_size(78);
-    if let Some(t) = &p.title {
+    if let Some(t) = title {
         b.caption(t, (FONT, PANEL_TITLE_PX));
     }
-    let mut chart = b.build_cartesian_2d(x0..x1, y0..y1).map_err(e)?;
-    let xf = x_fmt(p.log_x);
-    let y_max = y0.abs().max(y1.abs());
-    let yf = |v: &f64| fmt_axis(*v, y_max);
+    let mut chart = b.build_cartesian_2d(x.0..x.1, y.0..y.1).map_err(e)?;
+    let xf = x_fmt(log_x);
+    let y_max = y.0.abs().max(y.1.abs());
+    // A narrow axis (completeness between 99 and 100 %) needs a decimal to tell its ticks apart.
+    let narrow = (y.1 - y.0) < 20.0 && y_max < 1e4;
+    let yf = |v: &f64| if narrow { format!("{v:.1}") } else { fmt_axis(*v, y_max) };
     chart
         .configure_mesh()
-        .x_desc(p.x_label.as_str())
-        .y_desc(p.y_label.as_str())
+        .x_desc(labels.0)
+        .y_desc(labels.1)
         .label_style((FONT, TICK_PX))
         .axis_desc_style((FONT, AXIS_DESC_PX))
         .x_label_formatter(&xf)
@@ -419,6 +426,18 @@ fn draw_scatter<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &ScatterPa
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()
         .map_err(e)?;
+    Ok(chart)
+}
+
+fn draw_scatter<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &ScatterPanel) -> DrawResult {
+    let xs: Vec<f64> =
+        p.dots.iter().flat_map(|d| [Some(d.x), d.x_bar.map(|b| b.0), d.x_bar.map(|b| b.1)]).flatten().collect();
+    let mut ys: Vec<f64> =
+        p.dots.iter().flat_map(|d| [Some(d.y), d.y_bar.map(|b| b.0), d.y_bar.map(|b| b.1)]).flatten().collect();
+    ys.extend(p.hline);
+    let (x0, x1) = padded(range(xs.iter()).0, range(xs.iter()).1);
+    let (y0, y1) = padded(range(ys.iter()).0, range(ys.iter()).1);
+    let mut chart = framed(area, p.title.as_deref(), (x0, x1), (y0, y1), (&p.x_label, &p.y_label), p.log_x)?;
     if let Some(h) = p.hline {
         chart.draw_series(DashedLineSeries::new(vec![(x0, h), (x1, h)], 10, 6, BLACK.stroke_width(2))).map_err(e)?;
     }
@@ -458,28 +477,7 @@ fn draw_bands<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &BandPanel) 
     let (xa, xb) = range(xs.iter());
     let (x0, x1) = padded(xa, xb);
     let (y0, y1) = padded(range(ys.iter()).0, range(ys.iter()).1);
-    let mut b = ChartBuilder::on(area);
-    b.margin_top(8).margin_right(24).margin_left(8).x_label_area_size(48).y_label_area_size(78);
-    if let Some(t) = &p.title {
-        b.caption(t, (FONT, PANEL_TITLE_PX));
-    }
-    let mut chart = b.build_cartesian_2d(x0..x1, y0..y1).map_err(e)?;
-    let xf = x_fmt(p.log_x);
-    let y_max = y0.abs().max(y1.abs());
-    let yf = |v: &f64| fmt_axis(*v, y_max);
-    chart
-        .configure_mesh()
-        .x_desc(p.x_label.as_str())
-        .y_desc(p.y_label.as_str())
-        .label_style((FONT, TICK_PX))
-        .axis_desc_style((FONT, AXIS_DESC_PX))
-        .x_label_formatter(&xf)
-        .y_label_formatter(&yf)
-        .max_light_lines(4)
-        .light_line_style(RGBColor(238, 238, 238))
-        .bold_line_style(RGBColor(215, 215, 215))
-        .draw()
-        .map_err(e)?;
+    let mut chart = framed(area, p.title.as_deref(), (x0, x1), (y0, y1), (&p.x_label, &p.y_label), p.log_x)?;
     for band in &p.bands {
         let lo: Vec<(f64, f64)> = band.points.iter().filter_map(|q| Some((q.0, q.2?))).collect();
         let hi: Vec<(f64, f64)> = band.points.iter().filter_map(|q| Some((q.0, q.3?))).collect();
@@ -527,7 +525,7 @@ pub(crate) fn draw_study_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>
 fn size_for(c: &StudyChart) -> (u32, u32) {
     let cols = c.columns.max(1) as u32;
     let rows = c.panels.len().div_ceil(c.columns.max(1)).max(1) as u32;
-    ((480 * cols).max(1000), 140 + 420 * rows)
+    ((560 * cols).max(1400), 140 + 420 * rows)
 }
 
 /// Render every study chart into `dir` (created if needed) as PNG and SVG; returns the files
