@@ -1,4 +1,4 @@
-//! Array faces and sine space (PHYSICS.md §1.3–§1.5).
+//! Array faces and sine space (docs/model.md §1.3–§1.5).
 //!
 //! A face frame has axes `(x̂_f, ŷ_f, n̂)`: `x̂_f` horizontal and pointing to the **left** when
 //! looking out along boresight, `ŷ_f` "face-up", `n̂` the boresight. The direction cosines of a
@@ -45,7 +45,7 @@ impl FaceFrame {
         FaceFrame { origin_ecef: site.to_ecef(), face_from_ecef: m }
     }
 
-    /// Direction cosines and range of an ECEF point (PHYSICS.md §1.4).
+    /// Direction cosines and range of an ECEF point (docs/model.md §1.4).
     pub fn to_sine(&self, p_ecef: DVec3) -> SinePoint {
         let l = self.face_from_ecef * (p_ecef - self.origin_ecef);
         let r = l.length();

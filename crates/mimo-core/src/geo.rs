@@ -1,4 +1,4 @@
-//! WGS-84 geodetic ⇄ ECEF, local ENU axes, and horizon tests (PHYSICS.md §1.1, §1.2, §1.7).
+//! WGS-84 geodetic ⇄ ECEF, local ENU axes, and horizon tests (docs/model.md §1.1, §1.2, §1.7).
 
 use glam::{DMat3, DVec3};
 use serde::{Deserialize, Serialize};
@@ -57,7 +57,7 @@ pub fn meridian_radius_m(lat_rad: f64) -> f64 {
     WGS84_A_M * (1.0 - WGS84_E2) / (1.0 - WGS84_E2 * lat_rad.sin().powi(2)).powf(1.5)
 }
 
-/// Geodetic → ECEF (PHYSICS.md §1.1).
+/// Geodetic → ECEF (docs/model.md §1.1).
 pub fn geodetic_to_ecef(g: Geodetic) -> DVec3 {
     let n = prime_vertical_radius_m(g.lat_rad);
     let (sl, cl) = g.lat_rad.sin_cos();
@@ -65,7 +65,7 @@ pub fn geodetic_to_ecef(g: Geodetic) -> DVec3 {
     DVec3::new((n + g.alt_m) * cl * co, (n + g.alt_m) * cl * so, (n * (1.0 - WGS84_E2) + g.alt_m) * sl)
 }
 
-/// ECEF → geodetic by fixed-point iteration (PHYSICS.md §1.1), with the polar form of the height
+/// ECEF → geodetic by fixed-point iteration (docs/model.md §1.1), with the polar form of the height
 /// when the point is near the axis.
 pub fn ecef_to_geodetic(p: DVec3) -> Geodetic {
     let lon = p.y.atan2(p.x);
@@ -88,7 +88,7 @@ pub fn ecef_to_geodetic(p: DVec3) -> Geodetic {
     Geodetic { lat_rad: lat, lon_rad: lon, alt_m: h }
 }
 
-/// Rotation ECEF → ENU at a site (rows are east, north, up, PHYSICS.md §1.2).
+/// Rotation ECEF → ENU at a site (rows are east, north, up, docs/model.md §1.2).
 pub fn enu_from_ecef(lat_rad: f64, lon_rad: f64) -> DMat3 {
     let (sl, cl) = lat_rad.sin_cos();
     let (so, co) = lon_rad.sin_cos();
@@ -132,7 +132,7 @@ impl EnuFrame {
 }
 
 /// Geometric line-of-sight test (no refraction): does the segment from `s` to `p` (ECEF) pass
-/// through the WGS-84 ellipsoid? (PHYSICS.md §1.7, TCL `lineOfSightHitsEarth`.)
+/// through the WGS-84 ellipsoid? (docs/model.md §1.7, TCL `lineOfSightHitsEarth`.)
 pub fn line_of_sight_blocked(s: DVec3, p: DVec3) -> bool {
     let scale = DVec3::new(1.0, 1.0, WGS84_A_M / WGS84_B_M);
     let s = s * scale;
@@ -154,7 +154,7 @@ pub fn line_of_sight_blocked(s: DVec3, p: DVec3) -> bool {
 }
 
 /// 4/3-earth visibility of a target at height `h_t_m` from an antenna at height `h_a_m`, given
-/// both ECEF positions (PHYSICS.md §1.7).
+/// both ECEF positions (docs/model.md §1.7).
 pub fn visible_effective_earth(s: DVec3, h_a_m: f64, p: DVec3, h_t_m: f64) -> bool {
     let re = K_EFFECTIVE_EARTH * EARTH_MEAN_RADIUS_M;
     let cos_psi = (s.normalize().dot(p.normalize())).clamp(-1.0, 1.0);
@@ -219,7 +219,7 @@ mod tests {
 
     #[test]
     fn effective_earth_horizon_examples() {
-        // PHYSICS.md §1.7: a 20 m mast sees a 10 km airliner to about 431 km, a 100 m target to 60 km.
+        // docs/model.md §1.7: a 20 m mast sees a 10 km airliner to about 431 km, a 100 m target to 60 km.
         let site = Geodetic::from_deg(36.0, -70.0, 20.0);
         let s = site.to_ecef();
         let at = |dist_km: f64, h: f64| {

@@ -3,8 +3,8 @@
 //! The vocabulary every other `mimo` crate shares, with no I/O and no heavy dependencies:
 //!
 //! * [`geo`]: WGS-84 geodetic ⇄ ECEF, the local ENU rotation, the 4/3-earth horizon
-//!   (PHYSICS.md §1.1, §1.2, §1.7).
-//! * [`face`]: array-face frames and sine space (PHYSICS.md §1.3–§1.5).
+//!   (docs/model.md §1.1, §1.2, §1.7).
+//! * [`face`]: array-face frames and sine space (docs/model.md §1.3–§1.5).
 //! * [`rng`]: counter-keyed random streams. Every draw in the simulator comes from a stream keyed
 //!   by `(seed, run, radar, dwell, …)`, never from a shared generator, so results do not depend on
 //!   the thread count or on the order in which runs are scheduled.
@@ -12,7 +12,7 @@
 //! * [`ids`]: radar and target identifiers (`R1`…`R4`, `F-1`…`F-4`, `A`, `B`, `C`).
 //! * [`assign`]: an exact rectangular assignment solver (shortest augmenting path, Jonker–Volgenant
 //!   style) shared by the tracker's GNN and the metrics engine's truth–track pairing.
-//! * [`records`]: the plain row structs of the run tables (DESIGN.md §3). Stages push these into
+//! * [`records`]: the plain row structs of the run tables (docs/design.md §3). Stages push these into
 //!   sinks ([`sink::RunSink`]); only `mimo-store` turns them into Arrow.
 //!
 //! Units are SI and carried in names (`range_m`, `t_s`); frames are carried in names too

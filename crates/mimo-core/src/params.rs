@@ -1,11 +1,11 @@
 //! Radar parameters and fidelity switches, shared by the scenario files (which set them) and
-//! the radar model (which uses them). Defaults are PHYSICS.md §3.3's generic S-band ship radar.
+//! the radar model (which uses them). Defaults are docs/model.md §3.3's generic S-band ship radar.
 //!
 //! Every field is in SI units with the unit in its name; the scenario TOML uses the same names.
 
 use serde::{Deserialize, Serialize};
 
-/// Antenna pattern model (PHYSICS.md §2.2, §2.3).
+/// Antenna pattern model (docs/model.md §2.2, §2.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum PatternModel {
@@ -16,7 +16,7 @@ pub enum PatternModel {
     UniformAperture,
 }
 
-/// Swerling fluctuation case (PHYSICS.md §3.2).
+/// Swerling fluctuation case (docs/model.md §3.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Swerling {
@@ -26,7 +26,7 @@ pub enum Swerling {
     Sw3,
 }
 
-/// Parameters of one ship radar (PHYSICS.md §3.3).
+/// Parameters of one ship radar (docs/model.md §3.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct RadarParams {
@@ -189,18 +189,18 @@ impl RadarParams {
     }
 }
 
-/// Modelling switches a scene may or may not need (DESIGN.md §2 `fidelity`). Recorded in the
+/// Modelling switches a scene may or may not need (docs/design.md §2 `fidelity`). Recorded in the
 /// manifest of every run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Fidelity {
     pub pattern: PatternModel,
     pub swerling: Swerling,
-    /// Apply 4/3-earth refraction to measured elevation (PHYSICS.md §1.8). Default off.
+    /// Apply 4/3-earth refraction to measured elevation (docs/model.md §1.8). Default off.
     pub refraction: bool,
     /// Model orthogonal-waveform leakage with this isolation (dB); `None` is ideal.
     pub waveform_isolation_db: Option<f64>,
-    /// Cells simulated explicitly on each side of a target return (PHYSICS.md §4.4).
+    /// Cells simulated explicitly on each side of a target return (docs/model.md §4.4).
     pub explicit_cells_each_side: u32,
     /// Truth sample rate (Hz) of the truth table.
     pub truth_rate_hz: f64,

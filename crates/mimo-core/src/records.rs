@@ -1,4 +1,4 @@
-//! Row records of the run tables (DESIGN.md §3).
+//! Row records of the run tables (docs/design.md §3).
 //!
 //! These are plain structs: simulation, radar and tracking code produce them without knowing
 //! about Arrow or Parquet. `mimo-store` owns the Arrow schemas (with units in the field
@@ -201,7 +201,7 @@ pub struct PrimitiveRow {
     /// recovered offline.
     pub beam_u: f64,
     pub beam_v: f64,
-    /// Variances of this primitive's estimates, from the observed SNR (PHYSICS.md §2.6, §4.6).
+    /// Variances of this primitive's estimates, from the observed SNR (docs/model.md §2.6, §4.6).
     pub var_range_m2: f64,
     pub var_u: f64,
     pub var_v: f64,

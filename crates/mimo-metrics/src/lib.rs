@@ -1,7 +1,7 @@
 //! # mimo-metrics
 //!
 //! Scores a run directory: truth–track assignment, track metrics, radar usage metrics and Monte
-//! Carlo averaging (DESIGN.md §6). [`score`] reads the `truth`, `dwells` and `tracks` Parquet
+//! Carlo averaging (docs/design.md §6). [`score`] reads the `truth`, `dwells` and `tracks` Parquet
 //! tables (any number of files each, one per Monte Carlo run by convention) and returns a
 //! [`Score`]; [`write_outputs`] writes `score/track_metrics.parquet`, the other tables and
 //! `score/summary.json`. Charts are drawn by `mimo-report` from the plain Rust rows of [`Score`].
@@ -467,7 +467,7 @@ pub struct ScoringInfo {
     pub undefined_values: &'static str,
 }
 
-/// `summary.json`: the DESIGN.md §6 keys first, then extras.
+/// `summary.json`: the docs/design.md §6 keys first, then extras.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
     pub scenario: String,

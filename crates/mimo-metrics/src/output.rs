@@ -190,7 +190,7 @@ impl Score {
         ])
     }
 
-    /// `summary.json` text (pretty-printed, DESIGN.md §6 keys first).
+    /// `summary.json` text (pretty-printed, docs/design.md §6 keys first).
     pub fn summary_json(&self) -> Result<String, MetricsError> {
         serde_json::to_string_pretty(&self.summary)
             .map_err(|e| MetricsError::Internal { context: "summary JSON", detail: e.to_string() })

@@ -1,5 +1,5 @@
 //! Radar usage: dwell time and emitted energy per radar and scoring interval (seed paper eqs.
-//! 1–6, DESIGN.md §6), computed with polars.
+//! 1–6, docs/design.md §6), computed with polars.
 
 use crate::error::{MetricsError, internal};
 use crate::{RadarUsage, RunRadarUsage, UsageRow, UsageTotalRow};

@@ -1,4 +1,4 @@
-//! Detection, range centroiding and ML monopulse DOA (PHYSICS.md §2.5–§2.7, §4.3, §4.5, §4.6).
+//! Detection, range centroiding and ML monopulse DOA (docs/model.md §2.5–§2.7, §4.3, §4.5, §4.6).
 //!
 //! Input: the simulated cells of one Tx→Rx channel, sorted by cell index (cells that were not
 //! simulated are noise below threshold by construction, §4.4). Output: one [`PrimitiveRow`] per

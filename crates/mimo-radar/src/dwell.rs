@@ -1,5 +1,5 @@
 //! Dwell evaluation: complex monopulse voltages per Tx→Rx channel and range cell, and their
-//! detection (PHYSICS.md §2.4, §3, §4.2–§4.4, §5.2, §5.3).
+//! detection (docs/model.md §2.4, §3, §4.2–§4.4, §5.2, §5.3).
 //!
 //! A dwell has one or more transmitters (each with its own orthogonal waveform) and one or more
 //! receivers; receiver `i` runs one matched filter per transmitter `j`, giving the channel

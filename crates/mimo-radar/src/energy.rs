@@ -1,4 +1,4 @@
-//! Energy and pulse sizing for trackers (PHYSICS.md §3.1, §4.3, §7.2, §7.3).
+//! Energy and pulse sizing for trackers (docs/model.md §3.1, §4.3, §7.2, §7.3).
 //!
 //! `N_p = ⌈SNR_req · L_bs · L_str / SNR₁⌉` clipped to `[1, N_max]`, with `SNR_req = ln P_FA / ln P_D − 1`
 //! (SW1, one coherent sample), the expected beam-pointing loss `L_bs` of the Gaussian pattern for a

@@ -1,4 +1,4 @@
-//! The radar range equation (PHYSICS.md §3.1, defaults §3.3).
+//! The radar range equation (docs/model.md §3.1, defaults §3.3).
 //!
 //! Matched-filter single-pulse SNR at the peak, bistatic:
 //! `SNR₁ = P_t G_t G_r λ² σ τ / ((4π)³ R_t² R_r² k T_s L)` with `T_s = T0·F`. It reproduces the
@@ -45,7 +45,7 @@ impl RadarEquation {
             / (four_pi3 * r_t_m * r_t_m * r_r_m * r_r_m * BOLTZMANN_J_PER_K * self.system_temp_k * self.loss)
     }
 
-    /// For a transmitter and a receiver of the model (PHYSICS.md §3.1): `P_t`, `τ` and `λ` are
+    /// For a transmitter and a receiver of the model (docs/model.md §3.1): `P_t`, `τ` and `λ` are
     /// the transmitter's, the noise figure the receiver's, the loss the mean (in dB) of the two
     /// radars' total losses (equal to either for identical radars), and the gains are the peak
     /// gains with scan loss for the beams' boresight cosines `w_tx`, `w_rx`.
@@ -65,7 +65,7 @@ impl RadarEquation {
 
 /// Single-pulse mean SNR (linear) for a Tx–Rx pair with beams at boresight cosines `w_tx`, `w_rx`
 /// and the target at ranges `r_t_m`, `r_r_m` (beam-centre: off-beam pattern factors are applied
-/// to the voltages, PHYSICS.md §2.4).
+/// to the voltages, docs/model.md §2.4).
 pub fn snr1(tx: &RadarParams, rx: &RadarParams, w_tx: f64, w_rx: f64, rcs_m2: f64, r_t_m: f64, r_r_m: f64) -> f64 {
     RadarEquation::for_pair(tx, rx, w_tx, w_rx, rcs_m2).snr(r_t_m, r_r_m)
 }

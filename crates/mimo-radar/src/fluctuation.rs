@@ -1,4 +1,4 @@
-//! RCS fluctuation: Swerling draws of the unit-mean-power voltage `ζ` (PHYSICS.md §3.2).
+//! RCS fluctuation: Swerling draws of the unit-mean-power voltage `ζ` (docs/model.md §3.2).
 //!
 //! One draw per target, per Tx–Rx pair and per dwell (SW0/SW1/SW3 are constant within a dwell;
 //! pairs of a MIMO dwell are independent: spatial RCS diversity). The caller keys the stream by

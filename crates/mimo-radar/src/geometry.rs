@@ -1,5 +1,5 @@
 //! Beam-point geometry, scan loss, horizon and bistatic measurement geometry
-//! (PHYSICS.md §1.4–§1.8, §5.1, §5.4).
+//! (docs/model.md §1.4–§1.8, §5.1, §5.4).
 //!
 //! All positions are ECEF metres. A receiver's measurement is `(R_B, u, v)`: the bistatic range sum
 //! and the direction cosines of the target in the receiver face; the tables store `ρ = R_B/2`
@@ -12,10 +12,10 @@ use mimo_core::geo::{
 use mimo_core::params::RadarParams;
 use mimo_core::{DMat3, DVec3};
 
-/// Largest bistatic angle for which a Tx–Rx pair is used (PHYSICS.md §5.1, an engineering default).
+/// Largest bistatic angle for which a Tx–Rx pair is used (docs/model.md §5.1, an engineering default).
 pub const MAX_BISTATIC_ANGLE_DEG: f64 = 150.0;
 
-/// Where a beam aimed at a point points, on the face that sees the point best (PHYSICS.md §1.5).
+/// Where a beam aimed at a point points, on the face that sees the point best (docs/model.md §1.5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamPoint {
     /// Index of the chosen face in the slice given to [`beam_point`].
@@ -46,7 +46,7 @@ pub fn best_face(faces: &[FaceFrame], p: DVec3) -> Option<(usize, SinePoint)> {
     best
 }
 
-/// Steer a beam at `aim` (PHYSICS.md §1.5): the face with the largest `w_b`, allowed only if
+/// Steer a beam at `aim` (docs/model.md §1.5): the face with the largest `w_b`, allowed only if
 /// `w_b ≥ cos θ_max`. `None` when no face can steer there.
 pub fn beam_point(faces: &[FaceFrame], params: &RadarParams, aim: DVec3) -> Option<BeamPoint> {
     let (i, s) = best_face(faces, aim)?;
@@ -61,7 +61,7 @@ pub fn within_scan_limit(params: &RadarParams, w: f64) -> bool {
     w.is_finite() && w >= params.min_scan_w() - 1e-12
 }
 
-/// One-way scan-loss factor `w_b^α_s` (PHYSICS.md §1.6); 0 behind the face.
+/// One-way scan-loss factor `w_b^α_s` (docs/model.md §1.6); 0 behind the face.
 pub fn scan_loss_factor(params: &RadarParams, w: f64) -> f64 {
     if w > 0.0 { w.powf(params.scan_loss_exponent) } else { 0.0 }
 }
@@ -76,7 +76,7 @@ pub fn height_m(p: DVec3) -> f64 {
     ecef_to_geodetic(p).alt_m
 }
 
-/// 4/3-earth visibility between an antenna at `site` and a target at `p` (PHYSICS.md §1.7); the
+/// 4/3-earth visibility between an antenna at `site` and a target at `p` (docs/model.md §1.7); the
 /// heights are computed from the ECEF positions. Use [`visible_with_heights`] when they are known.
 pub fn visible(site: DVec3, p: DVec3) -> bool {
     visible_effective_earth(site, height_m(site), p, height_m(p))
@@ -87,7 +87,7 @@ pub fn visible_with_heights(site: DVec3, h_site_m: f64, p: DVec3, h_p_m: f64) ->
     visible_effective_earth(site, h_site_m, p, h_p_m)
 }
 
-/// Apparent (refracted, 4/3-earth) unit direction from `site` to `p`, ECEF (PHYSICS.md §1.8). The
+/// Apparent (refracted, 4/3-earth) unit direction from `site` to `p`, ECEF (docs/model.md §1.8). The
 /// azimuth is kept, the elevation is replaced by the effective-earth apparent elevation.
 pub fn refracted_direction(site: DVec3, p: DVec3) -> DVec3 {
     let g = ecef_to_geodetic(site);
@@ -110,7 +110,7 @@ pub fn refracted_direction(site: DVec3, p: DVec3) -> DVec3 {
     enu.transpose() * dir_enu
 }
 
-/// Bistatic geometry of one target (PHYSICS.md §5.1).
+/// Bistatic geometry of one target (docs/model.md §5.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bistatic {
     /// Transmitter–target range (m).
@@ -143,14 +143,14 @@ pub fn bistatic(t: DVec3, r: DVec3, p: DVec3) -> Bistatic {
     Bistatic { r_t_m: la, r_r_m: lb, r_b_m: la + lb, beta_rad: beta }
 }
 
-/// The measurement function `h(p) = (R_B, u_r, v_r)` of PHYSICS.md §5.4 for a transmitter at
+/// The measurement function `h(p) = (R_B, u_r, v_r)` of docs/model.md §5.4 for a transmitter at
 /// `tx` (ECEF) and a receiver face `rx`.
 pub fn measure(p: DVec3, tx: DVec3, rx: &FaceFrame) -> [f64; 3] {
     let s = rx.to_sine(p);
     [(p - tx).length() + s.range_m, s.u, s.v]
 }
 
-/// Rows of the measurement Jacobian `∂h/∂p` (PHYSICS.md §5.4, TCL `rangeGradient`, `uvGradient`).
+/// Rows of the measurement Jacobian `∂h/∂p` (docs/model.md §5.4, TCL `rangeGradient`, `uvGradient`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeasJacobian {
     /// `∂R_B/∂p`.
@@ -193,7 +193,7 @@ pub fn measurement_jacobian(p: DVec3, tx: DVec3, rx: &FaceFrame) -> MeasJacobian
     MeasJacobian { d_rb, d_u, d_v }
 }
 
-/// Bistatic `(R_B, u, v)` → ECEF (PHYSICS.md §5.4, TCL `ruv2Cart`). `None` when the measurement is
+/// Bistatic `(R_B, u, v)` → ECEF (docs/model.md §5.4, TCL `ruv2Cart`). `None` when the measurement is
 /// geometrically impossible (`R_B` shorter than the baseline, `u² + v² > 1`, or a non-positive
 /// receiver range).
 pub fn bistatic_ruv_to_ecef(r_b: f64, u: f64, v: f64, tx: DVec3, rx: &FaceFrame) -> Option<DVec3> {

@@ -4,7 +4,7 @@
 //! primitives and measurements. Pure functions, no I/O, no global state; every random draw comes
 //! from a [`mimo_core::rng::Stream`] keyed by the caller's `(seed, keys…)`.
 //!
-//! | module | does | PHYSICS.md |
+//! | module | does | docs/model.md |
 //! |---|---|---|
 //! | [`geometry`] | face choice and scan limit, scan loss `G0·w^α_s`, 4/3-earth horizon, optional refraction, bistatic ranges and angle, bistatic `(R_B,u,v)` ⇄ ECEF, measurement Jacobians | §1.4–§1.8, §5.1, §5.4 |
 //! | [`equation`] | radar range equation, bistatic and monostatic | §3.1, §3.3 |

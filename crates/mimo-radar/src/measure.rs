@@ -1,4 +1,4 @@
-//! Measurements from detection primitives (PHYSICS.md §4.5 step 4, DESIGN.md §3).
+//! Measurements from detection primitives (docs/model.md §4.5 step 4, docs/design.md §3).
 //!
 //! [`measurements_from_primitives`] is the **only** implementation: the simulator calls it on each
 //! dwell's primitives, and `mimo track --from primitives` calls it on recorded primitives, so it

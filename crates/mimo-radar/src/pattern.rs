@@ -1,4 +1,4 @@
-//! Monopulse antenna patterns (PHYSICS.md §2.1–§2.3) and the mapping between the monopulse
+//! Monopulse antenna patterns (docs/model.md §2.1–§2.3) and the mapping between the monopulse
 //! ratio and the sine-space offset from the beam (§2.5).
 //!
 //! Patterns are shift-invariant in sine space: they depend only on `(Δu, Δv) = (u − u_b, v − v_b)`
@@ -101,7 +101,7 @@ impl Antenna {
         }
     }
 
-    /// Voltage gains of Σ, Δa, Δe at offset `(du, dv)` from the beam (PHYSICS.md §2.2, §2.3).
+    /// Voltage gains of Σ, Δa, Δe at offset `(du, dv)` from the beam (docs/model.md §2.2, §2.3).
     pub fn gains(&self, du: f64, dv: f64) -> Gains {
         match self.model {
             PatternModel::Gaussian => {
@@ -127,7 +127,7 @@ impl Antenna {
         }
     }
 
-    /// Invert the monopulse curve: offsets `(Δu, Δv)` from ratios `(η_a, η_e)` (PHYSICS.md §2.5).
+    /// Invert the monopulse curve: offsets `(Δu, Δv)` from ratios `(η_a, η_e)` (docs/model.md §2.5).
     pub fn offset_from_ratio(&self, eta_a: f64, eta_e: f64) -> (f64, f64) {
         match self.model {
             PatternModel::Gaussian => (self.theta_u / self.k_m * eta_a, self.theta_v / self.k_m * eta_e),

@@ -1,4 +1,4 @@
-//! Range cells and the point-target range response (PHYSICS.md §4.1).
+//! Range cells and the point-target range response (docs/model.md §4.1).
 //!
 //! Everything works in the equivalent monostatic range `ρ = R_B/2`, which is plain range for a
 //! monostatic pair. Cells sit at `ρ_k = k·δ_s` with the sample spacing `δ_s = ΔR = c/(2B)`; the
@@ -36,7 +36,7 @@ pub fn cell_window(rho_min_m: f64, rho_max_m: f64, spacing_m: f64) -> Option<(i6
 }
 
 /// Mean straddle loss on the peak sample in dB, `E[−20 log10 max(δ, 1−δ)]` for `δ` uniform:
-/// 2.66 dB (PHYSICS.md §4.1, §7.2).
+/// 2.66 dB (docs/model.md §4.1, §7.2).
 pub fn straddle_loss_mean_db() -> f64 {
     // 2∫_{½}^{1} −20 log10 x dx, in closed form.
     let ln_half = 0.5f64.ln();

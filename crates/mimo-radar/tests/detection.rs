@@ -1,5 +1,5 @@
 //! Monte Carlo tests of noise, false alarms, detection probability, range centroid, monopulse and
-//! measurement consistency (PHYSICS.md §9 items 6–8, and the radar-side checks the brief lists).
+//! measurement consistency (docs/model.md §9 items 6–8, and the radar-side checks the brief lists).
 //! Fixed seeds; every tolerance is a stated confidence band.
 
 mod common;

@@ -1,7 +1,7 @@
 //! # mimo-report
 //!
 //! Charts of a [`mimo_metrics::Score`], as PNG and SVG, in the spirit of the seed paper's
-//! figures 6–14 (DESIGN.md §6). [`render_all`] writes into `score/charts/`:
+//! figures 6–14 (docs/design.md §6). [`render_all`] writes into `score/charts/`:
 //!
 //! | file stem | content |
 //! |---|---|

@@ -1,4 +1,4 @@
-//! Flight kinematics (PHYSICS.md §8.1, §8.2): manoeuvre schedules, the RK4 integration of a
+//! Flight kinematics (docs/model.md §8.1, §8.2): manoeuvre schedules, the RK4 integration of a
 //! reference path on the WGS-84 ellipsoid, formation offsets and the exact member state.
 
 use crate::error::ScenarioError;
@@ -7,7 +7,7 @@ use glam::DVec3;
 use mimo_core::G0_MPS2;
 use mimo_core::geo::{Geodetic, enu_from_ecef, meridian_radius_m, prime_vertical_radius_m};
 
-/// Integration step and sample spacing of every trajectory (s). PHYSICS.md §8.1 asks for
+/// Integration step and sample spacing of every trajectory (s). docs/model.md §8.1 asks for
 /// dt ≤ 0.05 s.
 pub const STEP_S: f64 = 0.05;
 
@@ -434,7 +434,7 @@ pub(crate) fn node(c: &Controls, t: f64, y: RefState) -> RefNode {
 }
 
 /// ECEF position and velocity of a point at `offset` (changing at `rate`) from a reference
-/// sample, in the reference's local horizontal frame (PHYSICS.md §8.2), differentiated exactly
+/// sample, in the reference's local horizontal frame (docs/model.md §8.2), differentiated exactly
 /// (including the rotation of the local frame along the path).
 pub(crate) fn member_state(n: &RefNode, o: Offset, rate: Offset) -> (DVec3, DVec3) {
     let RefState { lat, lon, alt, psi } = n.s;

@@ -12,7 +12,7 @@
 //!   ([`Ship::position_at`], [`Ship::faces_at`]) and whether it could see a point
 //!   ([`Ship::sees`]).
 //! * [`Scenario::build_trajectories`] flies every target once (RK4 on the WGS-84 ellipsoid at
-//!   [`STEP_S`], PHYSICS.md §8) and checks it against its flight envelope; the resulting
+//!   [`STEP_S`], docs/model.md §8) and checks it against its flight envelope; the resulting
 //!   [`Trajectories`] evaluate any target at any time cheaply ([`Trajectories::state_at`]) and
 //!   produce the truth table ([`Trajectories::truth_rows`]). Truth is deterministic.
 //!
@@ -104,7 +104,7 @@ impl Scenario {
 
     /// The scenario centre: the point on the ellipsoid (height 0) below the centroid of the
     /// ships' start positions. A natural origin for a fixed local ENU tracking frame
-    /// (PHYSICS.md §6.1) and for plots.
+    /// (docs/model.md §6.1) and for plots.
     pub fn centre(&self) -> Geodetic {
         let n = self.ships.len().max(1) as f64;
         let sum = self.ships.iter().map(|s| s.start_position().to_ecef()).fold(glam::DVec3::ZERO, |a, b| a + b);

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 /// Default scenario duration (s), as in the seed paper.
 pub const DEFAULT_DURATION_S: f64 = 1000.0;
-/// Default height of a ship's array centre above the ellipsoid (m), PHYSICS.md §1.3.
+/// Default height of a ship's array centre above the ellipsoid (m), docs/model.md §1.3.
 pub const DEFAULT_ARRAY_HEIGHT_M: f64 = 20.0;
 /// Default time over which a manoeuvre ramps its acceleration (or climb rate) up and down (s).
 pub const DEFAULT_RAMP_S: f64 = 1.0;
@@ -128,7 +128,7 @@ impl LatLonAlt {
 }
 
 /// A position in a formation's moving frame: metres ahead of, to the right of and above the
-/// reference point, in the local horizontal frame of the reference heading (PHYSICS.md §8.2).
+/// reference point, in the local horizontal frame of the reference heading (docs/model.md §8.2).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Offset {
@@ -147,7 +147,7 @@ impl std::ops::Sub for Offset {
     }
 }
 
-/// A formation: a reference path flown per PHYSICS.md §8.1, members at offsets from it, smooth
+/// A formation: a reference path flown per docs/model.md §8.1, members at offsets from it, smooth
 /// changes of those offsets (crossovers), and optionally a split into sub-groups that fly on
 /// their own.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -271,7 +271,7 @@ impl Manoeuvre {
 
 /// A smooth change of some members' offsets over `[start_s, start_s + duration_s]` with the
 /// quintic smoothstep s(x) = 10x³ − 15x⁴ + 6x⁵ (zero rate and acceleration at both ends), plus an
-/// optional vertical pass `pass_up_m · sin²(πx)` for deconfliction (PHYSICS.md §8.2). When two
+/// optional vertical pass `pass_up_m · sin²(πx)` for deconfliction (docs/model.md §8.2). When two
 /// sides trade places it is a crossover.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -328,7 +328,7 @@ pub struct Group {
     pub split: Option<Split>,
 }
 
-/// A single aircraft flying its own path (PHYSICS.md §8.1, §8.3).
+/// A single aircraft flying its own path (docs/model.md §8.1, §8.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Aircraft {

@@ -98,8 +98,8 @@ impl Ship {
 
     /// Could this radar see a target at ECEF `p_ecef`, `alt_m` above the ellipsoid, at `t_s`?
     /// True when the target is between the radar's minimum and instrumented range, above the
-    /// 4/3-earth horizon (PHYSICS.md §1.7) and inside some face's scan limit (§1.5). This is
-    /// the per-radar part of DESIGN.md §6's "scorable".
+    /// 4/3-earth horizon (docs/model.md §1.7) and inside some face's scan limit (§1.5). This is
+    /// the per-radar part of docs/design.md §6's "scorable".
     pub fn sees(&self, t_s: f64, p_ecef: DVec3, alt_m: f64) -> bool {
         let (site, heading) = self.pose_at(t_s);
         let s = site.to_ecef();

@@ -1,4 +1,4 @@
-//! Properties of the standard scenarios and their trajectories (PHYSICS.md §8, §9 item 10).
+//! Properties of the standard scenarios and their trajectories (docs/model.md §8, §9 item 10).
 
 use glam::DVec3;
 use mimo_core::G0_MPS2;
@@ -120,7 +120,7 @@ fn speeds_and_accelerations_stay_inside_each_envelope() {
         );
         // The stored velocity is the derivative of the stored position. The central difference
         // is exact to O(h²) except where the acceleration steps, by ΔA·h/4: the only step is the
-        // start and end of the sin² vertical pass of a crossover (PHYSICS.md §8.2), ΔA =
+        // start and end of the sin² vertical pass of a crossover (docs/model.md §8.2), ΔA =
         // 2π²·150 m / (20 s)² = 7.4 m/s², which gives 0.093 m/s.
         assert!(worst_v_err < 0.1, "{}: velocity vs positions {worst_v_err} m/s", target.id);
         if target.id.starts_with("F-") {

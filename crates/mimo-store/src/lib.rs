@@ -9,7 +9,7 @@
 //!   temporary name and renamed, carry the table name and schema version in their key-value
 //!   metadata, and are byte-identical for identical rows (no timestamps, single row group
 //!   layout fixed by the writer properties).
-//! * [`rundir`]: the run directory of DESIGN.md §2 — staging, atomic publication, `--force`,
+//! * [`rundir`]: the run directory of docs/design.md §2 — staging, atomic publication, `--force`,
 //!   and [`manifest::Manifest`].
 
 pub mod columns;

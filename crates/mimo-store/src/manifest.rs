@@ -1,4 +1,4 @@
-//! `manifest.json`: what made a run (DESIGN.md §2).
+//! `manifest.json`: what made a run (docs/design.md §2).
 //!
 //! The manifest is written last, so a directory without one is not a finished run. Tables are
 //! byte-identical for the same inputs and seed; the manifest is not quite (it holds wall-clock

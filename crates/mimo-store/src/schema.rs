@@ -1,6 +1,6 @@
 //! Table schemas, defined once.
 //!
-//! Each table of DESIGN.md §3 is a [`TableSpec`]: an ordered list of [`ColumnSpec`]s giving the
+//! Each table of docs/design.md §3 is a [`TableSpec`]: an ordered list of [`ColumnSpec`]s giving the
 //! column name, type, unit and meaning. The Arrow schema (with the unit and description in each
 //! field's metadata), the files under `schemas/` and the readers' validation are all derived from
 //! these specs, so they cannot drift apart; a test fails when `schemas/` and the code disagree.

@@ -1,4 +1,4 @@
-//! Hypotheses and data association (PHYSICS.md §6.5).
+//! Hypotheses and data association (docs/model.md §6.5).
 //!
 //! The tracker fills a [`HypothesisTable`] (one row per track, one column per measurement of one
 //! receive channel, `None` outside the gate) and an [`Associator`] turns it into at most one

@@ -1,4 +1,4 @@
-//! Track deletion (PHYSICS.md §6.4).
+//! Track deletion (docs/model.md §6.4).
 //!
 //! [`Deleter`] is the family trait; the tracker asks it about every live track after each dwell.
 //! [`MissCountDeleter`] drops a confirmed track after `n_miss` consecutive missed looks,

@@ -5,7 +5,7 @@
 //! the IMM alike. [`TrackFilter`] is the family trait; [`SingleModelFilter`] and [`ImmFilter`] are
 //! the implementations. The IMM follows filterpy's `IMMEstimator` (mixing, mode-matched
 //! filtering, mode-probability update, moment-matched combination) with the time-dependent mode
-//! transition matrix of PHYSICS.md §6.3.
+//! transition matrix of docs/model.md §6.3.
 
 use crate::association::Hypothesis;
 use crate::frame::Gaussian;
@@ -171,7 +171,7 @@ pub struct ImmFilter {
     /// One predictor per mode.
     pub predictors: Vec<Box<dyn Predictor>>,
     /// Mean sojourn time of each mode (s): mode `i` is left over `T` seconds with probability
-    /// `1 − exp(−T/τ_i)`, spread evenly over the other modes (PHYSICS.md §6.3).
+    /// `1 − exp(−T/τ_i)`, spread evenly over the other modes (docs/model.md §6.3).
     pub sojourn_s: Vec<f64>,
     /// Mode probabilities of a new track.
     pub initial_mu: Vec<f64>,

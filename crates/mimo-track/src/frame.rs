@@ -1,4 +1,4 @@
-//! The tracking frame (PHYSICS.md §1.2, §6.1).
+//! The tracking frame (docs/model.md §1.2, §6.1).
 //!
 //! Tracks live in one fixed ENU frame at the scenario centre: ECEF rotated and translated, so that
 //! "horizontal" means something for manoeuvre models and the covariance arithmetic never sees

@@ -1,4 +1,4 @@
-//! Gating (PHYSICS.md §6.5) and χ² helpers for consistency checks (§6.6).
+//! Gating (docs/model.md §6.5) and χ² helpers for consistency checks (§6.6).
 
 use crate::association::Hypothesis;
 use serde::{Deserialize, Serialize};
@@ -120,7 +120,7 @@ mod tests {
 
     #[test]
     fn bands_match_physics_md() {
-        // PHYSICS.md §6.6: n = 6, N = 50 → [5.08, 7.00]; n = 3 → [2.36, 3.72].
+        // docs/model.md §6.6: n = 6, N = 50 → [5.08, 7.00]; n = 3 → [2.36, 3.72].
         let (lo, hi) = chi2_mean_band(6.0, 50.0, 0.95);
         assert!((lo - 5.08).abs() < 0.01 && (hi - 7.00).abs() < 0.01, "{lo} {hi}");
         let (lo, hi) = chi2_mean_band(3.0, 50.0, 0.95);

@@ -3,7 +3,7 @@
 //! The tracker never owns ship motion. The caller (the simulator's test article, or the offline
 //! replayer reading a scenario) implements [`SensorGeometry`]; ships may steam slowly, so every
 //! query carries the time. [`StaticGeometry`] is a ready-made implementation for stationary ships
-//! built from [`RadarParams`] (PHYSICS.md §1.3).
+//! built from [`RadarParams`] (docs/model.md §1.3).
 
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;

@@ -1,4 +1,4 @@
-//! Track initiation and confirmation (PHYSICS.md §6.4).
+//! Track initiation and confirmation (docs/model.md §6.4).
 //!
 //! [`Initiator`] turns a search detection that no track claimed into a tentative track:
 //! [`OnePointInitiator`] at once (position from the bistatic ruv→cart map with covariance

@@ -3,7 +3,7 @@
 //! Tracking components for `mimo`, in the spirit of Stone Soup: one small trait per component
 //! family, the built-in implementations, and trackers composed from them. Configuration is plain
 //! serde structs whose every field has a documented default ([`TrackerConfig`]). The physics and
-//! parameter choices follow PHYSICS.md §5.4 (measurement model), §6 (tracking) and §7 (revisit
+//! parameter choices follow docs/model.md §5.4 (measurement model), §6 (tracking) and §7 (revisit
 //! and energy).
 //!
 //! ## Frames
@@ -37,7 +37,7 @@
 //!
 //! 1. Measurement rows are validated (bad rows are skipped and counted, never a panic) and put in
 //!    the tracking frame as `z = (R_B = 2ρ, u, v)` with `R = diag(4σ_ρ², σ_u², σ_v²)`,
-//!    inflated for `merged` rows (PHYSICS.md §2.7).
+//!    inflated for `merged` rows (docs/model.md §2.7).
 //! 2. Per receive channel (tx, rx), in a fixed order: every track is predicted to the
 //!    measurement time, gated on its NIS, and the channel's measurements are assigned by GNN
 //!    (exact assignment with a miss option); a `merged` measurement may also update a gated

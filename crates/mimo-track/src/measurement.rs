@@ -1,4 +1,4 @@
-//! Measurement models (PHYSICS.md §5.4).
+//! Measurement models (docs/model.md §5.4).
 //!
 //! A detection on receiver face `i` of a transmission from site `t` measures
 //! `z = (R_B, u_r, v_r)`: the bistatic range sum and the direction cosines in the receiver face.
@@ -74,7 +74,7 @@ impl BistaticRuv {
         [rb, l.x / r, l.y / r]
     }
 
-    /// `∂h/∂p` (3×3) of a position (PHYSICS.md §5.4; TCL `rangeGradient`, `uvGradient`).
+    /// `∂h/∂p` (3×3) of a position (docs/model.md §5.4; TCL `rangeGradient`, `uvGradient`).
     pub fn jacobian_pos(&self, p: DVec3) -> Mat3 {
         let dt = p - self.tx;
         let dr = p - self.rx;
@@ -91,7 +91,7 @@ impl BistaticRuv {
         [grad_rb.to_array(), du.to_array(), dv.to_array()]
     }
 
-    /// Position from a measurement (PHYSICS.md §5.4, TCL `ruv2Cart`) and the Jacobian
+    /// Position from a measurement (docs/model.md §5.4, TCL `ruv2Cart`) and the Jacobian
     /// `∂p/∂(R_B, u, v)` (analytic, bistatic and monostatic). `None` when the measurement is not a
     /// valid point in front of the face (`u² + v² ≥ 1`, `R_B` not above the baseline, non-finite).
     pub fn ruv_to_cart(&self, z: &Vec3) -> Option<(DVec3, Mat3)> {
@@ -202,13 +202,13 @@ impl MeasurementModel for PositionMeasurement {
 #[serde(default, deny_unknown_fields)]
 pub struct MeasurementConfig {
     /// Standard deviation added in quadrature to u and v of a `merged` measurement (sine space).
-    /// Default θ/4 = 0.0252/4 (PHYSICS.md §2.7, "a fixed (θ/4)²").
+    /// Default θ/4 = 0.0252/4 (docs/model.md §2.7, "a fixed (θ/4)²").
     pub merged_angle_std: f64,
     /// Standard deviation added in quadrature to ρ of a `merged` measurement (m). Default ΔR/2 =
     /// 15 m: the range centroid of two unresolved returns is off by up to half a cell.
     pub merged_range_std_m: f64,
     /// Floor on σ_ρ (m) applied to every row, guarding the filter against zero variances.
-    /// Default 1e-3 m (the radar applies its own, larger floors, PHYSICS.md §4.6).
+    /// Default 1e-3 m (the radar applies its own, larger floors, docs/model.md §4.6).
     pub range_std_floor_m: f64,
     /// Floor on σ_u and σ_v. Default 1e-7.
     pub angle_std_floor: f64,
@@ -441,7 +441,7 @@ mod tests {
         let (r, u, v) = (80_000.0, 0.2, -0.1);
         let w = f64::sqrt(1.0 - u * u - v * v);
         let (_, j) = m.ruv_to_cart(&[2.0 * r, u, v]).expect("valid");
-        // PHYSICS.md §5.4: columns ∂/∂(r, u, v) = Mᵀ [[u, r, 0], [v, 0, r], [w, −ru/w, −rv/w]];
+        // docs/model.md §5.4: columns ∂/∂(r, u, v) = Mᵀ [[u, r, 0], [v, 0, r], [w, −ru/w, −rv/w]];
         // our first column is ∂/∂R_B = ½ ∂/∂r.
         let cols = [DVec3::new(u, v, w) * 0.5, DVec3::new(r, 0.0, -r * u / w), DVec3::new(0.0, r, -r * v / w)];
         for (c, col) in cols.iter().enumerate() {

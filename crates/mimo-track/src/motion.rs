@@ -1,4 +1,4 @@
-//! Motion models and the predictor (PHYSICS.md §6.1, §6.3).
+//! Motion models and the predictor (docs/model.md §6.1, §6.3).
 //!
 //! [`MotionModel`] is the family trait: a (possibly nonlinear) state transition with its Jacobian
 //! and process noise. [`Ncv`] is the nearly-constant-velocity model with DWNA or CWNA noise
@@ -105,7 +105,7 @@ impl MotionModel for Ncv {
 
 /// Coordinated turn at a known, fixed rate `omega_radps` (positive = counter-clockwise seen from
 /// above, i.e. a left turn in ENU) in the horizontal plane, constant velocity vertically, with
-/// the given acceleration noise on all axes (PHYSICS.md §6.3 with ω not estimated; TCL
+/// the given acceleration noise on all axes (docs/model.md §6.3 with ω not estimated; TCL
 /// `FCoordTurn2D`). Linear in the state, so the Jacobian is the transition itself.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct HorizontalTurn {

@@ -1,4 +1,4 @@
-//! Pure policy functions the scheduler calls (PHYSICS.md §7): adaptive revisit interval, which
+//! Pure policy functions the scheduler calls (docs/model.md §7): adaptive revisit interval, which
 //! tracks are due, and dwell energy. No event logic lives here; `mimo-sim` owns the timeline.
 
 use crate::frame::dmat3_rows;
@@ -13,13 +13,13 @@ use serde::{Deserialize, Serialize};
 #[serde(deny_unknown_fields, default)]
 pub struct RevisitPolicy {
     /// Track sharpness V₀: the predicted u–v standard deviation allowed at the revisit, as a
-    /// fraction of the beamwidth. Default 0.2 (PHYSICS.md §7.1).
+    /// fraction of the beamwidth. Default 0.2 (docs/model.md §7.1).
     pub sharpness_v0: f64,
     /// Shortest revisit interval (s). Default 0.25.
     pub t_min_s: f64,
     /// Longest revisit interval (s). Default 4.
     pub t_max_s: f64,
-    /// Sine-space beamwidth θ (default 0.0252, PHYSICS.md §3.3).
+    /// Sine-space beamwidth θ (default 0.0252, docs/model.md §3.3).
     pub beamwidth: f64,
     /// Delay before a confirmation dwell on a tentative track (s). Default 0.3.
     pub confirm_delay_s: f64,
@@ -65,7 +65,7 @@ pub fn uv_std_max(g: &Gaussian, face: &LocalFace) -> f64 {
     sym2_eigenvalues(&uv_covariance(g, face)).0.max(0.0).sqrt()
 }
 
-/// Covariance-based revisit interval (PHYSICS.md §7.1): the largest `T` in
+/// Covariance-based revisit interval (docs/model.md §7.1): the largest `T` in
 /// `[t_min_s, t_max_s]` with `√λ_max(P_uv(T)) ≤ V₀ θ`, where `predict(T)` is the (IMM-combined)
 /// prediction `T` seconds after the last update. Returns `t_min_s` when even that is too late
 /// and `t_max_s` when the track stays sharp throughout. Bisection to 1 ms, assuming the
@@ -105,7 +105,7 @@ pub struct DueInfo {
 
 /// Tracks due at `t_now` (next look at or before `t_now + lookahead_s`), in scheduling order:
 /// confirmed tracks before tentative ones (track dwells before confirmation dwells,
-/// PHYSICS.md §7.3), then by due time, then by id. Deleted tracks are never due.
+/// docs/model.md §7.3), then by due time, then by id. Deleted tracks are never due.
 pub fn due_tracks(tracks: &[DueInfo], t_now: f64, lookahead_s: f64) -> Vec<u64> {
     let mut due: Vec<&DueInfo> =
         tracks.iter().filter(|t| t.status != TrackStatus::Deleted && t.next_due_s <= t_now + lookahead_s).collect();
@@ -120,7 +120,7 @@ pub fn due_tracks(tracks: &[DueInfo], t_now: f64, lookahead_s: f64) -> Vec<u64> 
 }
 
 /// Required single-look SNR (linear) for a Swerling 1 target with one coherent sample:
-/// `ln P_FA / ln P_D − 1` (PHYSICS.md §7.2; 21.1 dB for P_D = 0.9, P_FA = 1e-6).
+/// `ln P_FA / ln P_D − 1` (docs/model.md §7.2; 21.1 dB for P_D = 0.9, P_FA = 1e-6).
 pub fn required_snr_sw1(pfa: f64, pd: f64) -> f64 {
     pfa.ln() / pd.ln() - 1.0
 }
@@ -131,7 +131,7 @@ pub fn beam_pointing_gain_monostatic(v0: f64) -> f64 {
     1.0 / (1.0 + 16.0 * std::f64::consts::LN_2 * v0 * v0)
 }
 
-/// Average straddle loss of the range sampling (linear, 2.7 dB, PHYSICS.md §4.1).
+/// Average straddle loss of the range sampling (linear, 2.7 dB, docs/model.md §4.1).
 pub const STRADDLE_LOSS_LIN: f64 = 1.862_087_136_662_868;
 
 /// Pulses for a dwell: `⌈SNR_req · L / SNR₁⌉` clipped to `[1, n_max]`, where `snr1_lin` is the

@@ -65,7 +65,7 @@ impl FromStr for TrackerKind {
     }
 }
 
-/// IMM configuration (PHYSICS.md §6.3).
+/// IMM configuration (docs/model.md §6.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ImmConfig {
@@ -118,7 +118,7 @@ impl Default for InitiatorConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum InitiateOn {
-    /// Only search dwells (PHYSICS.md §6.4).
+    /// Only search dwells (docs/model.md §6.4).
     Search,
     /// Search dwells, and the monostatic channel of any other dwell: a second target that
     /// shows up in a track dwell's beam (a formation opening up) starts its own track at once,
@@ -137,7 +137,7 @@ pub struct TrackerConfig {
     /// Which filter: `default` (EKF NCV) or `imm`.
     pub kind: TrackerKind,
     /// Process noise of the default tracker's NCV model. Default DWNA σ_a = 15 m/s², between
-    /// the non-manoeuvring (3–5) and manoeuvring (20–30) fighter values of PHYSICS.md §6.1: in
+    /// the non-manoeuvring (3–5) and manoeuvring (20–30) fighter values of docs/model.md §6.1: in
     /// this crate's checks it holds an n = 3 level turn (27.7 m/s², the standard scenarios'
     /// hardest) at 1 s revisit, where σ_a = 10 loses it, and costs about 5 % of straight-flight
     /// accuracy. Use `imm` for better accuracy on both.
@@ -171,7 +171,7 @@ pub struct TrackerConfig {
     /// half-power beam); 0 disables beam-based misses.
     pub beam_miss_fraction: f64,
     /// Let a `merged` measurement also update gated tracks left without a measurement by GNN
-    /// (PHYSICS.md §6.5). Default true.
+    /// (docs/model.md §6.5). Default true.
     pub share_merged: bool,
 }
 
@@ -606,7 +606,7 @@ impl MultiTargetTracker {
         (out.rho_m.is_finite() && out.u.is_finite() && out.v.is_finite()).then_some(out)
     }
 
-    /// Covariance-based revisit interval of a track seen from `face` (PHYSICS.md §7.1), measured
+    /// Covariance-based revisit interval of a track seen from `face` (docs/model.md §7.1), measured
     /// from its last update.
     pub fn revisit_interval(&self, id: u64, face: &FaceFrame) -> Option<f64> {
         let t = self.tracks.get(&id)?;

@@ -1,4 +1,4 @@
-//! The update step (PHYSICS.md §6.2).
+//! The update step (docs/model.md §6.2).
 //!
 //! [`Updater`] is the family trait. [`EkfUpdater`] is the extended Kalman filter in its careful
 //! form: the innovation covariance `S` is factored once (Cholesky), the gain is obtained by

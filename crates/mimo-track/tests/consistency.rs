@@ -1,4 +1,4 @@
-//! Single-target Monte Carlo consistency (PHYSICS.md §6.6, §9 item 9): N = 50 runs of a
+//! Single-target Monte Carlo consistency (docs/model.md §6.6, §9 item 9): N = 50 runs of a
 //! non-manoeuvring target (DWNA truth matching the filter's process noise), measurements
 //! simulated from truth with Gaussian noise of the reported variances. ANEES (n = 6) must lie in
 //! [5.08, 7.00], position-only ANEES in [2.36, 3.72], and the average NIS in its χ² band, for

@@ -1,4 +1,4 @@
-//! IMM behaviour in a 5 g turn (PHYSICS.md §6.3): the CV-high mode probability rises during the
+//! IMM behaviour in a 5 g turn (docs/model.md §6.3): the CV-high mode probability rises during the
 //! turn, and the IMM's RMS position error during the turn is smaller than that of an EKF with
 //! the CV-low model alone. Also: the default tracker's EKF (σ_a = 15 m/s²) holds an n = 3 turn
 //! at 1 s revisit, as its configuration documents.
