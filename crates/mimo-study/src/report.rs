@@ -3,12 +3,22 @@
 //! each method fails under stress, and the summary table.
 
 use crate::charts::COMPLETENESS_REQUIRED;
-use crate::grid::{Cell, value_text};
+use crate::grid::Cell;
 use crate::plan::{MethodTa, Plan, Sweep};
 use crate::tables::CellSummary;
 use mimo_report::study::StudyCharts;
 use mimo_store::schema::STUDY_METRICS;
 use std::fmt::Write;
+
+/// A value as a reader writes it: `0.25`, `-3`, `1e-6` (paths use `grid::value_text`).
+fn value_text(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e6) {
+        crate::grid::value_text(v)
+    } else {
+        let s = format!("{v:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
 
 fn k(name: &str) -> usize {
     STUDY_METRICS.iter().position(|(n, _, _)| *n == name).unwrap_or(0)
@@ -211,4 +221,13 @@ pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &Stu
         let _ = writeln!(o, "\n## Failed runs\n\n{}", failures.join("\n"));
     }
     o
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn values_read_as_written() {
+        let t: Vec<String> = [0.25, -3.0, 1e-6, 0.0, 2.0, 0.5].iter().map(|v| super::value_text(*v)).collect();
+        assert_eq!(t, ["0.25", "-3", "1e-6", "0", "2", "0.5"]);
+    }
 }
