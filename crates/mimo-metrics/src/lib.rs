@@ -95,6 +95,7 @@
 //! velocities, times, durations, energies), unknown enumeration value, unknown run.
 
 mod error;
+mod load;
 pub mod ospa;
 mod output;
 mod read;
@@ -108,13 +109,13 @@ pub use polars;
 pub use results::*;
 
 use glam::DVec3;
-use mimo_core::records::TrackStatus;
+use load::*;
 use polars::prelude::*;
-use read::{Check, Want, col as rcol, list_parquet, read_table};
+use read::list_parquet;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use track::{RunInput, TargetTally, TargetTruth, TrackLife, TrackState, TruthSample};
+use track::{RunInput, TargetTally, TargetTruth, TrackLife};
 
 /// Decides whether a truth is scorable: `(t_s, position ECEF (m), altitude (m)) → bool`.
 pub type ScorablePredicate = Box<dyn Fn(f64, DVec3, f64) -> bool + Send + Sync>;
@@ -227,167 +228,6 @@ impl ScoreOptions {
         }
         Ok(())
     }
-}
-
-const TRACK_STATUSES: &[&str] = &["tentative", "confirmed", "deleted"];
-const ROLES: &[&str] = &["tx", "rx", "txrx"];
-const REQUESTERS: &[&str] = &["radar", "ta"];
-const KINDS: &[&str] = &["search", "confirm", "track", "mimo"];
-
-fn u32s(df: &DataFrame, name: &str) -> Result<Vec<u32>, MetricsError> {
-    let c = df.column(name).map_err(error::internal("column"))?;
-    Ok(c.u32().map_err(error::internal("column"))?.no_null_iter().collect())
-}
-fn u64s(df: &DataFrame, name: &str) -> Result<Vec<u64>, MetricsError> {
-    let c = df.column(name).map_err(error::internal("column"))?;
-    Ok(c.u64().map_err(error::internal("column"))?.no_null_iter().collect())
-}
-fn f64s(df: &DataFrame, name: &str) -> Result<Vec<f64>, MetricsError> {
-    let c = df.column(name).map_err(error::internal("column"))?;
-    Ok(c.f64().map_err(error::internal("column"))?.no_null_iter().collect())
-}
-fn vec3s(df: &DataFrame, names: [&str; 3]) -> Result<Vec<DVec3>, MetricsError> {
-    let (x, y, z) = (f64s(df, names[0])?, f64s(df, names[1])?, f64s(df, names[2])?);
-    Ok(x.iter().zip(&y).zip(&z).map(|((&x, &y), &z)| DVec3::new(x, y, z)).collect())
-}
-
-/// Truth grouped by run and target.
-struct Truth {
-    runs: Vec<u32>,
-    target_names: Vec<String>,
-    per_run: BTreeMap<u32, Vec<TargetTruth>>,
-    t_end: BTreeMap<u32, f64>,
-}
-
-fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, Any),
-        rcol("t_s", F64, Finite),
-        rcol("target", Utf8, Any),
-        rcol("x_m", F64, Finite),
-        rcol("y_m", F64, Finite),
-        rcol("z_m", F64, Finite),
-        rcol("vx_mps", F64, Finite),
-        rcol("vy_mps", F64, Finite),
-        rcol("vz_mps", F64, Finite),
-        rcol("alt_m", F64, Finite),
-    ];
-    let df = read_table("truth", paths, &cols)?;
-    let df = df
-        .sort(["run", "target", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
-        .map_err(error::internal("sorting truth"))?;
-    let run = u32s(&df, "run")?;
-    let t = f64s(&df, "t_s")?;
-    let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
-    let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
-    let alt = f64s(&df, "alt_m")?;
-    let target_col = df.column("target").map_err(error::internal("truth target"))?;
-    let targets = target_col.str().map_err(error::internal("truth target"))?;
-
-    let mut names: BTreeSet<String> = BTreeSet::new();
-    for s in targets.no_null_iter() {
-        if !names.contains(s) {
-            names.insert(s.to_string());
-        }
-    }
-    let target_names: Vec<String> = names.into_iter().collect();
-    let index: BTreeMap<&str, usize> = target_names.iter().enumerate().map(|(i, s)| (s.as_str(), i)).collect();
-
-    let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();
-    let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
-    let mut current: Option<(u32, &str)> = None;
-    for (i, name) in targets.no_null_iter().enumerate() {
-        let key = (run[i], name);
-        let list = per_run.entry(run[i]).or_default();
-        if current != Some(key) {
-            let target = index.get(name).copied().unwrap_or(0);
-            list.push(TargetTruth { target, samples: Vec::new() });
-            current = Some(key);
-        }
-        if let Some(tt) = list.last_mut() {
-            tt.samples.push(TruthSample { t: t[i], p: p[i], v: v[i], alt: alt[i] });
-        }
-        let e = t_end.entry(run[i]).or_insert(f64::NEG_INFINITY);
-        *e = e.max(t[i]);
-    }
-    Ok(Truth { runs: per_run.keys().copied().collect(), target_names, per_run, t_end })
-}
-
-fn load_tracks(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, RunIn(runs)),
-        rcol("t_s", F64, Finite),
-        rcol("track_id", U64, Any),
-        rcol("status", Utf8, OneOf(TRACK_STATUSES)),
-        rcol("x_m", F64, Finite),
-        rcol("y_m", F64, Finite),
-        rcol("z_m", F64, Finite),
-        rcol("vx_mps", F64, Finite),
-        rcol("vy_mps", F64, Finite),
-        rcol("vz_mps", F64, Finite),
-    ];
-    let df = read_table("tracks", paths, &cols)?;
-    let df = df
-        .sort(["run", "track_id", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
-        .map_err(error::internal("sorting tracks"))?;
-    let run = u32s(&df, "run")?;
-    let id = u64s(&df, "track_id")?;
-    let t = f64s(&df, "t_s")?;
-    let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
-    let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
-    let status_col = df.column("status").map_err(error::internal("track status"))?;
-    let status = status_col.str().map_err(error::internal("track status"))?;
-
-    let mut out: BTreeMap<u32, Vec<TrackLife>> = BTreeMap::new();
-    let mut current: Option<(u32, u64)> = None;
-    let mut ended = false;
-    for (i, s) in status.no_null_iter().enumerate() {
-        let key = (run[i], id[i]);
-        let list = out.entry(run[i]).or_default();
-        if current != Some(key) {
-            list.push(TrackLife { id: id[i], t_confirm: f64::INFINITY, t_delete: f64::INFINITY, states: Vec::new() });
-            current = Some(key);
-            ended = false;
-        }
-        let Some(tr) = list.last_mut() else { continue };
-        if ended {
-            continue;
-        }
-        match TrackStatus::parse(s) {
-            Some(TrackStatus::Deleted) => {
-                tr.t_delete = t[i];
-                ended = true;
-            }
-            Some(TrackStatus::Confirmed) => {
-                if !tr.t_confirm.is_finite() {
-                    tr.t_confirm = t[i];
-                }
-                tr.states.push(TrackState { t: t[i], p: p[i], v: v[i] });
-            }
-            _ => tr.states.push(TrackState { t: t[i], p: p[i], v: v[i] }),
-        }
-    }
-    Ok(out)
-}
-
-fn load_dwells(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<DataFrame, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, RunIn(runs)),
-        rcol("radar", Utf8, Radar),
-        rcol("role", Utf8, OneOf(ROLES)),
-        rcol("kind", Utf8, OneOf(KINDS)),
-        rcol("requested_by", Utf8, OneOf(REQUESTERS)),
-        rcol("t_s", F64, FiniteNonNeg),
-        rcol("duration_s", F64, FiniteNonNeg),
-        rcol("energy_j", F64, FiniteNonNeg),
-    ];
-    read_table("dwells", paths, &cols)
 }
 
 fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
