@@ -5,11 +5,17 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-pub(crate) type DrawResult = Result<(), String>;
+/// A drawing failure inside plotters. Its error types are generic over the backend (bitmap or
+/// SVG), so what is kept is the backend's message; the caller adds the chart's path.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub(crate) struct DrawError(pub(crate) String);
 
-/// Map any plotters error to a string.
-pub(crate) fn e<E: std::fmt::Display>(err: E) -> String {
-    err.to_string()
+pub(crate) type DrawResult = Result<(), DrawError>;
+
+/// Map any plotters error to a [`DrawError`].
+pub(crate) fn e<E: std::fmt::Display>(err: E) -> DrawError {
+    DrawError(err.to_string())
 }
 
 pub(crate) const FONT: &str = "sans-serif";

@@ -84,7 +84,7 @@ fn render(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), ReportErro
     let ext = path.extension().and_then(|x| x.to_str()).unwrap_or("png").to_ascii_lowercase();
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp.{ext}"));
-    let draw_err = |detail: String| ReportError::Draw { path: path.to_path_buf(), detail };
+    let draw_err = |err: draw::DrawError| ReportError::Draw { path: path.to_path_buf(), detail: err.0 };
     if ext == "svg" {
         let root = SVGBackend::new(&tmp, size).into_drawing_area();
         draw_any(&root, chart).map_err(draw_err)?;

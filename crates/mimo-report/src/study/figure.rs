@@ -1,0 +1,284 @@
+//! What each study chart shows: its panels, the points with their confidence bars, the
+//! non-dominated front, the stability bands and each method's failure point.
+
+use super::{Estimate, StudyAxis, StudyCell, StudyCharts};
+use crate::draw::{PALETTE, Swatch, fmt_num};
+use plotters::style::{BLACK, RGBColor};
+
+#[derive(Debug, Clone)]
+pub(super) struct Dot {
+    pub(super) color: RGBColor,
+    pub(super) x: f64,
+    pub(super) x_bar: Option<(f64, f64)>,
+    pub(super) y: f64,
+    pub(super) y_bar: Option<(f64, f64)>,
+    pub(super) label: Option<String>,
+}
+
+#[derive(Debug, Clone)]
+pub(super) struct ScatterPanel {
+    pub(super) title: Option<String>,
+    pub(super) x_label: String,
+    pub(super) y_label: String,
+    pub(super) log_x: bool,
+    pub(super) dots: Vec<Dot>,
+    pub(super) hline: Option<f64>,
+    pub(super) front: Vec<(f64, f64)>,
+}
+
+/// (x, mean, lo, hi)
+pub(super) type BandPoint = (f64, Option<f64>, Option<f64>, Option<f64>);
+
+#[derive(Debug, Clone)]
+pub(super) struct Band {
+    pub(super) color: RGBColor,
+    pub(super) points: Vec<BandPoint>,
+    pub(super) fail_at: Option<f64>,
+}
+
+#[derive(Debug, Clone)]
+pub(super) struct BandPanel {
+    pub(super) title: Option<String>,
+    pub(super) x_label: String,
+    pub(super) y_label: String,
+    pub(super) log_x: bool,
+    pub(super) bands: Vec<Band>,
+    pub(super) hline: Option<f64>,
+}
+
+#[derive(Debug, Clone)]
+pub(super) enum StudyPanel {
+    Scatter(ScatterPanel),
+    Bands(BandPanel),
+}
+
+/// A study chart: a title, panels in a grid and a legend strip.
+#[derive(Debug, Clone)]
+pub(crate) struct StudyChart {
+    pub(super) title: String,
+    pub(super) panels: Vec<StudyPanel>,
+    pub(super) columns: usize,
+    pub(super) legend: Vec<(String, Swatch)>,
+}
+fn method_color(charts: &StudyCharts, method: &str) -> RGBColor {
+    PALETTE[charts.methods.iter().position(|m| m == method).unwrap_or(0) % PALETTE.len()]
+}
+
+fn lg(v: f64, log: bool) -> f64 {
+    if log { v.max(1e-300).log10() } else { v }
+}
+
+/// The cells the scatter charts show for a (method, scenario): the baseline cell, or all cells
+/// when there is none.
+fn shown<'a>(charts: &'a StudyCharts, method: &str, scenario: &str) -> Vec<&'a StudyCell> {
+    let of: Vec<&StudyCell> =
+        charts.cells.iter().filter(|c| c.method == method && c.scenario == scenario && c.runs > c.failed).collect();
+    match of.iter().find(|c| c.baseline) {
+        Some(c) => vec![*c],
+        None => of,
+    }
+}
+
+fn point_text(c: &StudyCell) -> Option<String> {
+    if c.baseline || c.point.is_empty() {
+        return None;
+    }
+    Some(c.point.iter().map(|(a, v)| format!("{a}={}", fmt_num(*v))).collect::<Vec<_>>().join(" "))
+}
+
+/// Points not dominated by another (x smaller is better, y larger is better), by increasing x.
+pub(super) fn front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut p: Vec<(f64, f64)> = points.to_vec();
+    p.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for q in p {
+        if out.last().is_none_or(|l| q.1 > l.1) {
+            out.push(q);
+        }
+    }
+    out
+}
+
+fn method_legend(charts: &StudyCharts) -> Vec<(String, Swatch)> {
+    charts.methods.iter().map(|m| (m.clone(), Swatch::Dot(method_color(charts, m)))).collect()
+}
+
+fn bar(e: Estimate, scale: f64) -> Option<(f64, f64)> {
+    Some((e.lo? * scale, e.hi? * scale))
+}
+
+pub(super) fn energy_vs_completeness(charts: &StudyCharts) -> StudyChart {
+    let mut panels = Vec::new();
+    for s in &charts.scenarios {
+        let mut dots = Vec::new();
+        for m in &charts.methods {
+            for c in shown(charts, m, s) {
+                let (x, y) = (c.get("ta_energy_per_object_j"), c.get("completeness"));
+                let (Some(xm), Some(ym)) = (x.mean, y.mean) else { continue };
+                dots.push(Dot {
+                    color: method_color(charts, m),
+                    x: xm,
+                    x_bar: bar(x, 1.0),
+                    y: 100.0 * ym,
+                    y_bar: bar(y, 100.0),
+                    label: point_text(c),
+                });
+            }
+        }
+        let pts: Vec<(f64, f64)> = dots.iter().map(|d| (d.x, d.y)).collect();
+        panels.push(StudyPanel::Scatter(ScatterPanel {
+            title: (charts.scenarios.len() > 1).then(|| format!("scenario {s}")),
+            x_label: "TA energy per scorable object (J)".into(),
+            y_label: "track completeness (%)".into(),
+            log_x: false,
+            front: front(&pts),
+            dots,
+            hline: Some(100.0 * charts.completeness_required),
+        }));
+    }
+    let mut legend = method_legend(charts);
+    legend.push((format!("{} % required", fmt_num(100.0 * charts.completeness_required)), Swatch::Dashed(BLACK)));
+    legend.push(("non-dominated front".into(), Swatch::Line(RGBColor(150, 150, 150), 2)));
+    legend.push(("bars: 95 % confidence intervals of the means".into(), Swatch::Line(RGBColor(90, 90, 90), 1)));
+    StudyChart {
+        title: format!("Energy against completeness — {}", charts.title),
+        columns: charts.scenarios.len().clamp(1, 4),
+        panels,
+        legend,
+    }
+}
+
+pub(super) fn compute_vs_accuracy(charts: &StudyCharts) -> StudyChart {
+    let several = charts.scenarios.len() > 1;
+    let panel = |metric: &str, y_label: &str| {
+        let mut dots = Vec::new();
+        for m in &charts.methods {
+            for s in &charts.scenarios {
+                for c in shown(charts, m, s) {
+                    let (Some(x), Some(y)) = (c.ta_cpu_per_sim_s, c.get(metric).mean) else { continue };
+                    if x <= 0.0 {
+                        continue;
+                    }
+                    let mut label = point_text(c);
+                    if several {
+                        label = Some(match label {
+                            Some(l) => format!("s{s} {l}"),
+                            None => format!("s{s}"),
+                        });
+                    }
+                    dots.push(Dot {
+                        color: method_color(charts, m),
+                        x: x.log10(),
+                        x_bar: None,
+                        y,
+                        y_bar: bar(c.get(metric), 1.0),
+                        label,
+                    });
+                }
+            }
+        }
+        StudyPanel::Scatter(ScatterPanel {
+            title: None,
+            x_label: "TA CPU seconds per simulated second (log)".into(),
+            y_label: y_label.into(),
+            log_x: true,
+            dots,
+            hline: None,
+            front: Vec::new(),
+        })
+    };
+    let mut legend = method_legend(charts);
+    legend.push(("bars: 95 % confidence intervals of the means".into(), Swatch::Line(RGBColor(90, 90, 90), 1)));
+    StudyChart {
+        title: format!("Compute against accuracy — {}", charts.title),
+        panels: vec![panel("position_rmse_m", "position RMSE (m)"), panel("gospa_m", "GOSPA (m)")],
+        columns: 2,
+        legend,
+    }
+}
+
+/// The cells of an axis's sweep for a (method, scenario), by axis value.
+pub(super) fn sweep_cells<'a>(charts: &'a StudyCharts, axis: &str, method: &str, scenario: &str) -> Vec<(f64, &'a StudyCell)> {
+    let mut out: Vec<(f64, &StudyCell)> = charts
+        .cells
+        .iter()
+        .filter(|c| c.method == method && c.scenario == scenario)
+        .filter(|c| match &c.swept {
+            Some(s) => s == axis,
+            // A full grid: the cells where every other axis is at its baseline.
+            None => other_base(charts, c, axis),
+        })
+        .filter_map(|c| c.point.iter().find(|(a, _)| a == axis).map(|(_, v)| (*v, c)))
+        .collect();
+    out.sort_by(|a, b| a.0.total_cmp(&b.0));
+    out.dedup_by(|a, b| a.0 == b.0);
+    out
+}
+
+/// Whether every axis of `c` other than `axis` has the value of the study's baseline cell.
+fn other_base(charts: &StudyCharts, c: &StudyCell, axis: &str) -> bool {
+    let Some(base) = charts.cells.iter().find(|b| b.baseline) else { return false };
+    c.point.iter().filter(|(a, _)| a != axis).all(|(a, v)| base.point.iter().any(|(b, w)| a == b && v == w))
+}
+
+/// The first value, from least to most stressing, where the method fails.
+pub(super) fn failure_point(ax: &StudyAxis, cells: &[(f64, &StudyCell)], required: f64) -> Option<f64> {
+    ax.values_by_stress.iter().copied().find(|v| {
+        cells
+            .iter()
+            .find(|(x, _)| x == v)
+            .is_some_and(|(_, c)| c.failed > 0 || c.get("completeness").mean.is_none_or(|m| m < required))
+    })
+}
+
+pub(super) fn stability(charts: &StudyCharts, ax: &StudyAxis) -> StudyChart {
+    let metrics = [
+        ("completeness", "track completeness (%)", 100.0),
+        ("switches", "track switches per run", 1.0),
+        ("ta_energy_per_object_j", "TA energy per scorable object (J)", 1.0),
+    ];
+    let mut panels = Vec::new();
+    for s in &charts.scenarios {
+        for (k, (metric, y_label, scale)) in metrics.iter().enumerate() {
+            let bands = charts
+                .methods
+                .iter()
+                .map(|m| {
+                    let cells = sweep_cells(charts, &ax.name, m, s);
+                    let fail_at = failure_point(ax, &cells, charts.completeness_required);
+                    Band {
+                        color: method_color(charts, m),
+                        points: cells
+                            .iter()
+                            .map(|(x, c)| {
+                                let e = c.get(metric);
+                                let f = |v: Option<f64>| v.map(|v| v * scale);
+                                (lg(*x, ax.log), f(e.mean), f(e.lo), f(e.hi))
+                            })
+                            .collect(),
+                        fail_at: fail_at.map(|v| lg(v, ax.log)),
+                    }
+                })
+                .collect();
+            let title = match (k, charts.scenarios.len() > 1) {
+                (0, true) => Some(format!("scenario {s}")),
+                _ => None,
+            };
+            panels.push(StudyPanel::Bands(BandPanel {
+                title,
+                x_label: ax.label.clone(),
+                y_label: (*y_label).into(),
+                log_x: ax.log,
+                bands,
+                hline: (k == 0).then_some(100.0 * charts.completeness_required),
+            }));
+        }
+    }
+    let mut legend = method_legend(charts);
+    legend.push(("band: 95 % confidence interval".into(), Swatch::Box(RGBColor(215, 215, 215))));
+    legend.push((
+        "× failure point (first value with completeness below the requirement or a failed run)".into(),
+        Swatch::Line(BLACK, 2),
+    ));
+    StudyChart { title: format!("Stability against {} — {}", ax.name, charts.title), panels, columns: 3, legend }
+}

@@ -1,0 +1,183 @@
+//! Charts of a study (docs/studies.md): methods side by side.
+//!
+//! | file stem | content |
+//! |---|---|
+//! | `energy_vs_completeness` | per scenario (one panel each), a point per method: the test article's energy per scorable object (x) against track completeness (y), both with their 95 % confidence intervals as bars, the required completeness as a dashed line and the non-dominated front (less energy, more completeness) as a grey step line |
+//! | `compute_vs_accuracy` | a point per method and scenario: the test article's CPU seconds per simulated second (log x) against position RMSE and against GOSPA |
+//! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; each method's failure point (the first value, from the least to the most stressing, where mean completeness falls below the requirement or a run fails) marked with a cross |
+//!
+//! The charts take plain figures ([`StudyCell`]), so this crate needs nothing of the study
+//! machinery. Logarithmic axes are drawn on log10 of the value with tick labels `1.0e-6`, ….
+//!
+//! The module has three parts: this file holds the figures a study hands over and the entry point;
+//! `figure` decides what each chart shows (panels, points, bands, the front, failure points);
+//! `paint` draws panels with plotters.
+
+mod figure;
+mod paint;
+
+pub(crate) use paint::draw_study_chart;
+
+use crate::{Chart, ReportError, ensure_font, save};
+pub(crate) use figure::StudyChart;
+use figure::{compute_vs_accuracy, energy_vs_completeness, stability};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A Monte Carlo mean and its 95 % confidence interval (null where undefined).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Estimate {
+    /// Mean.
+    pub mean: Option<f64>,
+    /// Lower end of the interval.
+    pub lo: Option<f64>,
+    /// Upper end of the interval.
+    pub hi: Option<f64>,
+}
+
+/// One cell of a study: a method on a scenario at a stress point.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StudyCell {
+    /// Method name.
+    pub method: String,
+    /// Scenario label.
+    pub scenario: String,
+    /// The axis this cell varies (one-axis-at-a-time sweeps).
+    pub swept: Option<String>,
+    /// Axis values at this cell (axis name, value).
+    pub point: Vec<(String, f64)>,
+    /// Whether every axis sits at its baseline here (the cell the scatter charts show).
+    pub baseline: bool,
+    /// Monte Carlo runs and how many failed.
+    pub runs: u32,
+    /// Failed runs.
+    pub failed: u32,
+    /// Metric name (as in the results table) → estimate.
+    pub metrics: BTreeMap<String, Estimate>,
+    /// Mean test-article CPU seconds per simulated second (from the costs table).
+    pub ta_cpu_per_sim_s: Option<f64>,
+}
+
+impl StudyCell {
+    fn get(&self, name: &str) -> Estimate {
+        self.metrics.get(name).copied().unwrap_or_default()
+    }
+}
+
+/// An axis of the study as the stability charts need it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyAxis {
+    /// Name (`rcs_offset_db`, …).
+    pub name: String,
+    /// Label with unit for the chart.
+    pub label: String,
+    /// Values, ordered from the least to the most stressing.
+    pub values_by_stress: Vec<f64>,
+    /// Draw on a logarithmic axis.
+    pub log: bool,
+}
+
+/// What the study charts show.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyCharts {
+    /// The plan's title.
+    pub title: String,
+    /// Methods in plan order (their colours follow this order).
+    pub methods: Vec<String>,
+    /// Scenarios in plan order.
+    pub scenarios: Vec<String>,
+    /// The swept axes.
+    pub axes: Vec<StudyAxis>,
+    /// Every cell.
+    pub cells: Vec<StudyCell>,
+    /// The completeness required (0.98).
+    pub completeness_required: f64,
+}
+
+/// A point with optional error bars.
+fn size_for(c: &StudyChart) -> (u32, u32) {
+    let cols = c.columns.max(1) as u32;
+    let rows = c.panels.len().div_ceil(c.columns.max(1)).max(1) as u32;
+    ((560 * cols).max(1400), 140 + 420 * rows)
+}
+
+/// Render every study chart into `dir` (created if needed) as PNG and SVG; returns the files
+/// written.
+pub fn render_study(charts: &StudyCharts, dir: &Path) -> Result<Vec<PathBuf>, ReportError> {
+    ensure_font()?;
+    std::fs::create_dir_all(dir).map_err(|err| ReportError::Io { path: dir.to_path_buf(), detail: err.to_string() })?;
+    let mut out = Vec::new();
+    let mut all = vec![
+        ("energy_vs_completeness".to_string(), energy_vs_completeness(charts)),
+        ("compute_vs_accuracy".to_string(), compute_vs_accuracy(charts)),
+    ];
+    for ax in &charts.axes {
+        all.push((format!("stability_{}", ax.name), stability(charts, ax)));
+    }
+    for (stem, chart) in all {
+        let size = size_for(&chart);
+        save(&Chart::Study(chart), dir, &stem, size, &mut out)?;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::figure::{failure_point, front, sweep_cells};
+    use super::*;
+
+    #[test]
+    fn the_front_keeps_the_non_dominated_points() {
+        // (energy, completeness): (3, 99) is dominated by (2, 99.5); (1, 90) and (5, 100) are not.
+        let pts = [(3.0, 99.0), (1.0, 90.0), (2.0, 99.5), (5.0, 100.0), (6.0, 100.0)];
+        assert_eq!(front(&pts), vec![(1.0, 90.0), (2.0, 99.5), (5.0, 100.0)]);
+    }
+
+    fn cell(method: &str, v: f64, completeness: f64, failed: u32) -> StudyCell {
+        let mut metrics = BTreeMap::new();
+        metrics.insert("completeness".into(), Estimate { mean: Some(completeness), lo: None, hi: None });
+        StudyCell {
+            method: method.into(),
+            scenario: "7".into(),
+            swept: Some("rcs_offset_db".into()),
+            point: vec![("rcs_offset_db".into(), v)],
+            baseline: v == 0.0,
+            runs: 3,
+            failed,
+            metrics,
+            ta_cpu_per_sim_s: Some(0.01),
+        }
+    }
+
+    #[test]
+    fn the_failure_point_walks_from_the_least_stress() {
+        let ax = StudyAxis {
+            name: "rcs_offset_db".into(),
+            label: "RCS offset (dB)".into(),
+            values_by_stress: vec![0.0, -3.0, -6.0, -9.0],
+            log: false,
+        };
+        let cells =
+            [cell("a", 0.0, 0.99, 0), cell("a", -3.0, 0.985, 0), cell("a", -6.0, 0.97, 0), cell("a", -9.0, 0.99, 1)];
+        let charts = StudyCharts {
+            title: "t".into(),
+            methods: vec!["a".into()],
+            scenarios: vec!["7".into()],
+            axes: vec![ax.clone()],
+            cells: cells.to_vec(),
+            completeness_required: 0.98,
+        };
+        let sw = sweep_cells(&charts, "rcs_offset_db", "a", "7");
+        assert_eq!(sw.iter().map(|s| s.0).collect::<Vec<_>>(), vec![-9.0, -6.0, -3.0, 0.0]);
+        assert_eq!(failure_point(&ax, &sw, 0.98), Some(-6.0));
+        // A failed run counts even when the completed runs look fine.
+        let sw2: Vec<(f64, &StudyCell)> = sw.iter().copied().filter(|(v, _)| *v != -6.0).collect();
+        assert_eq!(failure_point(&ax, &sw2, 0.98), Some(-9.0));
+        let dir = tempfile::tempdir().expect("tmp");
+        let files = render_study(&charts, dir.path()).expect("render");
+        assert_eq!(files.len(), 6, "{files:?}");
+        for f in files {
+            assert!(std::fs::metadata(&f).expect("file").len() > 1000, "{f:?}");
+        }
+    }
+}
