@@ -1,8 +1,15 @@
-//! Output tables (polars frames of the [`Score`] rows) and `score/` writing.
+//! Writing `score/`: each score table through its spec in `mimo_store::score_schema` (units in
+//! the Parquet metadata, mirrored to `schemas/score_*.json`), and `summary.json`.
 
 use crate::error::{MetricsError, internal};
-use crate::{AssignmentRow, RadarUsage, Score, TrackMetricsRow, UsageRow, UsageTotalRow};
-use polars::prelude::*;
+use crate::{AssignmentRow, RadarUsage, Score, TrackMetricsMeanRow, TrackMetricsRow, UsageRow, UsageTotalRow};
+use mimo_store::columns::{Column, write_columns};
+use mimo_store::schema::TableSpec;
+use mimo_store::score_schema::{
+    SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN, SCORE_USAGE, SCORE_USAGE_RADAR,
+    SCORE_USAGE_TOTAL, score_file_name,
+};
+use polars::prelude::{DataFrame, NamedFrom, Series};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use std::fs::File;
 use std::io::Write;
@@ -29,167 +36,93 @@ impl<T: Serialize> Serialize for NamedList<T> {
     }
 }
 
-fn c<T, P>(name: &str, values: Vec<T>) -> Column
-where
-    Series: NamedFrom<Vec<T>, P>,
-    P: ?Sized,
-{
-    Column::from(Series::new(name.into(), values))
-}
-
-fn frame(columns: Vec<Column>) -> Result<DataFrame, MetricsError> {
-    DataFrame::new_infer_height(columns).map_err(internal("building an output frame"))
+/// Each score table's values as store columns, in the order of its spec in
+/// `mimo_store::score_schema`; `write_columns` refuses any mismatch of name count, type or
+/// nullability, and a test checks the frames' names against the specs.
+macro_rules! columns {
+    ($rows:expr; $($kind:ident $f:ident),* $(,)?) => {
+        vec![$(columns!(@one $kind, $rows, $f)),*]
+    };
+    (@one u32, $rows:expr, $f:ident) => { Column::U32($rows.iter().map(|r| r.$f).collect()) };
+    (@one ou32, $rows:expr, $f:ident) => { Column::OptU32($rows.iter().map(|r| r.$f).collect()) };
+    (@one ou64, $rows:expr, $f:ident) => { Column::OptU64($rows.iter().map(|r| r.$f).collect()) };
+    (@one f64, $rows:expr, $f:ident) => { Column::F64($rows.iter().map(|r| Some(r.$f)).collect()) };
+    (@one of64, $rows:expr, $f:ident) => { Column::F64($rows.iter().map(|r| r.$f).collect()) };
+    (@one str, $rows:expr, $f:ident) => { Column::Utf8($rows.iter().map(|r| Some(r.$f.clone())).collect()) };
 }
 
 /// `track_metrics`: one row per run and scoring time.
+pub(crate) fn track_metrics_columns(rows: &[TrackMetricsRow]) -> Vec<Column> {
+    columns![rows;
+        u32 run, u32 k, f64 t_s, u32 n_truths, u32 n_scorable, u32 n_tracks, u32 n_assigned, u32 n_redundant,
+        u32 n_spurious, of64 completeness, of64 redundant_ratio, of64 spurious_ratio, u32 breaks, u32 switches,
+        u32 cum_breaks, u32 cum_switches, f64 position_sq_sum_m2, f64 velocity_sq_sum_m2ps2, of64 position_rmse_m,
+        of64 velocity_rmse_mps, of64 ospa_m, of64 gospa_m, of64 gospa_localisation_m, ou32 gospa_missed,
+        ou32 gospa_false,
+    ]
+}
+
+fn track_metrics_mean_columns(rows: &[TrackMetricsMeanRow]) -> Vec<Column> {
+    columns![rows;
+        u32 k, f64 t_s, u32 runs, f64 n_scorable_mean, f64 n_tracks_mean, of64 completeness, of64 redundant_ratio,
+        of64 spurious_ratio, f64 cum_breaks_mean, f64 cum_switches_mean, of64 position_rmse_m,
+        of64 velocity_rmse_mps, of64 ospa_m, of64 gospa_m,
+    ]
+}
+
+fn assignments_columns(rows: &[AssignmentRow]) -> Vec<Column> {
+    columns![rows; u32 run, f64 t_s, str target, ou64 track_id, of64 position_error_m, of64 velocity_error_mps]
+}
+
+fn usage_columns(rows: &[UsageRow]) -> Vec<Column> {
+    columns![rows;
+        str radar, u32 interval, f64 t_start_s, f64 t_end_s, u32 runs, f64 n_scorable_mean, f64 dwell_time_s,
+        f64 energy_j, f64 ta_dwell_time_s, f64 ta_energy_j, of64 dwell_time_per_object_s, of64 energy_per_object_j,
+        of64 ta_dwell_time_per_object_s, of64 ta_energy_per_object_j, f64 cum_dwell_time_s, f64 cum_energy_j,
+        f64 cum_ta_dwell_time_s, f64 cum_ta_energy_j,
+    ]
+}
+
+fn usage_total_columns(rows: &[UsageTotalRow]) -> Vec<Column> {
+    columns![rows;
+        u32 interval, f64 t_start_s, f64 t_end_s, u32 runs, f64 n_scorable_mean, f64 dwell_time_s, f64 energy_j,
+        f64 ta_dwell_time_s, f64 ta_energy_j, of64 dwell_time_per_object_s, of64 energy_per_object_j,
+        of64 ta_dwell_time_per_object_s, of64 ta_energy_per_object_j, f64 cum_dwell_time_s, f64 cum_energy_j,
+        f64 cum_ta_dwell_time_s, f64 cum_ta_energy_j,
+    ]
+}
+
+fn usage_radar_columns(rows: &[RadarUsage]) -> Vec<Column> {
+    columns![rows; str radar, f64 dwell_time_s, f64 energy_j, f64 ta_dwell_time_s, f64 ta_energy_j]
+}
+
+/// A polars frame of store columns named by `spec` (for aggregations over the score rows).
+pub(crate) fn frame(spec: &TableSpec, columns: Vec<Column>) -> Result<DataFrame, MetricsError> {
+    let cols: Vec<polars::prelude::Column> = spec
+        .columns
+        .iter()
+        .zip(columns)
+        .map(|(s, c)| {
+            let name = s.name.into();
+            polars::prelude::Column::from(match c {
+                Column::U32(v) => Series::new(name, v),
+                Column::U64(v) => Series::new(name, v),
+                Column::OptU32(v) => Series::new(name, v),
+                Column::OptU64(v) => Series::new(name, v),
+                Column::F64(v) => Series::new(name, v),
+                Column::Utf8(v) => Series::new(name, v),
+            })
+        })
+        .collect();
+    DataFrame::new_infer_height(cols).map_err(internal("building a score frame"))
+}
+
+/// `track_metrics` as a polars frame.
 pub(crate) fn track_metrics_frame(rows: &[TrackMetricsRow]) -> Result<DataFrame, MetricsError> {
-    macro_rules! col_of {
-        ($f:ident) => {
-            c(stringify!($f), rows.iter().map(|r| r.$f).collect::<Vec<_>>())
-        };
-    }
-    frame(vec![
-        col_of!(run),
-        col_of!(k),
-        col_of!(t_s),
-        col_of!(n_truths),
-        col_of!(n_scorable),
-        col_of!(n_tracks),
-        col_of!(n_assigned),
-        col_of!(n_redundant),
-        col_of!(n_spurious),
-        col_of!(completeness),
-        col_of!(redundant_ratio),
-        col_of!(spurious_ratio),
-        col_of!(breaks),
-        col_of!(switches),
-        col_of!(cum_breaks),
-        col_of!(cum_switches),
-        col_of!(position_sq_sum_m2),
-        col_of!(velocity_sq_sum_m2ps2),
-        col_of!(position_rmse_m),
-        col_of!(velocity_rmse_mps),
-        col_of!(ospa_m),
-        col_of!(gospa_m),
-    ])
+    frame(&SCORE_TRACK_METRICS, track_metrics_columns(rows))
 }
 
 impl Score {
-    /// Per run and scoring time (`score/track_metrics.parquet`).
-    pub fn track_metrics_frame(&self) -> Result<DataFrame, MetricsError> {
-        track_metrics_frame(&self.track_metrics)
-    }
-
-    /// Per scoring time averaged over runs (`score/track_metrics_mean.parquet`).
-    pub fn track_metrics_mean_frame(&self) -> Result<DataFrame, MetricsError> {
-        let rows = &self.track_metrics_mean;
-        macro_rules! col_of {
-            ($f:ident) => {
-                c(stringify!($f), rows.iter().map(|r| r.$f).collect::<Vec<_>>())
-            };
-        }
-        frame(vec![
-            col_of!(k),
-            col_of!(t_s),
-            col_of!(runs),
-            col_of!(n_scorable_mean),
-            col_of!(n_tracks_mean),
-            col_of!(completeness),
-            col_of!(redundant_ratio),
-            col_of!(spurious_ratio),
-            col_of!(cum_breaks_mean),
-            col_of!(cum_switches_mean),
-            col_of!(position_rmse_m),
-            col_of!(velocity_rmse_mps),
-            col_of!(ospa_m),
-            col_of!(gospa_m),
-        ])
-    }
-
-    /// Per run, scoring time and scorable truth (`score/assignments.parquet`).
-    pub fn assignments_frame(&self) -> Result<DataFrame, MetricsError> {
-        let rows: &[AssignmentRow] = &self.assignments;
-        frame(vec![
-            c("run", rows.iter().map(|r| r.run).collect::<Vec<_>>()),
-            c("t_s", rows.iter().map(|r| r.t_s).collect::<Vec<_>>()),
-            c("target", rows.iter().map(|r| r.target.clone()).collect::<Vec<_>>()),
-            c("track_id", rows.iter().map(|r| r.track_id).collect::<Vec<_>>()),
-            c("position_error_m", rows.iter().map(|r| r.position_error_m).collect::<Vec<_>>()),
-            c("velocity_error_mps", rows.iter().map(|r| r.velocity_error_mps).collect::<Vec<_>>()),
-        ])
-    }
-
-    /// Per radar and interval averaged over runs (`score/usage.parquet`).
-    pub fn usage_frame(&self) -> Result<DataFrame, MetricsError> {
-        let rows: &[UsageRow] = &self.usage;
-        macro_rules! col_of {
-            ($f:ident) => {
-                c(stringify!($f), rows.iter().map(|r| r.$f.clone()).collect::<Vec<_>>())
-            };
-        }
-        frame(vec![
-            col_of!(radar),
-            col_of!(interval),
-            col_of!(t_start_s),
-            col_of!(t_end_s),
-            col_of!(runs),
-            col_of!(n_scorable_mean),
-            col_of!(dwell_time_s),
-            col_of!(energy_j),
-            col_of!(ta_dwell_time_s),
-            col_of!(ta_energy_j),
-            col_of!(dwell_time_per_object_s),
-            col_of!(energy_per_object_j),
-            col_of!(ta_dwell_time_per_object_s),
-            col_of!(ta_energy_per_object_j),
-            col_of!(cum_dwell_time_s),
-            col_of!(cum_energy_j),
-            col_of!(cum_ta_dwell_time_s),
-            col_of!(cum_ta_energy_j),
-        ])
-    }
-
-    /// Per interval summed over radars (`score/usage_total.parquet`).
-    pub fn usage_total_frame(&self) -> Result<DataFrame, MetricsError> {
-        let rows: &[UsageTotalRow] = &self.usage_total;
-        macro_rules! col_of {
-            ($f:ident) => {
-                c(stringify!($f), rows.iter().map(|r| r.$f).collect::<Vec<_>>())
-            };
-        }
-        frame(vec![
-            col_of!(interval),
-            col_of!(t_start_s),
-            col_of!(t_end_s),
-            col_of!(runs),
-            col_of!(n_scorable_mean),
-            col_of!(dwell_time_s),
-            col_of!(energy_j),
-            col_of!(ta_dwell_time_s),
-            col_of!(ta_energy_j),
-            col_of!(dwell_time_per_object_s),
-            col_of!(energy_per_object_j),
-            col_of!(ta_dwell_time_per_object_s),
-            col_of!(ta_energy_per_object_j),
-            col_of!(cum_dwell_time_s),
-            col_of!(cum_energy_j),
-            col_of!(cum_ta_dwell_time_s),
-            col_of!(cum_ta_energy_j),
-        ])
-    }
-
-    /// Sensor totals per radar, averaged over runs (`score/usage_radar.parquet`).
-    pub fn usage_radar_frame(&self) -> Result<DataFrame, MetricsError> {
-        let rows: &[RadarUsage] = &self.usage_radar;
-        frame(vec![
-            c("radar", rows.iter().map(|r| r.radar.clone()).collect::<Vec<_>>()),
-            c("dwell_time_s", rows.iter().map(|r| r.dwell_time_s).collect::<Vec<_>>()),
-            c("energy_j", rows.iter().map(|r| r.energy_j).collect::<Vec<_>>()),
-            c("ta_dwell_time_s", rows.iter().map(|r| r.ta_dwell_time_s).collect::<Vec<_>>()),
-            c("ta_energy_j", rows.iter().map(|r| r.ta_energy_j).collect::<Vec<_>>()),
-        ])
-    }
-
     /// `summary.json` text (pretty-printed, docs/design.md §6 keys first).
     pub fn summary_json(&self) -> Result<String, MetricsError> {
         serde_json::to_string_pretty(&self.summary)
@@ -198,20 +131,22 @@ impl Score {
 }
 
 /// Write `bytes` to `path` atomically (temporary name, then rename).
-fn write_atomic(path: &Path, write: impl FnOnce(&mut File) -> Result<(), String>) -> Result<(), MetricsError> {
-    let err = |detail: String| MetricsError::Write { path: path.to_path_buf(), detail };
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MetricsError> {
+    let err = |e: std::io::Error| MetricsError::Write { path: path.to_path_buf(), detail: e.to_string() };
     let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
     tmp_name.push(".tmp");
     let tmp = path.with_file_name(tmp_name);
-    let mut f = File::create(&tmp).map_err(|e| err(e.to_string()))?;
-    write(&mut f).map_err(err)?;
-    f.sync_all().map_err(|e| err(e.to_string()))?;
+    let mut f = File::create(&tmp).map_err(err)?;
+    f.write_all(bytes).map_err(err)?;
+    f.sync_all().map_err(err)?;
     drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| err(e.to_string()))
+    std::fs::rename(&tmp, path).map_err(err)
 }
 
-fn write_parquet(path: &Path, mut df: DataFrame) -> Result<(), MetricsError> {
-    write_atomic(path, |f| ParquetWriter::new(f).finish(&mut df).map(|_| ()).map_err(|e| e.to_string()))
+/// Write one score table through its spec (units in the Parquet metadata, atomically).
+fn write_table(score_dir: &Path, spec: &TableSpec, columns: Vec<Column>) -> Result<(), MetricsError> {
+    let path = score_dir.join(score_file_name(spec));
+    write_columns(&path, spec, columns).map(|_| ()).map_err(|e| MetricsError::Write { path, detail: e.to_string() })
 }
 
 /// Write the score tables and `summary.json` into `score_dir` (created if needed):
@@ -222,14 +157,12 @@ fn write_parquet(path: &Path, mut df: DataFrame) -> Result<(), MetricsError> {
 pub fn write_outputs(score: &Score, score_dir: &Path) -> Result<(), MetricsError> {
     std::fs::create_dir_all(score_dir)
         .map_err(|e| MetricsError::Write { path: score_dir.to_path_buf(), detail: e.to_string() })?;
-    write_parquet(&score_dir.join("track_metrics.parquet"), score.track_metrics_frame()?)?;
-    write_parquet(&score_dir.join("track_metrics_mean.parquet"), score.track_metrics_mean_frame()?)?;
-    write_parquet(&score_dir.join("assignments.parquet"), score.assignments_frame()?)?;
-    write_parquet(&score_dir.join("usage.parquet"), score.usage_frame()?)?;
-    write_parquet(&score_dir.join("usage_total.parquet"), score.usage_total_frame()?)?;
-    write_parquet(&score_dir.join("usage_radar.parquet"), score.usage_radar_frame()?)?;
+    write_table(score_dir, &SCORE_TRACK_METRICS, track_metrics_columns(&score.track_metrics))?;
+    write_table(score_dir, &SCORE_TRACK_METRICS_MEAN, track_metrics_mean_columns(&score.track_metrics_mean))?;
+    write_table(score_dir, &SCORE_ASSIGNMENTS, assignments_columns(&score.assignments))?;
+    write_table(score_dir, &SCORE_USAGE, usage_columns(&score.usage))?;
+    write_table(score_dir, &SCORE_USAGE_TOTAL, usage_total_columns(&score.usage_total))?;
+    write_table(score_dir, &SCORE_USAGE_RADAR, usage_radar_columns(&score.usage_radar))?;
     let json = score.summary_json()?;
-    write_atomic(&score_dir.join("summary.json"), |f| {
-        f.write_all(json.as_bytes()).and_then(|_| f.write_all(b"\n")).map_err(|e| e.to_string())
-    })
+    write_atomic(&score_dir.join("summary.json"), format!("{json}\n").as_bytes())
 }

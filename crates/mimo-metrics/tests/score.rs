@@ -591,10 +591,24 @@ fn writes_outputs_with_the_design_keys() {
     assert_eq!(json["challenge"]["completeness_required"], 0.98);
     assert_eq!(json["challenge"]["met"], true);
     assert_eq!(json["track"]["completeness"], 1.0);
-    for f in ["track_metrics", "track_metrics_mean", "assignments", "usage", "usage_total", "usage_radar"] {
-        let df =
-            ParquetReader::new(File::open(out.join(format!("{f}.parquet"))).expect("open")).finish().expect("read");
-        assert!(df.height() > 0, "{f} is empty");
+    for spec in mimo_store::score_schema::SCORE_TABLES {
+        let file = out.join(mimo_store::score_schema::score_file_name(&spec));
+        let df = ParquetReader::new(File::open(&file).expect("open")).finish().expect("read");
+        assert!(df.height() > 0, "{} is empty", spec.name);
+        // The columns are the spec's, in its order, and the file carries the units.
+        let names: Vec<&str> = df.get_column_names().iter().map(|n| n.as_str()).collect();
+        let want: Vec<&str> = spec.columns.iter().map(|c| c.name).collect();
+        assert_eq!(names, want, "{}", spec.name);
+        let arrow =
+            parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(File::open(&file).expect("open"))
+                .expect("parquet")
+                .schema()
+                .clone();
+        for c in spec.columns {
+            let field = arrow.field_with_name(c.name).expect("field");
+            assert_eq!(field.metadata().get("unit").map(String::as_str), Some(c.unit), "{}.{}", spec.name, c.name);
+            assert_eq!(field.is_nullable(), c.nullable, "{}.{}", spec.name, c.name);
+        }
     }
     let tm = ParquetReader::new(File::open(out.join("track_metrics.parquet")).expect("open")).finish().expect("read");
     assert_eq!(tm.height(), 5);

@@ -1,5 +1,5 @@
 //! Tables written column by column, for tables whose rows are assembled at run time (the study
-//! tables): each column is a [`Column`] of values, checked against the table's [`TableSpec`]
+//! and score tables): each column is a [`Column`] of values, checked against the table's [`TableSpec`]
 //! (names, order, types and nullability) before anything is written.
 
 use crate::schema::{ColType, TableSpec};
@@ -16,6 +16,10 @@ pub enum Column {
     U32(Vec<u32>),
     /// `uint64`.
     U64(Vec<u64>),
+    /// `uint32`, null where `None`.
+    OptU32(Vec<Option<u32>>),
+    /// `uint64`, null where `None`.
+    OptU64(Vec<Option<u64>>),
     /// `float64`, null where `None`.
     F64(Vec<Option<f64>>),
     /// `utf8`, null where `None`.
@@ -27,6 +31,8 @@ impl Column {
         match self {
             Column::U32(v) => v.len(),
             Column::U64(v) => v.len(),
+            Column::OptU32(v) => v.len(),
+            Column::OptU64(v) => v.len(),
             Column::F64(v) => v.len(),
             Column::Utf8(v) => v.len(),
         }
@@ -34,8 +40,8 @@ impl Column {
 
     fn ty(&self) -> ColType {
         match self {
-            Column::U32(_) => ColType::U32,
-            Column::U64(_) => ColType::U64,
+            Column::U32(_) | Column::OptU32(_) => ColType::U32,
+            Column::U64(_) | Column::OptU64(_) => ColType::U64,
             Column::F64(_) => ColType::F64,
             Column::Utf8(_) => ColType::Utf8,
         }
@@ -45,6 +51,8 @@ impl Column {
         match self {
             Column::U32(v) => Arc::new(UInt32Array::from(v)),
             Column::U64(v) => Arc::new(UInt64Array::from(v)),
+            Column::OptU32(v) => Arc::new(UInt32Array::from(v)),
+            Column::OptU64(v) => Arc::new(UInt64Array::from(v)),
             Column::F64(v) => Arc::new(Float64Array::from(v)),
             Column::Utf8(v) => Arc::new(StringArray::from(v)),
         }

@@ -17,6 +17,7 @@ pub mod manifest;
 pub mod rows;
 pub mod rundir;
 pub mod schema;
+pub mod score_schema;
 
 use arrow::array::RecordBatch;
 use parquet::arrow::ArrowWriter;

@@ -72,11 +72,11 @@ pub struct ColumnSpec {
     pub description: &'static str,
 }
 
-const fn col(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
+pub(crate) const fn col(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
     ColumnSpec { name, ty, nullable: false, unit, description }
 }
 
-const fn opt(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
+pub(crate) const fn opt(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
     ColumnSpec { name, ty, nullable: true, unit, description }
 }
 
@@ -432,6 +432,7 @@ pub fn schema_files() -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = ALL_TABLES
         .iter()
         .chain(STUDY_TABLES.iter())
+        .chain(crate::score_schema::SCORE_TABLES.iter())
         .map(|t| (format!("{}.json", t.name), serde_json::to_string_pretty(&t.to_json()).unwrap_or_default() + "\n"))
         .collect();
     out.push(("manifest.json".into(), serde_json::to_string_pretty(&manifest_json()).unwrap_or_default() + "\n"));

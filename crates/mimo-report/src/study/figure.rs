@@ -198,7 +198,12 @@ pub(super) fn compute_vs_accuracy(charts: &StudyCharts) -> StudyChart {
 }
 
 /// The cells of an axis's sweep for a (method, scenario), by axis value.
-pub(super) fn sweep_cells<'a>(charts: &'a StudyCharts, axis: &str, method: &str, scenario: &str) -> Vec<(f64, &'a StudyCell)> {
+pub(super) fn sweep_cells<'a>(
+    charts: &'a StudyCharts,
+    axis: &str,
+    method: &str,
+    scenario: &str,
+) -> Vec<(f64, &'a StudyCell)> {
     let mut out: Vec<(f64, &StudyCell)> = charts
         .cells
         .iter()
