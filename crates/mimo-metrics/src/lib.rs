@@ -100,7 +100,7 @@ pub mod ospa;
 mod output;
 mod read;
 mod results;
-mod track;
+mod track_metrics;
 mod usage;
 
 pub use error::MetricsError;
@@ -115,7 +115,7 @@ use read::list_parquet;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use track::{RunInput, TargetTally, TargetTruth, TrackLife};
+use track_metrics::{RunInput, TargetTally, TargetTruth, TrackLife};
 
 /// Decides whether a truth is scorable: `(t_s, position ECEF (m), altitude (m)) → bool`.
 pub type ScorablePredicate = Box<dyn Fn(f64, DVec3, f64) -> bool + Send + Sync>;
@@ -251,7 +251,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         .iter()
         .map(|&run| RunInput {
             run,
-            n_times: track::n_scoring_times(truth.t_end.get(&run).copied().unwrap_or(0.0), opts.interval_s),
+            n_times: track_metrics::n_scoring_times(truth.t_end.get(&run).copied().unwrap_or(0.0), opts.interval_s),
             interval_s: opts.interval_s,
             gate_m: opts.gate_m,
             ospa_c_m: opts.ospa_c_m,
@@ -317,12 +317,12 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     })
 }
 
-fn run_parallel(inputs: &[RunInput<'_>], threads: usize) -> Vec<track::RunOutput> {
+fn run_parallel(inputs: &[RunInput<'_>], threads: usize) -> Vec<track_metrics::RunOutput> {
     if threads <= 1 || inputs.len() <= 1 {
-        return inputs.iter().map(track::score_run).collect();
+        return inputs.iter().map(track_metrics::score_run).collect();
     }
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<(usize, track::RunOutput)> = std::thread::scope(|s| {
+    let mut results: Vec<(usize, track_metrics::RunOutput)> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|_| {
                 s.spawn(|| {
@@ -330,7 +330,7 @@ fn run_parallel(inputs: &[RunInput<'_>], threads: usize) -> Vec<track::RunOutput
                     loop {
                         let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                         let Some(inp) = inputs.get(i) else { break };
-                        done.push((i, track::score_run(inp)));
+                        done.push((i, track_metrics::score_run(inp)));
                     }
                     done
                 })

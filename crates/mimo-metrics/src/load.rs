@@ -4,7 +4,7 @@
 use crate::MetricsError;
 use crate::error;
 use crate::read::{Check, Want, col as rcol, read_table};
-use crate::track::{TargetTruth, TrackLife, TrackState, TruthSample};
+use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
 use polars::prelude::*;
