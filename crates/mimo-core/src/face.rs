@@ -22,7 +22,9 @@ pub fn face_from_enu(az_rad: f64, tilt_rad: f64) -> DMat3 {
 /// A planar array face: its centre in ECEF and the rotation ECEF → face.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaceFrame {
+    /// Face centre (the ship's array-centre position), ECEF (m).
     pub origin_ecef: DVec3,
+    /// Rotation ECEF → face frame (rows x̂_f, ŷ_f, n̂).
     pub face_from_ecef: DMat3,
 }
 
@@ -31,7 +33,9 @@ pub struct FaceFrame {
 pub struct SinePoint {
     /// Range from the face centre (m).
     pub range_m: f64,
+    /// Direction cosine along the face's horizontal axis x̂_f (to the left looking out).
     pub u: f64,
+    /// Direction cosine along the face-up axis ŷ_f.
     pub v: f64,
     /// Direction cosine along boresight (> 0 in front of the face).
     pub w: f64,

@@ -20,8 +20,11 @@ pub const K_EFFECTIVE_EARTH: f64 = 4.0 / 3.0;
 /// ellipsoid in metres.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Geodetic {
+    /// Geodetic latitude (rad, north positive).
     pub lat_rad: f64,
+    /// Longitude (rad, east positive).
     pub lon_rad: f64,
+    /// Height above the WGS-84 ellipsoid (m).
     pub alt_m: f64,
 }
 
@@ -100,7 +103,9 @@ pub fn enu_from_ecef(lat_rad: f64, lon_rad: f64) -> DMat3 {
 /// A fixed local ENU frame at a site: ECEF rotated and translated.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnuFrame {
+    /// The site, origin of the frame, ECEF (m).
     pub origin_ecef: DVec3,
+    /// Rotation ECEF → ENU (rows east, north, up at the site).
     pub enu_from_ecef: DMat3,
 }
 

@@ -18,6 +18,8 @@
 //! Units are SI and carried in names (`range_m`, `t_s`); frames are carried in names too
 //! (`face_from_ecef` maps ECEF vectors into a face frame).
 
+#![warn(missing_docs)]
+
 pub mod assign;
 pub mod face;
 pub mod geo;

@@ -20,9 +20,12 @@ pub enum PatternModel {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Swerling {
+    /// Swerling 0: constant RCS σ̄ (unit-magnitude voltage, uniform phase).
     Sw0,
+    /// Swerling 1 (default): RCS exponential with mean σ̄, drawn anew per dwell and Tx–Rx pair.
     #[default]
     Sw1,
+    /// Swerling 3: σ/σ̄ ~ Gamma(shape 2, scale ½) (χ², 4 d.o.f.), per dwell and Tx–Rx pair.
     Sw3,
 }
 
@@ -194,7 +197,9 @@ impl RadarParams {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Fidelity {
+    /// Antenna pattern model of every radar (docs/model.md §2.2, §2.3); default Gaussian.
     pub pattern: PatternModel,
+    /// Target RCS fluctuation model (docs/model.md §3.2); default Swerling 1.
     pub swerling: Swerling,
     /// Apply 4/3-earth refraction to measured elevation (docs/model.md §1.8). Default off.
     pub refraction: bool,

@@ -13,17 +13,29 @@ use serde::{Deserialize, Serialize};
 /// One target at one truth sample.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TruthRow {
+    /// Monte Carlo run index, 0-based.
     pub run: u32,
+    /// Sample time since scenario start (s).
     pub t_s: f64,
+    /// Target id (`F-1`…`F-4`, `A`, `B`, `C` in the standard scenarios).
     pub target: String,
+    /// Target position, ECEF x (m).
     pub x_m: f64,
+    /// Target position, ECEF y (m).
     pub y_m: f64,
+    /// Target position, ECEF z (m).
     pub z_m: f64,
+    /// Target velocity, ECEF x (m/s).
     pub vx_mps: f64,
+    /// Target velocity, ECEF y (m/s).
     pub vy_mps: f64,
+    /// Target velocity, ECEF z (m/s).
     pub vz_mps: f64,
+    /// Target WGS-84 geodetic latitude (deg).
     pub lat_deg: f64,
+    /// Target WGS-84 geodetic longitude (deg, east positive).
     pub lon_deg: f64,
+    /// Target height above the WGS-84 ellipsoid (m).
     pub alt_m: f64,
     /// Mean radar cross-section (m²).
     pub rcs_m2: f64,
@@ -42,6 +54,7 @@ pub enum Role {
 }
 
 impl Role {
+    /// The on-disk string: `tx`, `rx` or `txrx`.
     pub fn as_str(self) -> &'static str {
         match self {
             Role::Tx => "tx",
@@ -49,6 +62,7 @@ impl Role {
             Role::Txrx => "txrx",
         }
     }
+    /// The role written as `s` (`tx`, `rx`, `txrx`); `None` for any other string.
     pub fn parse(s: &str) -> Option<Role> {
         Some(match s {
             "tx" => Role::Tx,
@@ -67,13 +81,19 @@ impl Role {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DwellKind {
+    /// Background search raster (docs/model.md §7.4), or search requested by a test article.
     Search,
+    /// Confirmation look at a tentative track (M-of-N, docs/model.md §6.4).
     Confirm,
+    /// Update look at a track.
     Track,
+    /// MIMO dwell: several radars steer at one aim point, each transmitter with its own orthogonal
+    /// waveform, each receiver with one matched filter per transmitter (docs/model.md §5).
     Mimo,
 }
 
 impl DwellKind {
+    /// The on-disk string: `search`, `confirm`, `track` or `mimo`.
     pub fn as_str(self) -> &'static str {
         match self {
             DwellKind::Search => "search",
@@ -82,6 +102,7 @@ impl DwellKind {
             DwellKind::Mimo => "mimo",
         }
     }
+    /// The kind written as `s`; `None` for any string but `search`, `confirm`, `track`, `mimo`.
     pub fn parse(s: &str) -> Option<DwellKind> {
         Some(match s {
             "search" => DwellKind::Search,
@@ -97,17 +118,21 @@ impl DwellKind {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Requester {
+    /// The radar's own background search.
     Radar,
+    /// The test article.
     Ta,
 }
 
 impl Requester {
+    /// The on-disk string: `radar` or `ta`.
     pub fn as_str(self) -> &'static str {
         match self {
             Requester::Radar => "radar",
             Requester::Ta => "ta",
         }
     }
+    /// The requester written as `s` (`radar`, `ta`); `None` for any other string.
     pub fn parse(s: &str) -> Option<Requester> {
         Some(match s {
             "radar" => Requester::Radar,
@@ -120,14 +145,19 @@ impl Requester {
 /// One radar's part in one dwell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DwellRow {
+    /// Monte Carlo run index, 0-based.
     pub run: u32,
     /// Unique within a run per (dwell, radar) part.
     pub dwell_id: u64,
     /// Shared by all radars of one (MIMO) dwell; equals `dwell_id` of the first part.
     pub group_id: u64,
+    /// The radar this part belongs to (`R1`…`R4` on disk).
     pub radar: RadarId,
+    /// Whether this radar transmits, receives or both in the dwell.
     pub role: Role,
+    /// Why the dwell was made (search, confirm, track, mimo).
     pub kind: DwellKind,
+    /// Who asked for the dwell: the radar's background search or the test article.
     pub requested_by: Requester,
     /// Start time (s).
     pub t_s: f64,
@@ -135,7 +165,9 @@ pub struct DwellRow {
     pub duration_s: f64,
     /// Pulse width τ_pw (s).
     pub pulse_width_s: f64,
+    /// Pulses integrated coherently.
     pub n_pulses: u32,
+    /// Peak transmit power (W).
     pub peak_power_w: f64,
     /// Emitted energy = peak_power_w · pulse_width_s · n_pulses; 0 for `rx`.
     pub energy_j: f64,
@@ -145,10 +177,13 @@ pub struct DwellRow {
     pub face: u8,
     /// Beam steering direction in the face's sine space.
     pub beam_u: f64,
+    /// Beam steering direction cosine v (face-up axis) in the face frame.
     pub beam_v: f64,
     /// Aim point (ECEF, m).
     pub aim_x_m: f64,
+    /// Aim point, ECEF y (m).
     pub aim_y_m: f64,
+    /// Aim point, ECEF z (m).
     pub aim_z_m: f64,
 }
 
@@ -156,18 +191,29 @@ pub struct DwellRow {
 /// cell, normalized so that the noise is CN(0, 1) in every channel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VoltageRow {
+    /// Monte Carlo run index, 0-based.
     pub run: u32,
+    /// The receiver's dwell part (`DwellRow::dwell_id`).
     pub dwell_id: u64,
+    /// Receiving radar.
     pub rx: RadarId,
+    /// Transmitting radar whose waveform this channel's matched filter is for.
     pub tx: RadarId,
+    /// Range cell index k; the cell centre is at ρ_k = k·ΔR (docs/model.md §4.1).
     pub range_cell: i64,
     /// Equivalent monostatic range of the cell centre, ρ = R_B/2 (m).
     pub range_m: f64,
+    /// Sum channel, in-phase part (√SNR units: noise is CN(0, 1)).
     pub sum_i: f64,
+    /// Sum channel, quadrature part (√SNR units).
     pub sum_q: f64,
+    /// Azimuth-difference (u) channel, in-phase part (√SNR units).
     pub az_i: f64,
+    /// Azimuth-difference (u) channel, quadrature part (√SNR units).
     pub az_q: f64,
+    /// Elevation-difference (v) channel, in-phase part (√SNR units).
     pub el_i: f64,
+    /// Elevation-difference (v) channel, quadrature part (√SNR units).
     pub el_q: f64,
 }
 
@@ -177,12 +223,16 @@ pub struct VoltageRow {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PrimitiveRow {
+    /// Monte Carlo run index, 0-based.
     #[serde(skip)]
     pub run: u32,
     /// The receiver's dwell part.
     pub dwell_id: u64,
+    /// Dwell mid-time, when truth was evaluated (s since scenario start).
     pub t_s: f64,
+    /// Receiving radar.
     pub rx: RadarId,
+    /// Transmitting radar (equal to `rx` for the monostatic channel).
     pub tx: RadarId,
     /// Receiver face the (u, v) refer to.
     pub rx_face: u8,
@@ -190,20 +240,26 @@ pub struct PrimitiveRow {
     pub range_cell: i64,
     /// Centroided equivalent monostatic range ρ = R_B/2 (m).
     pub range_m: f64,
+    /// Estimated direction cosine u (face's horizontal axis) in the receiver face.
     pub u: f64,
+    /// Estimated direction cosine v (face-up axis) in the receiver face.
     pub v: f64,
     /// Observed sum-channel SNR S = Σ|Σ_k|² over the cells used (dB).
     pub snr_db: f64,
     /// Imaginary-part statistic T = η_Qa²/var_a + η_Qe²/var_e (χ²₂ for one target).
     pub eta_q: f64,
+    /// Flagged as possibly two unresolved targets in one beam and cell (docs/model.md §2.7).
     pub merged: bool,
     /// Beam steering direction of the receiver (sine space), so the monopulse ratio can be
     /// recovered offline.
     pub beam_u: f64,
+    /// Receiver beam steering direction cosine v (sine space).
     pub beam_v: f64,
     /// Variances of this primitive's estimates, from the observed SNR (docs/model.md §2.6, §4.6).
     pub var_range_m2: f64,
+    /// Variance of `u` (dimensionless, sine space).
     pub var_u: f64,
+    /// Variance of `v` (dimensionless, sine space).
     pub var_v: f64,
     /// Truth id of the dominant contributor (evaluation only).
     #[serde(skip)]
@@ -216,23 +272,38 @@ pub struct PrimitiveRow {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeasurementRow {
+    /// Monte Carlo run index, 0-based.
     #[serde(skip)]
     pub run: u32,
+    /// Measurement id, unique within a run; ids of dwell group `g` start at `g << 12`.
     pub meas_id: u64,
+    /// The receiver's dwell part (`DwellRow::dwell_id`).
     pub dwell_id: u64,
+    /// Dwell mid-time, when truth was evaluated (s since scenario start).
     pub t_s: f64,
+    /// Receiving radar.
     pub rx: RadarId,
+    /// Transmitting radar (equal to `rx` for a monostatic measurement).
     pub tx: RadarId,
+    /// Receiver face the (u, v) refer to (0-based).
     pub rx_face: u8,
     /// Equivalent monostatic range ρ = (R_t + R_r)/2 (m).
     pub range_m: f64,
+    /// Direction cosine u (face's horizontal axis) in the receiver face.
     pub u: f64,
+    /// Direction cosine v (face-up axis) in the receiver face.
     pub v: f64,
+    /// Observed sum-channel SNR of the strongest primitive of the cluster (dB).
     pub snr_db: f64,
+    /// Variance of `range_m` (m²).
     pub var_range_m2: f64,
+    /// Variance of `u` (dimensionless, sine space).
     pub var_u: f64,
+    /// Variance of `v` (dimensionless, sine space).
     pub var_v: f64,
+    /// Number of primitives clustered into this measurement.
     pub n_primitives: u32,
+    /// Possibly unresolved targets: set when any primitive of the cluster is merged.
     pub merged: bool,
     /// Truth id of the dominant contributor; `None` for false alarms. Never shown to a tracker.
     #[serde(skip)]
@@ -243,12 +314,16 @@ pub struct MeasurementRow {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum TrackStatus {
+    /// Started, not yet confirmed (the default tracker confirms by M-of-N, docs/model.md §6.4).
     Tentative,
+    /// Confirmed: scoring counts a track from its first confirmed row on (docs/design.md §6).
     Confirmed,
+    /// Ended: the track's last row, written once.
     Deleted,
 }
 
 impl TrackStatus {
+    /// The on-disk string: `tentative`, `confirmed` or `deleted`.
     pub fn as_str(self) -> &'static str {
         match self {
             TrackStatus::Tentative => "tentative",
@@ -256,6 +331,7 @@ impl TrackStatus {
             TrackStatus::Deleted => "deleted",
         }
     }
+    /// The status written as `s`; `None` for any string but `tentative`, `confirmed`, `deleted`.
     pub fn parse(s: &str) -> Option<TrackStatus> {
         Some(match s {
             "tentative" => TrackStatus::Tentative,
@@ -272,31 +348,49 @@ impl TrackStatus {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackRow {
+    /// Monte Carlo run index, 0-based.
     #[serde(skip)]
     pub run: u32,
+    /// Time of the state (s since scenario start).
     pub t_s: f64,
+    /// Track id, unique within a run.
     pub track_id: u64,
+    /// Track status at this row.
     pub status: TrackStatus,
+    /// Estimated position, ECEF x (m).
     pub x_m: f64,
+    /// Estimated position, ECEF y (m).
     pub y_m: f64,
+    /// Estimated position, ECEF z (m).
     pub z_m: f64,
+    /// Estimated velocity, ECEF x (m/s).
     pub vx_mps: f64,
+    /// Estimated velocity, ECEF y (m/s).
     pub vy_mps: f64,
+    /// Estimated velocity, ECEF z (m/s).
     pub vz_mps: f64,
     /// Upper triangle of the 6×6 ECEF position–velocity covariance, row-major (21 values).
     pub cov: [f64; 21],
+    /// Measurement updates so far.
     pub n_updates: u32,
+    /// Last measurement used (`MeasurementRow::meas_id`); `None` if none.
     pub last_meas_id: Option<u64>,
 }
 
 /// Every table of one Monte Carlo run, in memory.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunTables {
+    /// Rows of the `truth` table.
     pub truth: Vec<TruthRow>,
+    /// Rows of the `dwells` table.
     pub dwells: Vec<DwellRow>,
+    /// Rows of the `voltages` table (empty unless voltages are recorded).
     pub voltages: Vec<VoltageRow>,
+    /// Rows of the `primitives` table.
     pub primitives: Vec<PrimitiveRow>,
+    /// Rows of the `measurements` table.
     pub measurements: Vec<MeasurementRow>,
+    /// Rows of the `tracks` table.
     pub tracks: Vec<TrackRow>,
 }
 

@@ -8,12 +8,19 @@
 
 /// Key namespaces, so that streams for different purposes never collide.
 pub mod domain {
+    /// Reserved for truth; unused, since truth is deterministic.
     pub const TRUTH: u64 = 1;
+    /// Receiver noise of one Tx–Rx channel of a dwell.
     pub const DWELL: u64 = 2;
+    /// False-alarm draws of one Tx–Rx channel of a dwell (docs/model.md §4.4).
     pub const FALSE_ALARM: u64 = 3;
+    /// RCS fluctuation of one target on one Tx–Rx channel of a dwell (docs/model.md §3.2).
     pub const RCS: u64 = 4;
+    /// Reserved for trackers; unused (the built-in trackers draw nothing).
     pub const TRACKER: u64 = 5;
+    /// Reserved for background search; unused (the search raster is deterministic).
     pub const SEARCH: u64 = 6;
+    /// Tests and benchmarks only.
     pub const TEST: u64 = 99;
 }
 

@@ -23,6 +23,8 @@
 //! Text uses DejaVu Sans (embedded via the `dejavu` crate), registered once as plotters'
 //! `sans-serif` family, so charts look the same on every machine and need no system fonts.
 
+#![warn(missing_docs)]
+
 mod draw;
 pub mod study;
 
@@ -43,12 +45,23 @@ pub enum ReportError {
     /// The embedded font could not be registered.
     #[error("cannot register the chart font: {0}")]
     Font(String),
-    /// A file or directory could not be written.
+    /// A file or directory could not be written: an output directory could not be created, or a
+    /// finished chart could not be renamed from its temporary file into place.
     #[error("cannot write {}: {detail}", path.display())]
-    Io { path: PathBuf, detail: String },
-    /// Drawing failed.
+    Io {
+        /// The directory or chart file.
+        path: PathBuf,
+        /// The operating system's message.
+        detail: String,
+    },
+    /// Plotters failed to draw a chart, or to write it to its temporary file.
     #[error("cannot draw {}: {detail}", path.display())]
-    Draw { path: PathBuf, detail: String },
+    Draw {
+        /// The chart file (PNG or SVG) being drawn.
+        path: PathBuf,
+        /// The plotters error message.
+        detail: String,
+    },
 }
 
 /// Register DejaVu Sans as `sans-serif` (once per process).

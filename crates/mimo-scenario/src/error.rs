@@ -13,21 +13,43 @@ pub enum ScenarioError {
         "unknown standard scenario {number}: expected a number from 1 to {max} \
          (or the path of a scenario TOML file)"
     )]
-    UnknownScenario { number: u32, max: u32 },
+    UnknownScenario {
+        /// The number asked for.
+        number: u32,
+        /// The highest standard scenario number (the set is 1 to `max`).
+        max: u32,
+    },
 
     /// A scenario file (or one it includes) could not be read.
     #[error("{file}: cannot read scenario file: {message}")]
-    Io { file: String, message: String },
+    Io {
+        /// The path of the file that could not be read.
+        file: String,
+        /// The operating system's message (and, for an include, the file that included it).
+        message: String,
+    },
 
     /// The file is not valid TOML.
     #[error("{file}:{line}:{column}: TOML syntax error: {message}")]
-    Syntax { file: String, line: usize, column: usize, message: String },
+    Syntax {
+        /// The file, as its path, `builtin:NAME` or the name given to `load_str`.
+        file: String,
+        /// Line of the error in `file`, 1-based.
+        line: usize,
+        /// Column of the error in `line`, 1-based (in characters).
+        column: usize,
+        /// The TOML parser's message, on one line.
+        message: String,
+    },
 
     /// A key the scenario format does not know (typos are never silently ignored).
     #[error("{file}:{line}:{column}: {message}")]
     UnknownField {
+        /// The file, as its path, `builtin:NAME` or the name given to `load_str`.
         file: String,
+        /// Line of the error in `file`, 1-based.
         line: usize,
+        /// Column of the error in `line`, 1-based (in characters).
         column: usize,
         /// The offending key.
         field: String,
@@ -37,26 +59,52 @@ pub enum ScenarioError {
 
     /// Valid TOML of the wrong shape: a wrong type, a missing field, an unknown variant.
     #[error("{file}:{line}:{column}: {message}")]
-    Schema { file: String, line: usize, column: usize, message: String },
+    Schema {
+        /// The file, as its path, `builtin:NAME` or the name given to `load_str`.
+        file: String,
+        /// Line of the error in `file`, 1-based.
+        line: usize,
+        /// Column of the error in `line`, 1-based (in characters).
+        column: usize,
+        /// The parser's message: what was found and what was expected.
+        message: String,
+    },
 
     /// A value that parses but is impossible or inconsistent (latitude 95°, negative speed, no
     /// targets, an unknown target id, overlapping manoeuvres, …).
     #[error("{file}: {field}: expected {expected}")]
     Invalid {
+        /// The file (path, `builtin:NAME` or the name given to `load_str`), or "scenario `NAME`"
+        /// when `Scenario::validate` checks a scenario that was not read from a file.
         file: String,
         /// Dotted path of the field, e.g. `ships[1].lat_deg`.
         field: String,
+        /// What a valid value would be, e.g. `a longitude between -180 and 180 degrees, got 190`.
         expected: String,
     },
 
     /// An `include` entry that cannot be followed (missing built-in, cycle).
     #[error("{file}: include `{include}`: {reason}")]
-    Include { file: String, include: String, reason: String },
+    Include {
+        /// The file holding the `include` entry.
+        file: String,
+        /// The `include` entry as written.
+        include: String,
+        /// Why it cannot be followed.
+        reason: String,
+    },
 
     /// A trajectory leaves its aircraft type's flight envelope (speed or acceleration), found
     /// when the trajectories are built.
     #[error("target {target} leaves its flight envelope at t = {t_s:.2} s: {what}")]
-    Envelope { target: String, t_s: f64, what: String },
+    Envelope {
+        /// Id of the target.
+        target: String,
+        /// Time of the first step outside the envelope (s since scenario start).
+        t_s: f64,
+        /// What is out of bounds, with the value and the limits.
+        what: String,
+    },
 }
 
 impl ScenarioError {

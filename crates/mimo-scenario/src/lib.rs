@@ -35,6 +35,8 @@
 //! # Ok::<(), mimo_scenario::ScenarioError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod error;
 mod flight;
 mod load;

@@ -99,8 +99,11 @@ pub struct Envelope {
 pub struct AircraftType {
     /// Mean RCS (m²).
     pub rcs_m2: f64,
+    /// Minimum speed (m/s, 3-D, relative to the earth).
     pub min_speed_mps: f64,
+    /// Maximum speed (m/s, 3-D, relative to the earth).
     pub max_speed_mps: f64,
+    /// Maximum kinematic acceleration relative to the earth, gravity excluded (g0 = 9.80665 m/s²).
     pub max_accel_g: f64,
 }
 
@@ -115,8 +118,11 @@ impl AircraftType {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LatLonAlt {
+    /// WGS-84 geodetic latitude (deg, north positive).
     pub lat_deg: f64,
+    /// Longitude (deg, east positive).
     pub lon_deg: f64,
+    /// Height above the WGS-84 ellipsoid (m).
     pub alt_m: f64,
 }
 
@@ -132,10 +138,13 @@ impl LatLonAlt {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Offset {
+    /// Ahead of the reference point, along its heading (m).
     #[serde(default)]
     pub along_m: f64,
+    /// To the right of the reference point, horizontal (m).
     #[serde(default)]
     pub right_m: f64,
+    /// Above the reference point, local vertical (m).
     #[serde(default)]
     pub up_m: f64,
 }
@@ -184,10 +193,13 @@ pub struct Formation {
 pub struct Member {
     /// Target id.
     pub id: String,
+    /// Offset ahead of the reference point at t = 0 (m).
     #[serde(default)]
     pub along_m: f64,
+    /// Offset to the right of the reference point at t = 0 (m).
     #[serde(default)]
     pub right_m: f64,
+    /// Offset above the reference point at t = 0 (m).
     #[serde(default)]
     pub up_m: f64,
     /// Mean RCS (m²) if different from the type's.
@@ -213,26 +225,38 @@ pub enum Manoeuvre {
     /// `load_factor` (lateral acceleration g0·√(n² − 1)), at constant speed. A turn too small
     /// to reach full load factor uses a lower peak.
     Turn {
+        /// Start time (s since scenario start).
         at_s: f64,
+        /// Heading change (deg, positive = right).
         turn_deg: f64,
+        /// Load factor n at full turn rate (> 1).
         load_factor: f64,
+        /// Time over which the lateral acceleration ramps up, and again down (s); default 1 s.
         #[serde(default = "default_ramp")]
         ramp_s: f64,
     },
     /// A climb or descent to `to_alt_m` at vertical speed `rate_mps` (> 0), ramped over
     /// `ramp_s`; horizontal speed is unchanged.
     Climb {
+        /// Start time (s since scenario start).
         at_s: f64,
+        /// Altitude to reach, above the WGS-84 ellipsoid (m); of the reference point in a formation.
         to_alt_m: f64,
+        /// Vertical speed at full rate (m/s, > 0; up or down follows from `to_alt_m`).
         rate_mps: f64,
+        /// Time over which the vertical speed ramps up, and again down (s); default 1 s.
         #[serde(default = "default_ramp")]
         ramp_s: f64,
     },
     /// A change of horizontal speed to `to_mps` at acceleration `accel_mps2` (> 0).
     Speed {
+        /// Start time (s since scenario start).
         at_s: f64,
+        /// Horizontal speed to reach (m/s).
         to_mps: f64,
+        /// Longitudinal acceleration at full rate (m/s², > 0; its sign follows from `to_mps`).
         accel_mps2: f64,
+        /// Time over which the longitudinal acceleration ramps up, and again down (s); default 1 s.
         #[serde(default = "default_ramp")]
         ramp_s: f64,
     },
@@ -276,8 +300,11 @@ impl Manoeuvre {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Crossover {
+    /// Start time of the change (s since scenario start).
     pub start_s: f64,
+    /// Duration of the change, T_x (s).
     pub duration_s: f64,
+    /// The members that move, each at most once.
     pub moves: Vec<Move>,
 }
 
@@ -286,11 +313,15 @@ pub struct Crossover {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Move {
+    /// Id of the member that moves.
     pub id: String,
+    /// Offset ahead of the reference point at the end (m); unchanged if `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub along_m: Option<f64>,
+    /// Offset to the right of the reference point at the end (m); unchanged if `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub right_m: Option<f64>,
+    /// Offset above the reference point at the end (m); unchanged if `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub up_m: Option<f64>,
     /// Height of the sin² bump flown during the change (m); 0 for none.
@@ -303,7 +334,9 @@ pub struct Move {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Split {
+    /// Time of the break-up (s since scenario start).
     pub at_s: f64,
+    /// The groups; every member goes to exactly one.
     pub groups: Vec<Group>,
 }
 
@@ -320,10 +353,13 @@ pub struct Group {
     /// at the split, so removing a member from a scenario never moves the others.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<Offset>,
+    /// Manoeuvres of the group's reference path after the split, in time order.
     #[serde(default)]
     pub manoeuvres: Vec<Manoeuvre>,
+    /// Offset changes among the group's members after the split, in time order.
     #[serde(default)]
     pub crossovers: Vec<Crossover>,
+    /// Optional further break-up of this group.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub split: Option<Split>,
 }
@@ -337,9 +373,13 @@ pub struct Aircraft {
     /// Aircraft type (a key of `aircraft_types`).
     #[serde(rename = "type")]
     pub kind: String,
+    /// Position at t = 0.
     pub start: LatLonAlt,
+    /// Heading at t = 0, clockwise from north (deg).
     pub heading_deg: f64,
+    /// Horizontal speed at t = 0 (m/s).
     pub speed_mps: f64,
+    /// Manoeuvres in time order; straight (geodesic), level flight at constant speed in between.
     #[serde(default)]
     pub manoeuvres: Vec<Manoeuvre>,
     /// Mean RCS (m²) if different from the type's.
