@@ -241,7 +241,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     let truth = load_truth(&input.truth)?;
     let run_set: BTreeSet<u32> = truth.runs.iter().copied().collect();
     let tracks = load_tracks(&input.tracks, &run_set)?;
-    let dwells = load_dwells(&input.dwells, &run_set)?;
+    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;
 
     // Per-run track metrics, runs in parallel.
     let empty_tracks: Vec<TrackLife> = Vec::new();
@@ -289,15 +289,11 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
 
     // Usage.
     let mut radars: BTreeSet<String> = opts.radars.iter().cloned().collect();
-    {
-        let c = dwells.column("radar").map_err(error::internal("dwell radars"))?;
-        let u = c.unique().map_err(error::internal("dwell radars"))?;
-        radars.extend(u.str().map_err(error::internal("dwell radars"))?.no_null_iter().map(str::to_string));
-    }
+    radars.extend(dwell_radars);
     let mut radars: Vec<String> = radars.into_iter().collect();
     usage::sort_radars(&mut radars);
     let u = usage::usage(
-        &dwells,
+        dwell_sums,
         &usage::UsageInput { interval_s: opts.interval_s, runs: &truth.runs, radars: &radars, n_scorable: &n_scorable },
     )?;
 

@@ -3,7 +3,7 @@
 
 use crate::MetricsError;
 use crate::error;
-use crate::read::{Check, Want, col as rcol, read_table};
+use crate::read::{Check, Want, col as rcol, read_file, read_table};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
@@ -159,7 +159,20 @@ pub(crate) fn load_tracks(
     Ok(out)
 }
 
-pub(crate) fn load_dwells(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<DataFrame, MetricsError> {
+/// The dwells table reduced to what the usage figures need: the transmit sums per run, radar and
+/// scoring interval (see [`crate::usage::transmit_sums`]), and every radar named in it (any role).
+///
+/// Files are read one at a time, only the columns below, each validated and reduced to its sums
+/// before the next is read, so memory follows one file (one run by convention, docs/design.md §2)
+/// rather than the whole recording. The per-file sums are stacked and summed again by key, so a run
+/// split over several files gives the same figures (to rounding). With one file per run the rows
+/// come out in the order a single pass over all dwells would give (groups in order of first
+/// appearance), so the figures are the very numbers of that pass, bit for bit.
+pub(crate) fn load_dwell_sums(
+    paths: &[PathBuf],
+    runs: &BTreeSet<u32>,
+    interval_s: f64,
+) -> Result<(DataFrame, BTreeSet<String>), MetricsError> {
     use Check::*;
     use Want::*;
     let cols = [
@@ -172,5 +185,32 @@ pub(crate) fn load_dwells(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<Dat
         rcol("duration_s", F64, FiniteNonNeg),
         rcol("energy_j", F64, FiniteNonNeg),
     ];
-    read_table("dwells", paths, &cols)
+    if paths.is_empty() {
+        return Err(MetricsError::MissingTable {
+            table: "dwells",
+            path: PathBuf::from("dwells"),
+            detail: "no Parquet files given".into(),
+        });
+    }
+    let mut radars = BTreeSet::new();
+    let mut sums: Option<DataFrame> = None;
+    for path in paths {
+        let df = read_file("dwells", path, &cols)?;
+        {
+            let c = df.column("radar").map_err(error::internal("dwell radars"))?;
+            let u = c.unique().map_err(error::internal("dwell radars"))?;
+            radars.extend(u.str().map_err(error::internal("dwell radars"))?.no_null_iter().map(str::to_string));
+        }
+        let part = crate::usage::transmit_sums(&df, interval_s).collect().map_err(error::internal("usage sums"))?;
+        drop(df);
+        match sums.as_mut() {
+            None => sums = Some(part),
+            Some(acc) => {
+                acc.vstack_mut_owned(part).map_err(error::internal("stacking usage sums"))?;
+            }
+        }
+    }
+    let sums = sums.ok_or_else(|| MetricsError::Internal { context: "reading", detail: "no files".into() })?;
+    let sums = if paths.len() > 1 { crate::usage::resum(sums)? } else { sums };
+    Ok((sums, radars))
 }

@@ -130,7 +130,8 @@ pub(crate) fn read_table(table: &'static str, paths: &[PathBuf], cols: &[Col<'_>
     Ok(df)
 }
 
-fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
+/// Read one file of `table` with the given columns (in that order), validated.
+pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
     let file = File::open(path).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             MetricsError::MissingTable { table, path: path.to_path_buf(), detail: "file does not exist".into() }

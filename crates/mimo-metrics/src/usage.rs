@@ -16,26 +16,41 @@ pub(crate) fn sort_radars(radars: &mut [String]) {
     radars.sort_by_key(|r| (RadarId::parse(r).map_or(u16::MAX, |id| u16::from(id.0)), r.clone()));
 }
 
-/// Sums of the four usage figures over transmit dwells, grouped by `keys`. The interval of a
-/// dwell starting at `t_s >= 0` is `floor(t_s / interval_s) + 1`.
-fn transmit_sums(dwells: &DataFrame, interval_s: f64, keys: &[&str]) -> LazyFrame {
+/// Sums of the four usage figures over the transmit dwells of `dwells`, per run, radar and
+/// interval (columns `run`, `radar`, `interval` and [`SUMS`]). The interval of a dwell starting at
+/// `t_s >= 0` is `floor(t_s / interval_s) + 1`. Every interval is kept, also those after the last
+/// scoring time, so that the sensor totals can be summed from these rows.
+pub(crate) fn transmit_sums(dwells: &DataFrame, interval_s: f64) -> LazyFrame {
     let is_ta = col("requested_by").eq(lit("ta"));
     dwells
         .clone()
         .lazy()
         .filter(col("role").neq(lit("rx")))
-        .with_columns([
+        .select([
+            col("run"),
+            col("radar"),
             ((col("t_s") / lit(interval_s)).cast(DataType::Int64) + lit(1i64)).alias("interval"),
+            col("duration_s"),
+            col("energy_j"),
             when(is_ta.clone()).then(col("duration_s")).otherwise(lit(0.0)).alias("ta_duration_s"),
             when(is_ta).then(col("energy_j")).otherwise(lit(0.0)).alias("ta_energy_j_row"),
         ])
-        .group_by_stable(keys.iter().map(|k| col(*k)).collect::<Vec<_>>())
+        .group_by_stable([col("run"), col("radar"), col("interval")])
         .agg([
             col("duration_s").sum().alias(SUMS[0]),
             col("energy_j").sum().alias(SUMS[1]),
             col("ta_duration_s").sum().alias(SUMS[2]),
             col("ta_energy_j_row").sum().alias(SUMS[3]),
         ])
+}
+
+/// Sum stacked [`transmit_sums`] rows of several files again by run, radar and interval.
+pub(crate) fn resum(sums: DataFrame) -> Result<DataFrame, MetricsError> {
+    sums.lazy()
+        .group_by_stable([col("run"), col("radar"), col("interval")])
+        .agg(SUMS.iter().map(|s| col(*s).sum()).collect::<Vec<_>>())
+        .collect()
+        .map_err(internal("usage sums"))
 }
 
 fn f64_col(df: &DataFrame, name: &str) -> Result<Vec<Option<f64>>, MetricsError> {
@@ -65,7 +80,7 @@ pub(crate) struct UsageOutput {
     pub per_run: Vec<RunRadarUsage>,
 }
 
-pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageOutput, MetricsError> {
+pub(crate) fn usage(interval_sums: DataFrame, input: &UsageInput<'_>) -> Result<UsageOutput, MetricsError> {
     let dt = input.interval_s;
     // The full grid run × radar × interval, with the scorable count of the interval (its scoring
     // time closes it); `n_objects` is null where nothing is scorable.
@@ -91,10 +106,7 @@ pub(crate) fn usage(dwells: &DataFrame, input: &UsageInput<'_>) -> Result<UsageO
     ])
     .map_err(internal("usage grid"))?;
 
-    // One pass over the dwells: sums per run, radar and interval (every interval, also those
-    // after the last scoring time, so that the sensor totals below can be summed from it).
-    let interval_sums =
-        transmit_sums(dwells, dt, &["run", "radar", "interval"]).collect().map_err(internal("usage sums"))?;
+    // `interval_sums`: the dwells' sums per run, radar and interval (see `transmit_sums`).
     let keys = [col("run"), col("radar"), col("interval")];
     let mut norm_exprs: Vec<Expr> = SUMS.iter().map(|s| col(*s).fill_null(lit(0.0))).collect();
     norm_exprs.push(col("n_scorable").cast(DataType::Float64));

@@ -753,3 +753,116 @@ fn integer_widths_from_other_writers_are_accepted() {
     let e = score_dir(&dir, always_scorable(), &ScoreOptions::default()).expect_err("must fail");
     assert!(matches!(e, MetricsError::InvalidValue { column: "track_id", row: 0, .. }), "{e}");
 }
+
+/// Usage is computed file by file (docs/design.md §6): one file per run, a run split over
+/// several files and every run in one file give the same figures, and they agree with sums over
+/// the rows computed here by hand (eqs. 1–6).
+#[test]
+fn usage_does_not_depend_on_how_the_dwells_are_split_into_files() {
+    use DwellKind::*;
+    use Requester::*;
+    use Role::*;
+    let runs = 3u32;
+    let mut truth = Vec::new();
+    for run in 0..runs {
+        truth.extend(truth_line(run, "A", A0, VA, 0.0, 20.0));
+        truth.extend(truth_line(run, "B", B0, VB, 0.0, 12.0));
+    }
+    // Pseudo-random dwells (a fixed LCG), every role, kind and requester, some after the end.
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut per_run: Vec<Vec<DwellRow>> = Vec::new();
+    for run in 0..runs {
+        let mut rows = Vec::new();
+        let mut t = 0.0;
+        for id in 0..2000u64 {
+            t += 0.011 * next();
+            let radar = (next() * 4.0) as u8;
+            let role = [Tx, Rx, Txrx][(next() * 3.0) as usize];
+            let (kind, by) = [(Search, Radar), (Track, Ta), (Confirm, Ta), (Mimo, Ta)][(next() * 4.0) as usize];
+            let energy = if role == Rx { 0.0 } else { 100.0 * next() };
+            rows.push(dwell(run, id, id, radar, role, kind, by, t, 0.001 + 0.01 * next(), energy));
+        }
+        per_run.push(rows);
+    }
+    let opts = ScoreOptions { scenario: "split".into(), ..ScoreOptions::default() };
+    let score_with = |files: Vec<Vec<DwellRow>>| -> Score {
+        let dir = tempfile::tempdir().expect("tempdir");
+        write(&dir.path().join("truth/run-0000.parquet"), truth_frame(&truth));
+        write(&dir.path().join("tracks/run-0000.parquet"), tracks_frame(&[]));
+        for (i, rows) in files.iter().enumerate() {
+            write(&dir.path().join(format!("dwells/part-{i:04}.parquet")), dwells_frame(rows));
+        }
+        score_dir(&dir, always_scorable(), &opts).expect("score")
+    };
+    let one_per_run = score_with(per_run.clone());
+    let all_in_one = score_with(vec![per_run.concat()]);
+    // Each run in two files, split where a scoring interval starts (so that no sum is split).
+    let halves = score_with(
+        per_run
+            .iter()
+            .flat_map(|r| {
+                let cut = r.iter().position(|d| d.t_s >= 10.0).unwrap_or(r.len());
+                [r[..cut].to_vec(), r[cut..].to_vec()]
+            })
+            .collect(),
+    );
+    // The per-interval figures are the same numbers; the sensor totals sum the intervals in the
+    // order their sums come out, so they may differ in the last bits.
+    for other in [&all_in_one, &halves] {
+        assert_eq!(one_per_run.usage, other.usage);
+        assert_eq!(one_per_run.usage_total, other.usage_total);
+        assert_eq!(one_per_run.usage_radar.len(), other.usage_radar.len());
+        for (a, b) in one_per_run.usage_radar.iter().zip(&other.usage_radar) {
+            assert_eq!(a.radar, b.radar);
+            for (x, y) in [(a.dwell_time_s, b.dwell_time_s), (a.energy_j, b.energy_j), (a.ta_energy_j, b.ta_energy_j)] {
+                assert!((x - y).abs() <= 1e-12 * y.abs(), "{a:?} {b:?}");
+            }
+        }
+    }
+    // By hand: raw sums per radar and interval averaged over runs, and the normalized figures.
+    let rel = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-9);
+    let s = &one_per_run;
+    assert!(!s.usage.is_empty());
+    for u in &s.usage {
+        let (mut time, mut energy, mut ta_energy, mut norm) = (0.0, 0.0, 0.0, 0.0);
+        let mut defined = 0;
+        for (run, rows) in per_run.iter().enumerate() {
+            let sel = rows.iter().filter(|d| {
+                d.radar.to_string() == u.radar && d.role != Rx && (d.t_s / opts.interval_s) as u32 + 1 == u.interval
+            });
+            let (t, e, te) = sel.fold((0.0, 0.0, 0.0), |(t, e, te), d| {
+                (t + d.duration_s, e + d.energy_j, te + if d.requested_by == Ta { d.energy_j } else { 0.0 })
+            });
+            time += t;
+            energy += e;
+            ta_energy += te;
+            let n =
+                s.track_metrics.iter().find(|m| m.run == run as u32 && m.k == u.interval).map_or(0, |m| m.n_scorable);
+            if n > 0 {
+                norm += e / f64::from(n);
+                defined += 1;
+            }
+        }
+        let k = f64::from(runs);
+        assert!(rel(u.dwell_time_s, time / k), "{u:?}");
+        assert!(rel(u.energy_j, energy / k), "{u:?}");
+        assert!(rel(u.ta_energy_j, ta_energy / k), "{u:?}");
+        match u.energy_per_object_j {
+            Some(v) => assert!(rel(v, norm / f64::from(defined)), "{u:?}"),
+            None => assert_eq!(defined, 0),
+        }
+    }
+    for r in &s.usage_radar {
+        let e: f64 = per_run
+            .iter()
+            .flatten()
+            .filter(|d| d.radar.to_string() == r.radar && d.role != Rx)
+            .map(|d| d.energy_j)
+            .sum();
+        assert!(rel(r.energy_j, e / f64::from(runs)), "{r:?}");
+    }
+}
