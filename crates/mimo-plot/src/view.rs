@@ -9,7 +9,7 @@
 
 use crate::PlotError;
 use crate::frame::{FrameJson, PlotFrame};
-use crate::globe::{Mesh, Polylines, coastlines, globe_mesh, surface_mesh};
+use crate::globe::{Polylines, coastlines, globe_graticule, graticule};
 use crate::linked::{self, RunScore};
 use crate::objects::{self, BeamCols, MeasCols, RadarView, TrackCols, TruthPath};
 use crate::source::RunSource;
@@ -90,8 +90,8 @@ pub struct Region {
     pub lo: [i64; 3],
     /// Upper corner (m).
     pub hi: [i64; 3],
-    /// The ellipsoid surface under the box.
-    pub surface: Mesh,
+    /// Parallels and meridians on the ellipsoid under the box.
+    pub graticule: Polylines,
 }
 
 /// Everything the page shows.
@@ -117,8 +117,8 @@ pub struct View {
     pub metrics: MetricsCols,
     /// Coastlines.
     pub coast: Polylines,
-    /// The whole earth.
-    pub globe: Mesh,
+    /// Parallels and meridians of the whole earth.
+    pub globe: Polylines,
     /// The region around the scenario.
     pub region: Region,
 }
@@ -157,12 +157,14 @@ fn region(frame: &PlotFrame, truth: &[TruthPath], radars: &[RadarView]) -> Regio
     let lon = corners.iter().map(|g| g.lon_deg());
     let (la0, la1) = lat.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
     let (lo0, lo1) = lon.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
-    let surface = surface_mesh(frame, (la0, la1), (lo0, lo1), 32, 32);
-    let zmin = surface.p.chunks_exact(3).map(|c| c[2]).min().unwrap_or(-1000);
+    // Every 0.5°, sampled every 0.05° (about 5 km): the box edges are on it, so its lowest
+    // point is the lowest point of the earth under the box.
+    let graticule = graticule(frame, (la0, la1), (lo0, lo1), 0.5, 0.05);
+    let zmin = graticule.p.chunks_exact(3).map(|c| c[2]).min().unwrap_or(-1000);
     Region {
         lo: [x0.round() as i64, y0.round() as i64, zmin - 1000],
         hi: [x1.round() as i64, y1.round() as i64, hi[2].max(1000) + 3000],
-        surface,
+        graticule,
     }
 }
 
@@ -264,7 +266,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         beams,
         metrics,
         coast: coastlines(&frame),
-        globe: globe_mesh(&frame),
+        globe: globe_graticule(&frame),
         region,
     })
 }
