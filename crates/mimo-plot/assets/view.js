@@ -499,6 +499,7 @@
     document.getElementById('time').value = S.t;
     document.getElementById('tlabel').textContent = 't = ' + S.t.toFixed(1) + ' s';
     window.__mimo.firstRenderMs = MARKS.first_render_ms = performance.now();
+    document.body.dataset.marks = JSON.stringify(MARKS);
     document.body.dataset.ready = '1';
     if (hash.select === 'mimo') { // open with a bistatic measurement near t selected (for screenshots)
       var M = D.meas, best = -1;

@@ -1,11 +1,12 @@
 //! The view: everything the page shows, built from a run (docs/design.md §2–§3, §6).
 //!
-//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run near 10 MB:
+//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run near 9 MB:
 //! truth at 1 Hz (the tables hold 10 Hz; the path between samples is a straight chord),
 //! ship paths at 1 Hz, every track row, every measurement, and one beam point per dwell group
 //! the test article requested. Background search dwells (over 90 % of all dwells) are not drawn
 //! as beams — they are the radars' own raster — but their detections are drawn as
-//! measurements. The page lists these choices under "dropped".
+//! measurements. The earth is a graticule, not a filled mesh (a mesh costs seconds of WebGL set-up
+//! under software rendering). The page lists these choices under "dropped".
 
 use crate::PlotError;
 use crate::frame::{FrameJson, PlotFrame};
@@ -234,6 +235,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
             "{search_parts} background-search dwell parts are not drawn as beams (the radars' own raster); their detections are drawn as measurements"
         ),
         "primitives are not drawn (each measurement is its strongest primitive, docs/model.md §4.5)".to_string(),
+        "the earth is drawn as parallels and meridians (every 0.5° in the region view, 15° in the globe view) over a sea-coloured floor, not as a filled surface, so the page opens quickly".to_string(),
     ];
     if meas_dropped.unplaceable + meas_dropped.unknown_radar > 0 {
         dropped.push(format!(
