@@ -1,7 +1,9 @@
 //! `mimo plot` end to end: a short recorded scenario-7 run is plotted, and the page is loaded in
 //! headless Chromium (Debian's package) from a file URL with the network off. The page's
 //! self-test (`view.html#selftest`) clicks a bistatic measurement through plotly's click event,
-//! checks the panel and the sensor lines, moves the slider and writes its verdict into the DOM,
+//! checks the panel, the sensor lines and the 1σ/3σ ellipsoids, switches a dwell kind and a
+//! radar off and on, clicks the linked metrics panel, plays and pauses, moves the slider and
+//! writes its verdict into the DOM,
 //! which `--dump-dom` returns; errors and network attempts are recorded from the page's first
 //! script on. A screenshot must show the scene. Bad input exits 2 with one `error:` line and
 //! writes nothing.
@@ -110,6 +112,12 @@ fn page_works_offline_in_headless_chromium() {
         "panel_filled",
         "sensor_lines_join_the_radars",
         "sensor_lines_drawn",
+        "ellipsoids_1_and_3_sigma",
+        "kind_toggle_hides_its_measurements",
+        "radar_toggle_hides_its_measurements",
+        "toggles_restore",
+        "metrics_click_moves_time",
+        "play_then_pause",
         "slider_moves_state",
     ] {
         assert_eq!(v["checks"][check], true, "self-test check {check} failed: {v}");

@@ -55,118 +55,120 @@
   }
   function shipAt(i, t) { var r = D.radars[i]; return interp(r.t, r.p, t); }
 
-  // ---- static traces ----
-  function meshTrace(m, name, color) {
-    var x = [], y = [], z = [], i = [], j = [], k = [];
-    for (var n = 0; n < m.p.length; n += 3) { x.push(m.p[n]); y.push(m.p[n + 1]); z.push(m.p[n + 2]); }
-    for (n = 0; n < m.tri.length; n += 3) { i.push(m.tri[n]); j.push(m.tri[n + 1]); k.push(m.tri[n + 2]); }
-    return { type: 'mesh3d', name: name, x: x, y: y, z: z, i: i, j: j, k: k, color: color, opacity: 1, flatshading: false,
-      lighting: { ambient: 0.9, diffuse: 0.2, specular: 0 }, hoverinfo: 'skip', showlegend: false, meta: 'earth' };
-  }
-  var GLOBE = meshTrace(D.globe, 'earth', '#dcebf5');
-  var REGION = meshTrace(D.region.surface, 'earth', '#dcebf5');
-  var COAST = (function () {
+  // ---- the scene's traces ----
+  // Every object at time t goes into three scatter3d traces: one of solid lines, one of dotted
+  // lines (per-vertex colours, null breaks) and one of markers (per-point symbol, size and
+  // colour; customdata [layer, index] for the click panel). plotly builds WebGL programs per
+  // trace, and linking them is most of a page's opening time under software WebGL, so the
+  // scene has few traces (docs/DECISIONS.md, "The run viewer"). Labels are scene annotations.
+  var COAST = (function () { // coastlines as one broken polyline (static)
     var x = [], y = [], z = [], s = D.coast.starts.concat([D.coast.p.length / 3]);
     for (var l = 0; l + 1 < s.length; l++) {
       for (var n = s[l]; n < s[l + 1]; n++) { x.push(D.coast.p[3 * n]); y.push(D.coast.p[3 * n + 1]); z.push(D.coast.p[3 * n + 2]); }
       x.push(null); y.push(null); z.push(null);
     }
-    return { type: 'scatter3d', mode: 'lines', name: 'coastlines', x: x, y: y, z: z, line: { color: '#4a4a4a', width: 2 },
-      hoverinfo: 'skip', showlegend: false, meta: 'coast' };
+    return { x: x, y: y, z: z };
   })();
-
-  // ---- per-time traces ----
-  function lines(name, color, dash, width, meta) {
-    return { type: 'scatter3d', mode: 'lines', name: name, x: [], y: [], z: [], line: { color: color, width: width, dash: dash },
-      hoverinfo: 'skip', showlegend: false, meta: meta };
+  function graticule(g) { var o = { x: [], y: [], z: [] }; for (var n = 0; n < g.p.length / 3; n++) { var b = g.starts.indexOf(n) > 0; if (b) { o.x.push(null); o.y.push(null); o.z.push(null); } o.x.push(g.p[3 * n]); o.y.push(g.p[3 * n + 1]); o.z.push(g.p[3 * n + 2]); } return o; }
+  var GRID = { region: graticule(D.region.graticule), globe: graticule(D.globe) };
+  function lines(name, dash, width) {
+    return { type: 'scatter3d', mode: 'lines', name: name, x: [], y: [], z: [], line: { color: [], width: width, dash: dash },
+      hoverinfo: 'skip', showlegend: false, meta: 'lines' };
   }
-  function markers(name, symbol, size, meta) {
-    return { type: 'scatter3d', mode: 'markers', name: name, x: [], y: [], z: [], customdata: [], text: [],
-      marker: { symbol: symbol, size: size, color: [], line: { width: 0 } }, hoverinfo: 'text', showlegend: false, meta: meta };
+  function addLine(tr, pts, color) { // one polyline, then a break
+    pts.forEach(function (p) { tr.x.push(p[0]); tr.y.push(p[1]); tr.z.push(p[2]); tr.line.color.push(color); });
+    tr.x.push(null); tr.y.push(null); tr.z.push(null); tr.line.color.push(color);
   }
-  function push(tr, p, cd, color, text) {
-    tr.x.push(p[0]); tr.y.push(p[1]); tr.z.push(p[2]);
-    if (tr.customdata) tr.customdata.push(cd);
-    if (color !== undefined) { if (tr.marker) tr.marker.color.push(color); else tr.line.color.push(color); }
-    if (text !== undefined && tr.text) tr.text.push(text);
+  function addStatic(tr, s, color) {
+    for (var n = 0; n < s.x.length; n++) { tr.x.push(s.x[n]); tr.y.push(s.y[n]); tr.z.push(s.z[n]); tr.line.color.push(color); }
+    tr.x.push(null); tr.y.push(null); tr.z.push(null); tr.line.color.push(color);
   }
-  function gap(tr) { tr.x.push(null); tr.y.push(null); tr.z.push(null); if (Array.isArray(tr.line.color)) tr.line.color.push('#000'); }
+  function markers() {
+    return { type: 'scatter3d', mode: 'markers', name: 'objects', x: [], y: [], z: [], customdata: [], text: [],
+      marker: { symbol: [], size: [], color: [], line: { width: 0 } }, hoverinfo: 'text', showlegend: false, meta: 'objects' };
+  }
+  function addMark(tr, p, cd, symbol, size, color, text) {
+    tr.x.push(p[0]); tr.y.push(p[1]); tr.z.push(p[2]); tr.customdata.push(cd);
+    tr.marker.symbol.push(symbol); tr.marker.size.push(size); tr.marker.color.push(color); tr.text.push(text);
+  }
+  function label(p, text, color, yshift) {
+    return { x: p[0], y: p[1], z: p[2], text: text, showarrow: false, yshift: yshift, font: { size: 11, color: color } };
+  }
 
   function build(t) {
-    var t0 = t - S.trail, out = [];
-    // Earth and coastlines.
-    out.push(Object.assign({}, S.mode === 'globe' ? GLOBE : REGION, { visible: S.layers.earth }));
-    out.push(Object.assign({}, COAST, { visible: S.layers.coast }));
+    var t0 = t - S.trail, solid = lines('solid lines', 'solid', 3), dotted = lines('dotted lines', 'dot', 3), mk = markers(), labels = [];
+    // Earth: a latitude/longitude graticule on the ellipsoid and the coastlines.
+    if (S.layers.earth) addStatic(solid, GRID[S.mode], '#9dbbd1');
+    if (S.layers.coast) addStatic(solid, COAST, '#4a4a4a');
     // Ships and faces.
-    var ships = markers('ships', 'square', 6, 'ship'), faces = lines('faces', [], 'solid', 3, 'faces');
-    ships.mode = 'markers+text'; ships.textposition = 'top center';
     D.radars.forEach(function (r, i) {
-      if (!S.radarsOn[i]) return;
+      if (!S.radarsOn[i] || !S.layers.ships) return;
       var c = RADAR_COLORS[i % RADAR_COLORS.length], p = shipAt(i, t);
       if (!p) return;
-      push(ships, p, i, c, r.id);
+      addMark(mk, p, ['ship', i], 'square', 6, c, 'radar ' + r.id);
+      labels.push(label(p, r.id, c, 14));
+      if (!S.layers.faces) return;
       r.faces.forEach(function (a) {
         var xh = [a[0], a[1], a[2]], yh = [a[3], a[4], a[5]], n = [a[6], a[7], a[8]];
         var cen = [0, 1, 2].map(function (k) { return p[k] + FACE_OFFSET_M * n[k]; });
         var corner = function (sx, sy) { return [0, 1, 2].map(function (k) { return cen[k] + SHIP_FACE_HALF_M * (sx * xh[k] + sy * yh[k]); }); };
-        [corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1), corner(-1, -1)].forEach(function (q) { push(faces, q, undefined, c); });
-        gap(faces);
-        push(faces, cen, undefined, c); push(faces, [0, 1, 2].map(function (k) { return cen[k] + BORESIGHT_M * n[k]; }), undefined, c); gap(faces);
+        addLine(solid, [corner(-1, -1), corner(1, -1), corner(1, 1), corner(-1, 1), corner(-1, -1)], c);
+        addLine(solid, [cen, [0, 1, 2].map(function (k) { return cen[k] + BORESIGHT_M * n[k]; })], c);
       });
     });
-    ships.visible = S.layers.ships; faces.visible = S.layers.ships && S.layers.faces;
-    out.push(ships, faces);
     // Truth: trails and current positions.
-    var tl = lines('truth trails', '#222', 'solid', 2, 'truthline'), th = markers('truth', 'circle', 4, 'truth');
-    th.mode = 'markers+text'; th.textposition = 'bottom center';
-    D.truth.forEach(function (p, ti) {
-      var a = lowerBound(p.t, t0), b = upperBound(p.t, t);
-      for (var n = a; n < b; n++) push(tl, pt(p.p, n));
+    if (S.layers.truth) D.truth.forEach(function (p, ti) {
+      var a = lowerBound(p.t, t0), b = upperBound(p.t, t), trail = [];
+      for (var n = a; n < b; n++) trail.push(pt(p.p, n));
       var now = interp(p.t, p.p, t);
-      if (now && t <= p.t[p.t.length - 1]) { push(tl, now); push(th, now, [ti, Math.max(b - 1, 0)], '#222', p.id); }
-      gap(tl);
+      if (now && t <= p.t[p.t.length - 1]) {
+        trail.push(now);
+        addMark(mk, now, ['truth', ti, Math.max(b - 1, 0)], 'circle', 4, '#222', 'truth ' + p.id);
+        labels.push(label(now, p.id, '#222', -12));
+      }
+      if (trail.length > 1) addLine(solid, trail, '#222');
     });
-    tl.visible = th.visible = S.layers.truth;
-    out.push(tl, th);
     // Tracks: dotted while tentative, solid once confirmed, × where deleted; coloured by id.
-    var T = D.tracks, ta = lowerBound(T.t, t0), tb = upperBound(T.t, t), per = new Map();
-    for (var i = ta; i < tb; i++) { var id = T.id[i]; if (!per.has(id)) per.set(id, []); per.get(id).push(i); }
-    var tent = lines('tentative tracks', [], 'dot', 3, 'trackline'), conf = lines('confirmed tracks', [], 'solid', 3, 'trackline');
-    var tpts = markers('track states', 'circle', 2.5, 'track'), heads = markers('tracks now', 'circle', 5, 'track'), dels = markers('deleted', 'x', 5, 'track');
-    per.forEach(function (rows, id) {
-      var c = trackColor(id), prev = null;
-      rows.forEach(function (r) {
-        var p = pt(T.p, r), tr = T.st[r] === 0 ? tent : conf;
-        if (prev !== null) { push(tr, pt(T.p, prev), undefined, c); push(tr, p, undefined, c); gap(tr); }
-        push(tpts, p, r, c, 'track ' + id);
-        prev = r;
+    var T = D.tracks, ta = lowerBound(T.t, t0), tb = upperBound(T.t, t), per = new Map(), i;
+    if (S.layers.tracks) {
+      for (i = ta; i < tb; i++) { var id = T.id[i]; if (!per.has(id)) per.set(id, []); per.get(id).push(i); }
+      per.forEach(function (rows, id) {
+        var c = trackColor(id), prev = null;
+        rows.forEach(function (r) {
+          if (prev !== null) addLine(T.st[r] === 0 ? dotted : solid, [pt(T.p, prev), pt(T.p, r)], c);
+          addMark(mk, pt(T.p, r), ['track', r], 'circle', 2.5, c, 'track ' + id);
+          prev = r;
+        });
+        var last = rows[rows.length - 1];
+        if (T.st[last] === 2) addMark(mk, pt(T.p, last), ['track', last], 'x', 5, c, 'track ' + id + ' deleted');
+        else addMark(mk, pt(T.p, last), ['track', last], 'circle', 5, c, 'track ' + id + ' (' + D.meta.statuses[T.st[last]] + ')');
       });
-      var last = rows[rows.length - 1];
-      if (T.st[last] === 2) push(dels, pt(T.p, last), last, c, 'track ' + id + ' deleted');
-      else push(heads, pt(T.p, last), last, c, 'track ' + id + ' (' + D.meta.statuses[T.st[last]] + ')');
-    });
-    [tent, conf, tpts, heads, dels].forEach(function (tr) { tr.visible = S.layers.tracks; out.push(tr); });
+    }
     // Measurements: monostatic circles, bistatic diamonds; coloured by receiving radar.
     var M = D.meas, ma = lowerBound(M.t, t0), mb = upperBound(M.t, t);
-    var mono = markers('monostatic measurements', 'circle', 2.5, 'meas'), bi = markers('bistatic measurements', 'diamond', 3.5, 'meas');
-    for (i = ma; i < mb; i++) {
+    if (S.layers.meas) for (i = ma; i < mb; i++) {
       if (!S.kindsOn[M.kind[i]] || !(S.radarsOn[M.tx[i]] || S.radarsOn[M.rx[i]])) continue;
       var bist = M.tx[i] !== M.rx[i];
-      push(bist ? bi : mono, pt(M.p, i), i, RADAR_COLORS[M.rx[i] % RADAR_COLORS.length],
+      addMark(mk, pt(M.p, i), ['meas', i], bist ? 'diamond' : 'circle', bist ? 3.5 : 2.5, RADAR_COLORS[M.rx[i] % RADAR_COLORS.length],
         (bist ? D.radars[M.tx[i]].id + '→' + D.radars[M.rx[i]].id : D.radars[M.rx[i]].id) + ' ' + fmt(M.snr[i], 1) + ' dB');
     }
-    mono.visible = bi.visible = S.layers.meas;
-    out.push(mono, bi);
     // Beam points of the test article's dwells, coloured by kind.
-    var B = D.beams, ba = lowerBound(B.t, t0), bb = upperBound(B.t, t), beams = markers('beams', 'square-open', 3, 'beam');
-    for (i = ba; i < bb; i++) {
+    var B = D.beams, ba = lowerBound(B.t, t0), bb = upperBound(B.t, t);
+    if (S.layers.beams) for (i = ba; i < bb; i++) {
       if (!S.kindsOn[B.kind[i]] || !radarsVisible(B.tx[i] | B.rx[i])) continue;
-      push(beams, pt(B.p, i), i, KIND_COLORS[B.kind[i]], D.meta.kinds[B.kind[i]] + ' dwell');
+      addMark(mk, pt(B.p, i), ['beam', i], 'square-open', 3, KIND_COLORS[B.kind[i]], D.meta.kinds[B.kind[i]] + ' dwell');
     }
-    beams.visible = S.layers.beams;
-    out.push(beams);
-    // Selection: ellipsoids, sensor lines, highlight.
-    out = out.concat(selectionTraces());
+    // Selection: sensor lines and a ring; its ellipsoids are the only meshes.
+    var info = selectionInfo(), out = [solid, dotted, mk];
+    if (info) {
+      sensorLines(info).forEach(function (l) { addLine(l.role === 'tx' ? solid : dotted, [l.from, l.to], l.role === 'tx' ? '#d62728' : '#1f77b4'); });
+      addMark(mk, info.p, ['none', -1], 'circle-open', 10, '#000', 'selected');
+      if (info.ax) {
+        if (S.sig3) out.push(ellipsoid(info.p, info.ax, 3, '#ff9800', 0.25, '3σ'));
+        if (S.sig1) out.push(ellipsoid(info.p, info.ax, 1, '#e65100', 0.6, '1σ'));
+      }
+    }
+    S.labels = labels;
     return out;
   }
 
@@ -207,21 +209,6 @@
       if (info.rx & (1 << i)) out.push({ radar: r.id, role: 'rx', from: q, to: info.p });
     });
     return out;
-  }
-  function selectionTraces() {
-    var info = selectionInfo();
-    var txl = lines('transmit lines', '#d62728', 'solid', 4, 'sensorline'), rxl = lines('receive lines', '#1f77b4', 'dot', 4, 'sensorline');
-    var hl = markers('selected', 'circle-open', 10, 'none');
-    var out = [];
-    if (info) {
-      if (info.ax) {
-        if (S.sig3) out.push(ellipsoid(info.p, info.ax, 3, '#ff9800', 0.25, '3σ'));
-        if (S.sig1) out.push(ellipsoid(info.p, info.ax, 1, '#e65100', 0.6, '1σ'));
-      }
-      sensorLines(info).forEach(function (l) { var tr = l.role === 'tx' ? txl : rxl; push(tr, l.from); push(tr, l.to); gap(tr); });
-      push(hl, info.p, -1, '#000', 'selected');
-    }
-    return out.concat([txl, rxl, hl]);
   }
 
   function row(k, v) { return '<tr><td>' + k + '</td><td>' + v + '</td></tr>'; }
@@ -268,16 +255,18 @@
   var gd = document.getElementById('scene'), mg = document.getElementById('metrics');
   function sceneLayout() {
     var lo = D.region.lo, hi = D.region.hi, sc;
-    var ax = function (title, r) { return { title: { text: title }, range: r, showbackground: false, showspikes: false, zeroline: false }; };
+    var ax = function (title, r) { return { title: { text: title }, range: r, nticks: 5, showbackground: false, showspikes: false, zeroline: false }; };
     if (S.mode === 'region') {
       var w = hi[0] - lo[0];
       sc = { xaxis: ax('east (m)', [lo[0], hi[0]]), yaxis: ax('north (m)', [lo[1], hi[1]]), zaxis: ax('up (m)', [lo[2], hi[2]]),
         aspectmode: 'manual', aspectratio: { x: 1, y: (hi[1] - lo[1]) / w, z: Math.max(0.05, S.vex * (hi[2] - lo[2]) / w) },
         camera: { eye: { x: -0.9, y: -1.3, z: 0.9 }, center: { x: 0, y: 0, z: -0.1 } } };
+      if (S.layers.earth) { sc.zaxis.showbackground = true; sc.zaxis.backgroundcolor = '#e3eef7'; } // the sea, under the graticule
     } else {
       sc = { xaxis: ax('east (m)', [-6.5e6, 6.5e6]), yaxis: ax('north (m)', [-6.5e6, 6.5e6]), zaxis: ax('up (m)', [-12.8e6, 2e5]),
         aspectmode: 'data', camera: { eye: { x: 0, y: -0.25, z: 0.9 }, center: { x: 0, y: 0, z: 0 } } };
     }
+    sc.annotations = S.labels || [];
     return { scene: sc, margin: { l: 0, r: 0, t: 0, b: 0 }, height: gd.clientHeight, uirevision: S.mode + S.vex, showlegend: false, paper_bgcolor: '#fff' };
   }
   // Renders run one at a time; a draw() asked for while one is queued joins it (its promise
@@ -354,24 +343,31 @@
     document.getElementById('mode').addEventListener('change', function (e) { S.mode = e.target.value; draw(); });
     document.getElementById('vex').addEventListener('change', function (e) { S.vex = Number(e.target.value); draw(); });
     var btn = document.getElementById('play'), last = null;
-    function tick(now) {
-      if (!S.playing) return;
-      if (last !== null && inflight === 0) {
-        var nt = S.t + S.speed * (now - last) / 1000;
-        if (nt >= D.meta.to_s) { S.playing = false; btn.textContent = '▶ play'; }
-        setTime(nt);
+    // Play: every 40 ms, once the last render is done, time moves on by speed × the wall time
+    // since the previous step (a timer, not animation frames, which headless browsers may hold).
+    var gen = 0;
+    function tick(g) {
+      if (!S.playing || g !== gen) return;
+      var now = performance.now();
+      if (inflight === 0) {
+        if (last !== null) {
+          var nt = S.t + S.speed * (now - last) / 1000;
+          if (nt >= D.meta.to_s) { S.playing = false; btn.textContent = '▶ play'; }
+          setTime(nt);
+        }
+        last = now;
       }
-      if (inflight === 0) last = now;
-      requestAnimationFrame(tick);
+      setTimeout(function () { tick(g); }, 40);
     }
     btn.addEventListener('click', function () {
-      S.playing = !S.playing; btn.textContent = S.playing ? '❚❚ pause' : '▶ play'; last = null;
-      if (S.playing) requestAnimationFrame(tick);
+      S.playing = !S.playing; btn.textContent = S.playing ? '❚❚ pause' : '▶ play'; last = null; gen++;
+      if (S.playing) tick(gen);
     });
     gd.on('plotly_click', function (ev) {
       var p = ev.points && ev.points[0]; if (!p) return;
-      var layer = p.data && p.data.meta;
-      if (['meas', 'beam', 'track', 'truth', 'ship'].indexOf(layer) >= 0 && p.customdata !== undefined && p.customdata !== -1) select(layer, p.customdata);
+      var cd = p.customdata; if (!Array.isArray(cd)) return;
+      if (cd[0] === 'truth') select('truth', [cd[1], cd[2]]);
+      else if (['meas', 'beam', 'track', 'ship'].indexOf(cd[0]) >= 0) select(cd[0], cd[1]);
     });
     var legend = document.getElementById('legend');
     legend.innerHTML = '<h3>Legend</h3>truth: black line, ● now · tracks: coloured by id, ⋯ tentative, — confirmed, × deleted · ' +
@@ -382,7 +378,9 @@
     D.meta.dropped.forEach(function (s) { var li = document.createElement('li'); li.textContent = s; dl.appendChild(li); });
   }
 
-  // ---- self-test (view.html#selftest): click a measurement, move the slider, report ----
+  // ---- self-test (view.html#selftest): click a measurement, ellipsoids, toggles, linked
+  // panel, play/pause, slider; report ----
+  function clickBox(id) { document.getElementById(id).click(); return draw(); }
   function selftest() {
     var v = { ok: false, checks: {} }, out = document.getElementById('selftest');
     function finish() {
@@ -401,9 +399,10 @@
       if (target < 0) { finish(); return; }
       setTime(M.t[target]).then(function () {
         // The click goes through plotly's own click event, as a user's does.
-        var trace = gd.data.find(function (d) { return d.meta === 'meas' && d.customdata.indexOf(target) >= 0; });
-        v.checks.measurement_drawn = !!trace;
-        gd.emit('plotly_click', { points: [{ data: trace, customdata: target }] });
+        var trace = gd.data.find(function (d) { return d.meta === 'objects'; }), k = -1;
+        if (trace) trace.customdata.forEach(function (cd, j) { if (cd[0] === 'meas' && cd[1] === target) k = j; });
+        v.checks.measurement_drawn = k >= 0;
+        gd.emit('plotly_click', { points: [{ data: trace, pointNumber: k, customdata: k >= 0 ? trace.customdata[k] : undefined }] });
         return draw();
       }).then(function () {
         var body = document.getElementById('infobody');
@@ -413,15 +412,58 @@
         v.sensor_lines = ls.map(function (l) { return l.role + ':' + l.radar; });
         var want = ['tx:' + D.radars[M.tx[target]].id, 'rx:' + D.radars[M.rx[target]].id];
         v.checks.sensor_lines_join_the_radars = want.every(function (w) { return v.sensor_lines.indexOf(w) >= 0; });
-        var drawnTx = gd.data.find(function (d) { return d.name === 'transmit lines'; });
-        v.checks.sensor_lines_drawn = !!drawnTx && drawnTx.x.length >= 2;
+        // Drawn: a red (transmit) segment in the solid trace and a blue (receive) one in the dotted.
+        var colours = function (name) { var d = gd.data.find(function (x) { return x.name === name; }); return d ? d.line.color : []; };
+        v.checks.sensor_lines_drawn = colours('solid lines').indexOf('#d62728') >= 0 && colours('dotted lines').indexOf('#1f77b4') >= 0;
         v.selected = { meas_id: M.id[target], t: M.t[target], enu: pt(M.p, target) };
-        var truthBefore = JSON.stringify(gd.data.find(function (d) { return d.meta === 'truth'; }).x);
+        // The 1σ and 3σ ellipsoids are drawn; unticking 3σ leaves the 1σ one.
+        var meshes = function () { return gd.data.filter(function (d) { return d.type === 'mesh3d'; }).map(function (d) { return d.name; }).sort().join(','); };
+        v.ellipsoids = meshes();
+        return clickBox('sig3').then(function () {
+          v.checks.ellipsoids_1_and_3_sigma = v.ellipsoids === '1σ,3σ' && meshes() === '1σ';
+          return clickBox('sig3');
+        });
+      }).then(function () {
+        // Per-kind and per-radar toggles: untick, look at the drawn measurements, tick again.
+        var drawn = function () { var d = gd.data.find(function (x) { return x.meta === 'objects'; }); return d.customdata.filter(function (c) { return c[0] === 'meas'; }).map(function (c) { return c[1]; }); };
+        var all = drawn(), k0 = M.kind[target], r0 = M.rx[target];
+        return clickBox('kind-' + D.meta.kinds[k0]).then(function () {
+          var off = drawn();
+          v.checks.kind_toggle_hides_its_measurements = all.indexOf(target) >= 0 && off.length < all.length && off.every(function (i) { return M.kind[i] !== k0; });
+          return clickBox('kind-' + D.meta.kinds[k0]);
+        }).then(function () { return clickBox('radar-' + D.radars[r0].id); }).then(function () {
+          var off = drawn();
+          v.checks.radar_toggle_hides_its_measurements = off.length < all.length && off.every(function (i) { return M.tx[i] !== r0 || M.rx[i] !== r0; });
+          return clickBox('radar-' + D.radars[r0].id);
+        }).then(function () { v.checks.toggles_restore = drawn().length === all.length; });
+      }).then(function () {
+        // The linked metrics panel: a click at a scoring time moves the 3-D view there.
+        var tk = D.metrics.t[Math.floor(D.metrics.t.length / 2)];
+        mg.emit('plotly_click', { points: [{ x: tk }] });
+        return draw().then(function () { v.checks.metrics_click_moves_time = Math.abs(S.t - tk) < 1e-9; });
+      }).then(function () {
+        // Play for a moment, then pause: time moves on, then stands.
+        var btn = document.getElementById('play'), t0 = S.t = D.meta.from_s;
+        btn.click();
+        return new Promise(function (r) { // until time has moved (at most 20 s)
+          var waited = 0;
+          (function poll() { if (S.t > t0 || waited >= 20000) r(); else { waited += 100; setTimeout(poll, 100); } })();
+        }).then(function () {
+          btn.click();
+          var t1 = S.t;
+          return draw().then(function () { return new Promise(function (r) { setTimeout(r, 500); }); }).then(function () {
+            v.play = { from_s: t0, paused_at_s: t1, after_s: S.t };
+            v.checks.play_then_pause = t1 > t0 && !S.playing && S.t === t1;
+          });
+        });
+      }).then(function () {
+        var truthNow = function () { var d = gd.data.find(function (x) { return x.meta === 'objects'; }); return JSON.stringify(d.x.filter(function (_, j) { return d.customdata[j][0] === 'truth'; })); };
+        var truthBefore = truthNow();
         var slider = document.getElementById('time'), t2 = Math.min(D.meta.to_s, M.t[target] + 20);
         slider.value = t2;
         slider.dispatchEvent(new Event('input'));
         return draw().then(function () {
-          var truthAfter = JSON.stringify(gd.data.find(function (d) { return d.meta === 'truth'; }).x);
+          var truthAfter = truthNow();
           v.checks.slider_moves_state = Math.abs(S.t - t2) < 0.11 && truthAfter !== truthBefore &&
             document.getElementById('tlabel').textContent.indexOf(t2.toFixed(1)) >= 0;
           v.renders = rendered;
@@ -443,13 +485,21 @@
   location.hash.replace(/^#/, '').split('&').forEach(function (kv) { var p = kv.split('='); if (p[0]) hash[p[0]] = p.length > 1 ? decodeURIComponent(p[1]) : true; });
   if (hash.t !== undefined && isFinite(Number(hash.t))) S.t = Math.min(D.meta.to_s, Math.max(D.meta.from_s, Number(hash.t)));
   if (hash.mode === 'globe') { S.mode = 'globe'; document.getElementById('mode').value = 'globe'; }
+  // Marks (performance.now(), ms since navigation): data parsed, scene drawn, metrics panel
+  // drawn, and first render = both on screen (two animation frames later, so the first WebGL
+  // frame is painted). scripts/plot_open_time.sh reads them.
   Plotly.newPlot(gd, build(S.t), sceneLayout(), CONFIG).then(function () {
+    MARKS.scene_ms = performance.now();
     controls();
     return metricsPlot();
+  }).then(function () {
+    MARKS.metrics_ms = performance.now();
+    return new Promise(function (r) { requestAnimationFrame(function () { requestAnimationFrame(r); }); });
   }).then(function () {
     document.getElementById('time').value = S.t;
     document.getElementById('tlabel').textContent = 't = ' + S.t.toFixed(1) + ' s';
     window.__mimo.firstRenderMs = MARKS.first_render_ms = performance.now();
+    document.body.dataset.marks = JSON.stringify(MARKS);
     document.body.dataset.ready = '1';
     if (hash.select === 'mimo') { // open with a bistatic measurement near t selected (for screenshots)
       var M = D.meas, best = -1;

@@ -1,15 +1,16 @@
 //! The view: everything the page shows, built from a run (docs/design.md §2–§3, §6).
 //!
-//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run near 10 MB:
+//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run near 9 MB:
 //! truth at 1 Hz (the tables hold 10 Hz; the path between samples is a straight chord),
 //! ship paths at 1 Hz, every track row, every measurement, and one beam point per dwell group
 //! the test article requested. Background search dwells (over 90 % of all dwells) are not drawn
 //! as beams — they are the radars' own raster — but their detections are drawn as
-//! measurements. The page lists these choices under "dropped".
+//! measurements. The earth is a graticule, not a filled mesh (a mesh costs seconds of WebGL set-up
+//! under software rendering). The page lists these choices under "dropped".
 
 use crate::PlotError;
 use crate::frame::{FrameJson, PlotFrame};
-use crate::globe::{Mesh, Polylines, coastlines, globe_mesh, surface_mesh};
+use crate::globe::{Polylines, coastlines, globe_graticule, graticule};
 use crate::linked::{self, RunScore};
 use crate::objects::{self, BeamCols, MeasCols, RadarView, TrackCols, TruthPath};
 use crate::source::RunSource;
@@ -90,8 +91,8 @@ pub struct Region {
     pub lo: [i64; 3],
     /// Upper corner (m).
     pub hi: [i64; 3],
-    /// The ellipsoid surface under the box.
-    pub surface: Mesh,
+    /// Parallels and meridians on the ellipsoid under the box.
+    pub graticule: Polylines,
 }
 
 /// Everything the page shows.
@@ -117,8 +118,8 @@ pub struct View {
     pub metrics: MetricsCols,
     /// Coastlines.
     pub coast: Polylines,
-    /// The whole earth.
-    pub globe: Mesh,
+    /// Parallels and meridians of the whole earth.
+    pub globe: Polylines,
     /// The region around the scenario.
     pub region: Region,
 }
@@ -157,12 +158,14 @@ fn region(frame: &PlotFrame, truth: &[TruthPath], radars: &[RadarView]) -> Regio
     let lon = corners.iter().map(|g| g.lon_deg());
     let (la0, la1) = lat.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
     let (lo0, lo1) = lon.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
-    let surface = surface_mesh(frame, (la0, la1), (lo0, lo1), 32, 32);
-    let zmin = surface.p.chunks_exact(3).map(|c| c[2]).min().unwrap_or(-1000);
+    // Every 0.5°, sampled every 0.05° (about 5 km): the box edges are on it, so its lowest
+    // point is the lowest point of the earth under the box.
+    let graticule = graticule(frame, (la0, la1), (lo0, lo1), 0.5, 0.05);
+    let zmin = graticule.p.chunks_exact(3).map(|c| c[2]).min().unwrap_or(-1000);
     Region {
         lo: [x0.round() as i64, y0.round() as i64, zmin - 1000],
         hi: [x1.round() as i64, y1.round() as i64, hi[2].max(1000) + 3000],
-        surface,
+        graticule,
     }
 }
 
@@ -232,6 +235,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
             "{search_parts} background-search dwell parts are not drawn as beams (the radars' own raster); their detections are drawn as measurements"
         ),
         "primitives are not drawn (each measurement is its strongest primitive, docs/model.md §4.5)".to_string(),
+        "the earth is drawn as parallels and meridians (every 0.5° in the region view, 15° in the globe view) over a sea-coloured floor, not as a filled surface, so the page opens quickly".to_string(),
     ];
     if meas_dropped.unplaceable + meas_dropped.unknown_radar > 0 {
         dropped.push(format!(
@@ -264,7 +268,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         beams,
         metrics,
         coast: coastlines(&frame),
-        globe: globe_mesh(&frame),
+        globe: globe_graticule(&frame),
         region,
     })
 }
