@@ -93,6 +93,7 @@
 //! Input problems are [`MetricsError`] variants naming the file, the column, the row and what was
 //! expected: missing table, missing column, wrong column type, null, NaN/∞ (positions,
 //! velocities, times, durations, energies), unknown enumeration value, unknown run.
+#![warn(missing_docs)]
 
 mod error;
 mod load;
