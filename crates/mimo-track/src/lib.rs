@@ -92,8 +92,15 @@
 //! it to [`MultiTargetTracker::with_components`]. Each family is a small object-safe trait, so
 //! a new filter, gate or deletion rule is one `impl` away.
 
+#![warn(missing_docs)]
+
 pub mod association;
+mod channel;
+pub mod components;
+pub mod config;
 pub mod deletion;
+pub mod diagnostics;
+pub mod dwell;
 pub mod filter;
 pub mod frame;
 pub mod gating;
@@ -103,12 +110,14 @@ pub mod linalg;
 pub mod measurement;
 pub mod motion;
 pub mod policy;
+mod queries;
 pub mod tracker;
 pub mod update;
 
+pub use components::Components;
+pub use config::{ImmConfig, InitiateOn, InitiatorConfig, TrackerConfig, TrackerConfigError, TrackerKind};
+pub use diagnostics::{NisRecord, PredictedMeasurement, TrackInfo, TrackerStats};
+pub use dwell::{DwellContext, Look};
 pub use frame::{Gaussian, StateEcef, TrackFrame};
 pub use geometry::{SensorGeometry, StaticGeometry};
-pub use tracker::{
-    Components, DwellContext, ImmConfig, InitiateOn, InitiatorConfig, Look, MultiTargetTracker, NisRecord,
-    PredictedMeasurement, Track, TrackInfo, TrackerConfig, TrackerKind, TrackerStats,
-};
+pub use tracker::{MultiTargetTracker, Track};
