@@ -52,6 +52,12 @@ impl HypothesisTable {
 pub trait Associator: Send + Sync {
     /// The measurement index assigned to each track (`None` = missed).
     fn associate(&self, table: &HypothesisTable) -> Vec<Option<usize>>;
+
+    /// Marginal association probabilities, for soft (JPDA) association; `None` (the default)
+    /// means the tracker updates each track with its [`Associator::associate`] measurement only.
+    fn probabilities(&self, _table: &HypothesisTable) -> Option<crate::jpda::AssociationProbabilities> {
+        None
+    }
 }
 
 /// Cost of a track–measurement pairing and of a miss.

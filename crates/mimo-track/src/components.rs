@@ -1,11 +1,12 @@
 //! The component factory: the built-in components a [`TrackerConfig`] asks for.
 
 use crate::association::{Associator, GnnAssociator};
-use crate::config::{InitiatorConfig, TrackerConfig, TrackerKind};
+use crate::config::{AssociationMethod, InitiatorConfig, TrackerConfig, TrackerKind};
 use crate::deletion::Deleter;
 use crate::filter::{ImmFilter, SingleModelFilter, TrackFilter};
 use crate::gating::Gater;
 use crate::initiation::{Confirmer, Initiator, OnePointInitiator, TwoPointInitiator};
+use crate::jpda::JpdaAssociator;
 use crate::motion::{HorizontalTurn, KalmanPredictor, Ncv, Predictor, ProcessNoise};
 use crate::update::EkfUpdater;
 
@@ -73,7 +74,14 @@ impl Components {
         Components {
             filter,
             gater: Box::new(cfg.gate),
-            associator: Box::new(GnnAssociator { cost: cfg.association }),
+            associator: match cfg.association_method {
+                AssociationMethod::Gnn => Box::new(GnnAssociator { cost: cfg.association }),
+                AssociationMethod::Jpda => Box::new(JpdaAssociator {
+                    cost: cfg.association,
+                    max_events: cfg.jpda.max_events,
+                    min_probability: cfg.jpda.min_probability,
+                }),
+            },
             initiator,
             confirmer: Box::new(cfg.confirmation),
             deleter: Box::new(cfg.deletion.build()),

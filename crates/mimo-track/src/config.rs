@@ -152,6 +152,18 @@ pub enum InitiateOn {
     AnyDwell,
 }
 
+/// How measurements are assigned to tracks within one receive channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AssociationMethod {
+    /// Global nearest neighbour: at most one measurement per track (docs/model.md §6.5). Default.
+    #[default]
+    Gnn,
+    /// Joint probabilistic data association: every gated measurement updates a track with its
+    /// marginal probability (docs/model.md §6.6).
+    Jpda,
+}
+
 /// Configuration of the built-in trackers; every field has a documented default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -170,6 +182,11 @@ pub struct TrackerConfig {
     pub measurement: MeasurementConfig,
     /// χ² gate. Default 99.9 % (γ = 16.27).
     pub gate: ChiSquareGate,
+    /// Association method: `gnn` (default) or `jpda`.
+    pub association_method: AssociationMethod,
+    /// JPDA limits (used when `association_method = jpda`; its P_D, P_G and clutter density
+    /// come from `association`).
+    pub jpda: JpdaLimits,
     /// GNN cost. Default: likelihood cost with P_D = 0.9 and a P_FA = 1e-6 clutter density.
     pub association: AssociationCost,
     /// Linearizations per update for the first `iekf_first_updates` updates of a track
@@ -197,6 +214,23 @@ pub struct TrackerConfig {
     pub share_merged: bool,
 }
 
+/// Limits of the JPDA enumeration (docs/model.md §6.6).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JpdaLimits {
+    /// Largest number of joint events enumerated in one cluster; a larger cluster falls back to
+    /// the GNN assignment. Default 20 000.
+    pub max_events: usize,
+    /// Association probabilities below this are dropped. Default 0.01.
+    pub min_probability: f64,
+}
+
+impl Default for JpdaLimits {
+    fn default() -> Self {
+        JpdaLimits { max_events: 20_000, min_probability: 0.01 }
+    }
+}
+
 impl Default for TrackerConfig {
     fn default() -> Self {
         TrackerConfig {
@@ -205,6 +239,8 @@ impl Default for TrackerConfig {
             imm: ImmConfig::default(),
             measurement: MeasurementConfig::default(),
             gate: ChiSquareGate::default(),
+            association_method: AssociationMethod::Gnn,
+            jpda: JpdaLimits::default(),
             association: AssociationCost::default(),
             iekf_iterations: 3,
             iekf_first_updates: 3,
@@ -253,6 +289,12 @@ impl TrackerConfig {
             if !(pd > 0.0 && pd < 1.0) {
                 return Err(bad("association.pd", "a probability in (0, 1)", pd));
             }
+        }
+        if self.jpda.max_events == 0 {
+            return Err(bad("jpda.max_events", "at least 1", self.jpda.max_events));
+        }
+        if !(self.jpda.min_probability >= 0.0 && self.jpda.min_probability < 1.0) {
+            return Err(bad("jpda.min_probability", "a number in [0, 1)", self.jpda.min_probability));
         }
         if self.confirmation.m == 0 || self.confirmation.m > self.confirmation.n {
             let got = format!("m = {}, n = {}", self.confirmation.m, self.confirmation.n);

@@ -25,7 +25,7 @@
 //! | updater | [`update::Updater`] | [`update::EkfUpdater`] (Joseph form, Cholesky gain, PD repair, iterated) |
 //! | filter (predictor + updater per track) | [`filter::TrackFilter`] | [`filter::SingleModelFilter`] (EKF), [`filter::ImmFilter`] |
 //! | gater | [`gating::Gater`] | [`gating::ChiSquareGate`] (NIS ≤ 11.34 / 16.27) |
-//! | associator | [`association::Associator`] | [`association::GnnAssociator`] (exact, NIS or likelihood cost), [`association::GreedyAssociator`] |
+//! | associator | [`association::Associator`] | [`association::GnnAssociator`] (exact, NIS or likelihood cost), [`association::GreedyAssociator`], [`jpda::JpdaAssociator`] (soft, marginal probabilities) |
 //! | initiator | [`initiation::Initiator`] | [`initiation::OnePointInitiator`], [`initiation::TwoPointInitiator`] |
 //! | confirmer | [`initiation::Confirmer`] | [`initiation::MOfN`] |
 //! | deleter | [`deletion::Deleter`] | [`deletion::MissCountDeleter`], [`deletion::CovarianceDeleter`], [`deletion::CoastDeleter`], [`deletion::AnyDeleter`] |
@@ -106,6 +106,7 @@ pub mod frame;
 pub mod gating;
 pub mod geometry;
 pub mod initiation;
+pub mod jpda;
 pub mod linalg;
 pub mod measurement;
 pub mod motion;
@@ -115,7 +116,9 @@ pub mod tracker;
 pub mod update;
 
 pub use components::Components;
-pub use config::{ImmConfig, InitiateOn, InitiatorConfig, TrackerConfig, TrackerConfigError, TrackerKind};
+pub use config::{
+    AssociationMethod, ImmConfig, InitiateOn, InitiatorConfig, TrackerConfig, TrackerConfigError, TrackerKind,
+};
 pub use diagnostics::{NisRecord, PredictedMeasurement, TrackInfo, TrackerStats};
 pub use dwell::{DwellContext, Look};
 pub use frame::{Gaussian, StateEcef, TrackFrame};
