@@ -7,7 +7,7 @@ use crate::diagnostics::NisRecord;
 use crate::dwell::DwellContext;
 use crate::filter::{FilterPrediction, TrackFilter};
 use crate::jpda::{AssociationProbabilities, combine};
-use crate::measurement::PreparedMeasurement;
+use crate::measurement::{MeasurementModel, PreparedMeasurement};
 use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::records::TrackStatus;
 use std::collections::BTreeSet;
@@ -44,15 +44,24 @@ impl MultiTargetTracker {
         let filter = &*self.c.filter;
         let mut caches: Vec<PredCache> = ids.iter().map(|_| PredCache { entries: Vec::new() }).collect();
         let mut table = HypothesisTable::new(ids.len(), n_m);
+        // A measurement inside an existing track's resolution cell, or within its initiation
+        // exclusion gate, never starts a track (docs/model.md §6.4).
+        let excl = self.config.initiation_exclusion;
+        let cell_uv = excl.beam_fraction * self.config.revisit.beamwidth;
+        let mut near = vec![false; n_m];
         for (i, id) in ids.iter().enumerate() {
             let track = &self.tracks[id];
             for (j, m) in list.iter().enumerate() {
                 let pred = caches[i].get(filter, track, m.t_s);
-                if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r)
-                    && self.c.gater.accepts(&h)
-                {
-                    table.set(i, j, Some(h));
+                if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r) {
+                    if self.c.gater.accepts(&h) {
+                        table.set(i, j, Some(h));
+                    }
+                    near[j] |= h.nis <= excl.nis;
                 }
+                let zp = m.model.h(&pred.combined.x);
+                let (dr, du, dv) = (m.z[0] - zp[0], m.z[1] - zp[1], m.z[2] - zp[2]);
+                near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
             }
         }
         let claimed = match self.c.associator.probabilities(&table) {
@@ -70,8 +79,9 @@ impl MultiTargetTracker {
         // Unclaimed detections outside every existing track's gate start tentative tracks,
         // strongest first; a detection inside the gate of a track started in this dwell is taken
         // as the same target and skipped.
-        let mut cand: Vec<usize> =
-            (0..n_m).filter(|&j| !claimed[j] && (0..ids.len()).all(|i| table.get(i, j).is_none())).collect();
+        let mut cand: Vec<usize> = (0..n_m)
+            .filter(|&j| !claimed[j] && !near[j] && (0..ids.len()).all(|i| table.get(i, j).is_none()))
+            .collect();
         cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
         for j in cand {
             let m = &list[j];
@@ -183,7 +193,7 @@ impl MultiTargetTracker {
         claimed
     }
 
-    /// JPDA (docs/model.md §6.6): each track with gated measurements is updated with every one
+    /// JPDA (docs/model.md §6.8): each track with gated measurements is updated with every one
     /// of them and the posteriors are mixed with the association probabilities.
     #[allow(clippy::too_many_arguments)]
     fn soft_updates(

@@ -160,7 +160,7 @@ pub enum AssociationMethod {
     #[default]
     Gnn,
     /// Joint probabilistic data association: every gated measurement updates a track with its
-    /// marginal probability (docs/model.md §6.6).
+    /// marginal probability (docs/model.md §6.8).
     Jpda,
 }
 
@@ -198,6 +198,8 @@ pub struct TrackerConfig {
     pub initiator: InitiatorConfig,
     /// Which dwells initiate. Default: search dwells and monostatic channels of any dwell.
     pub initiate_on: InitiateOn,
+    /// Where a detection may not start a track: near an existing track.
+    pub initiation_exclusion: InitiationExclusion,
     /// M-of-N confirmation over looks (the initiating detection is the first look).
     /// Default 2-of-3.
     pub confirmation: MOfN,
@@ -214,7 +216,28 @@ pub struct TrackerConfig {
     pub share_merged: bool,
 }
 
-/// Limits of the JPDA enumeration (docs/model.md §6.6).
+/// A detection never starts a track when it lies, for some existing track, inside the track's
+/// predicted resolution cell or inside a wide exclusion gate (docs/model.md §6.4): an
+/// unresolved or gate-missing return of a tracked target is not a new target.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitiationExclusion {
+    /// NIS below which a detection belongs to a track (χ²₃ 99.999 %: 25.9; 0 disables).
+    pub nis: f64,
+    /// Range resolution ΔR (m of ρ): the cell is `|ΔR_B| ≤ 2ΔR`. Default 30 m.
+    pub range_cell_m: f64,
+    /// Half-width of the cell in angle, as a fraction of the beamwidth (`revisit.beamwidth`).
+    /// Default 0.5 (0 disables the cell).
+    pub beam_fraction: f64,
+}
+
+impl Default for InitiationExclusion {
+    fn default() -> Self {
+        InitiationExclusion { nis: 25.9, range_cell_m: 30.0, beam_fraction: 0.5 }
+    }
+}
+
+/// Limits of the JPDA enumeration (docs/model.md §6.8).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct JpdaLimits {
@@ -246,6 +269,7 @@ impl Default for TrackerConfig {
             iekf_first_updates: 3,
             initiator: InitiatorConfig::default(),
             initiate_on: InitiateOn::SearchAndMonostatic,
+            initiation_exclusion: InitiationExclusion::default(),
             confirmation: MOfN::default(),
             deletion: DeletionConfig::default(),
             revisit: RevisitPolicy::default(),
@@ -288,6 +312,16 @@ impl TrackerConfig {
             pos("association.clutter_density", clutter_density)?;
             if !(pd > 0.0 && pd < 1.0) {
                 return Err(bad("association.pd", "a probability in (0, 1)", pd));
+            }
+        }
+        let e = &self.initiation_exclusion;
+        for (name, x) in [
+            ("initiation_exclusion.nis", e.nis),
+            ("initiation_exclusion.range_cell_m", e.range_cell_m),
+            ("initiation_exclusion.beam_fraction", e.beam_fraction),
+        ] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(bad(name, "a finite number >= 0", x));
             }
         }
         if self.jpda.max_events == 0 {

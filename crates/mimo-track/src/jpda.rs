@@ -1,4 +1,4 @@
-//! Joint probabilistic data association (docs/model.md §6.6).
+//! Joint probabilistic data association (docs/model.md §6.8).
 //!
 //! [`JpdaAssociator`] turns a channel's [`HypothesisTable`] into marginal association
 //! probabilities `β_tj` (and `β_t0`, no measurement) by enumerating the feasible joint events of

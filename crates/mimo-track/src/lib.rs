@@ -117,7 +117,8 @@ pub mod update;
 
 pub use components::Components;
 pub use config::{
-    AssociationMethod, ImmConfig, InitiateOn, InitiatorConfig, TrackerConfig, TrackerConfigError, TrackerKind,
+    AssociationMethod, ImmConfig, InitiateOn, InitiationExclusion, InitiatorConfig, JpdaLimits, TrackerConfig,
+    TrackerConfigError, TrackerKind,
 };
 pub use diagnostics::{NisRecord, PredictedMeasurement, TrackInfo, TrackerStats};
 pub use dwell::{DwellContext, Look};
