@@ -99,6 +99,22 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             search.entry((d.radar.to_string(), d.run)).or_default().push(d.t_s);
         }
     }
+    // FORMATION_DUMP="R1 0 208 212": that radar's dwells of one run in a time span.
+    if let Ok(spec) = std::env::var("FORMATION_DUMP") {
+        let f: Vec<&str> = spec.split_whitespace().collect();
+        if let [radar, run, from, to] = f[..] {
+            let (run, from, to): (u32, f64, f64) =
+                (run.parse().unwrap_or(0), from.parse().unwrap_or(0.0), to.parse().unwrap_or(0.0));
+            for d in
+                dwells.iter().filter(|d| d.radar.to_string() == radar && d.run == run && d.t_s >= from && d.t_s < to)
+            {
+                println!(
+                    "  {:9.4} {:7.4} s {:?} {:?} {:?} n={}",
+                    d.t_s, d.duration_s, d.kind, d.role, d.requested_by, d.n_pulses
+                );
+            }
+        }
+    }
     let mut worst: BTreeMap<String, (f64, f64, u32)> = BTreeMap::new();
     for ((radar, run), mut ts) in search {
         ts.sort_by(f64::total_cmp);
