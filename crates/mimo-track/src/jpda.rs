@@ -65,9 +65,9 @@ impl JpdaAssociator {
             cluster[start] = n_clusters;
             while let Some(t) = stack.pop() {
                 for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
-                    for u in 0..n {
-                        if cluster[u] == usize::MAX && table.get(u, j).is_some() {
-                            cluster[u] = n_clusters;
+                    for (u, c) in cluster.iter_mut().enumerate() {
+                        if *c == usize::MAX && table.get(u, j).is_some() {
+                            *c = n_clusters;
                             stack.push(u);
                         }
                     }
@@ -197,7 +197,7 @@ pub fn combine(pred: &FilterPrediction, beta0: f64, posteriors: &[(f64, FilterSt
     let n_modes = pred.modes.len();
     let mut mu = vec![0.0; n_modes];
     let mut modes = Vec::with_capacity(n_modes);
-    for i in 0..n_modes {
+    for (i, mu_i) in mu.iter_mut().enumerate() {
         let mut w: Vec<f64> = vec![beta0 * pred.cbar[i]];
         let mut g: Vec<Gaussian> = vec![pred.modes[i]];
         for (b, s) in posteriors {
@@ -205,7 +205,7 @@ pub fn combine(pred: &FilterPrediction, beta0: f64, posteriors: &[(f64, FilterSt
             g.push(s.modes[i]);
         }
         let total: f64 = w.iter().sum();
-        mu[i] = total;
+        *mu_i = total;
         if total > 0.0 {
             w.iter_mut().for_each(|x| *x /= total);
             modes.push(moment_match(&w, &g));

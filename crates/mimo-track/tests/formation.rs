@@ -59,9 +59,9 @@ fn fly(method: AssociationMethod) -> Outcome {
         let mut ids = [0u64; 2];
         for (k, x) in truth.iter().enumerate() {
             let mut g = Gaussian { x: *x, p: [[0.0; 6]; 6] };
-            for i in 0..6 {
-                g.x[i] += sd[i] * rng.normal();
-                g.p[i][i] = sd[i] * sd[i];
+            for (i, sd_i) in sd.iter().enumerate() {
+                g.x[i] += sd_i * rng.normal();
+                g.p[i][i] = sd_i * sd_i;
             }
             let e = tracker.frame().state_to_ecef(&g);
             ids[k] = tracker.spawn_track(run as u32, 0.0, &e, TrackStatus::Confirmed).expect("spawned").0;
