@@ -7,7 +7,7 @@ use crate::overrides::{ConfigError, merge, parse};
 use crate::passive::Passive;
 use mimo_sim::World;
 use mimo_sim::test_article::TestArticle;
-use mimo_track::{AssociationMethod, TrackerConfig, TrackerKind};
+use mimo_track::{AssociationMethod, InitiationExclusion, TrackerConfig, TrackerKind};
 use serde_json::Value;
 
 /// A built-in test article.
@@ -48,7 +48,13 @@ pub fn builtin(name: &str) -> Result<&'static Builtin, ConfigError> {
 }
 
 fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -> DefaultTaConfig {
-    let tracker = TrackerConfig { association_method, ..TrackerConfig::for_kind(kind) };
+    let mut tracker = TrackerConfig { association_method, ..TrackerConfig::for_kind(kind) };
+    if association_method == AssociationMethod::Jpda {
+        // JPDA updates every track near a return, so a duplicate started from a gate-missing
+        // return would be kept alive: JPDA never initiates inside a track's resolution cell
+        // (docs/model.md §6.4, §6.8).
+        tracker.initiation_exclusion = InitiationExclusion::resolution_cell();
+    }
     DefaultTaConfig { tracker, ..DefaultTaConfig::default() }
 }
 

@@ -218,21 +218,32 @@ pub struct TrackerConfig {
 
 /// A detection never starts a track when it lies, for some existing track, inside the track's
 /// predicted resolution cell or inside a wide exclusion gate (docs/model.md §6.4): an
-/// unresolved or gate-missing return of a tracked target is not a new target.
+/// unresolved or gate-missing return of a tracked target is not a new target. Off by default
+/// (it cost the GNN default completeness on scenario 7, docs/DECISIONS.md); on in the JPDA
+/// built-ins ([`InitiationExclusion::resolution_cell`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct InitiationExclusion {
-    /// NIS below which a detection belongs to a track (χ²₃ 99.999 %: 25.9; 0 disables).
+    /// NIS below which a detection belongs to a track (0, the default, disables; the JPDA
+    /// built-ins use χ²₃ 99.999 % = 25.9).
     pub nis: f64,
     /// Range resolution ΔR (m of ρ): the cell is `|ΔR_B| ≤ 2ΔR`. Default 30 m.
     pub range_cell_m: f64,
     /// Half-width of the cell in angle, as a fraction of the beamwidth (`revisit.beamwidth`).
-    /// Default 0.5 (0 disables the cell).
+    /// Default 0 (no cell); the JPDA built-ins use 0.5.
     pub beam_fraction: f64,
 }
 
 impl Default for InitiationExclusion {
     fn default() -> Self {
+        InitiationExclusion { nis: 0.0, range_cell_m: 30.0, beam_fraction: 0.0 }
+    }
+}
+
+impl InitiationExclusion {
+    /// The exclusion the JPDA built-ins use: the resolution cell (ΔR = 30 m, half a beamwidth)
+    /// and a χ²₃ 99.999 % gate (NIS 25.9).
+    pub fn resolution_cell() -> InitiationExclusion {
         InitiationExclusion { nis: 25.9, range_cell_m: 30.0, beam_fraction: 0.5 }
     }
 }

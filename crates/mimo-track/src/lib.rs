@@ -42,7 +42,10 @@
 //!    measurement time, gated on its NIS, and the channel's measurements are assigned by GNN
 //!    (exact assignment with a miss option); a `merged` measurement may also update a gated
 //!    track that GNN left empty. Assigned tracks are updated (iterated EKF for the first
-//!    updates). In search dwells, detections outside every gate start tentative tracks.
+//!    updates). With `association_method = jpda` ([`jpda`]) each track is instead updated with
+//!    every gated measurement, weighted by its marginal association probability. Detections
+//!    outside every gate and every track's resolution cell start tentative tracks (search
+//!    dwells and monostatic channels).
 //! 3. Every track the dwell looked at (`DwellContext::target_tracks`, or inside a non-search
 //!    beam listed in `DwellContext::looks`) counts a hit or a miss. Tentative tracks are confirmed
 //!    or dropped by M-of-N; confirmed tracks count consecutive misses.

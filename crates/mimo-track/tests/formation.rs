@@ -20,7 +20,9 @@ use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_track::gating::chi2_mean_band;
 use mimo_track::linalg::{chol_mahalanobis, cholesky, vsub};
 use mimo_track::motion::ProcessNoise;
-use mimo_track::{AssociationMethod, DwellContext, Gaussian, MultiTargetTracker, TrackerConfig, TrackerKind};
+use mimo_track::{
+    AssociationMethod, DwellContext, Gaussian, InitiationExclusion, MultiTargetTracker, TrackerConfig, TrackerKind,
+};
 
 const N_RUNS: usize = 40;
 const N_STEPS: usize = 60;
@@ -42,6 +44,11 @@ fn fly(method: AssociationMethod) -> Outcome {
     let cfg = TrackerConfig {
         kind: TrackerKind::Default,
         association_method: method,
+        // As in the `jpda` built-ins; GNN runs with the default (no exclusion).
+        initiation_exclusion: match method {
+            AssociationMethod::Gnn => InitiationExclusion::default(),
+            AssociationMethod::Jpda => InitiationExclusion::resolution_cell(),
+        },
         ekf_noise: ProcessNoise::Dwna { sigma_a_mps2: SIGMA_A },
         ..TrackerConfig::default()
     };
