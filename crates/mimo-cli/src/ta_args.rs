@@ -13,8 +13,8 @@ use std::path::PathBuf;
 #[derive(Debug, Clone, clap::Args)]
 pub struct TaArgs {
     /// Built-in test article: default (EKF tracker, GNN, adaptive revisit and energy, MIMO
-    /// dwells), imm (the same with an IMM), cued (truth-cued fixed schedule, no tracking), none
-    /// (background search only).
+    /// dwells), imm (the same with an IMM), jpda and imm-jpda (the same with JPDA association),
+    /// cued (truth-cued fixed schedule, no tracking), none (background search only).
     #[arg(long, default_value = "default", value_name = "NAME", conflicts_with = "ta_cmd")]
     pub tracker: String,
     /// Run a test article in another process, in any language: the command is started once per

@@ -2,7 +2,8 @@
 //!
 //! The test articles that come with `mimo`, and what lets any other one take part:
 //!
-//! * [`registry`]: the one list of built-in test articles (`default`, `imm`, `cued`, `none`),
+//! * [`registry`]: the one list of built-in test articles (`default`, `imm`, `jpda`, `imm-jpda`,
+//!   `cued`, `none`),
 //!   their default configurations and how to build one.
 //! * [`overrides`]: `--ta-config FILE.toml`, `--set key=value` and a study method's `config`,
 //!   merged over a built-in's defaults with every key checked.

@@ -7,7 +7,7 @@ use crate::overrides::{ConfigError, merge, parse};
 use crate::passive::Passive;
 use mimo_sim::World;
 use mimo_sim::test_article::TestArticle;
-use mimo_track::{TrackerConfig, TrackerKind};
+use mimo_track::{AssociationMethod, InitiationExclusion, TrackerConfig, TrackerKind};
 use serde_json::Value;
 
 /// A built-in test article.
@@ -29,6 +29,8 @@ pub const BUILTINS: &[Builtin] = &[
         tracks: true,
     },
     Builtin { name: "imm", about: "the baseline with an IMM (CV-low + CV-high) instead of the EKF", tracks: true },
+    Builtin { name: "jpda", about: "the baseline with JPDA instead of GNN association", tracks: true },
+    Builtin { name: "imm-jpda", about: "the baseline with an IMM and JPDA association", tracks: true },
     Builtin {
         name: "cued",
         about: "truth-cued fixed schedule, no tracking (reads truth: a radar-model check)",
@@ -45,16 +47,25 @@ pub fn builtin(name: &str) -> Result<&'static Builtin, ConfigError> {
     })
 }
 
-fn default_ta_config(kind: TrackerKind) -> DefaultTaConfig {
-    DefaultTaConfig { tracker: TrackerConfig::for_kind(kind), ..DefaultTaConfig::default() }
+fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -> DefaultTaConfig {
+    let mut tracker = TrackerConfig { association_method, ..TrackerConfig::for_kind(kind) };
+    if association_method == AssociationMethod::Jpda {
+        // JPDA updates every track near a return, so a duplicate started from a gate-missing
+        // return would be kept alive: JPDA never initiates inside a track's resolution cell
+        // (docs/model.md §6.4, §6.8).
+        tracker.initiation_exclusion = InitiationExclusion::resolution_cell();
+    }
+    DefaultTaConfig { tracker, ..DefaultTaConfig::default() }
 }
 
 /// A built-in test article's default configuration (what its manifest records without overrides).
 pub fn default_config(name: &str) -> Result<Value, ConfigError> {
     let b = builtin(name)?;
     let v = match b.name {
-        "default" => serde_json::to_value(default_ta_config(TrackerKind::Default)),
-        "imm" => serde_json::to_value(default_ta_config(TrackerKind::Imm)),
+        "default" => serde_json::to_value(default_ta_config(TrackerKind::Default, AssociationMethod::Gnn)),
+        "imm" => serde_json::to_value(default_ta_config(TrackerKind::Imm, AssociationMethod::Gnn)),
+        "jpda" => serde_json::to_value(default_ta_config(TrackerKind::Default, AssociationMethod::Jpda)),
+        "imm-jpda" => serde_json::to_value(default_ta_config(TrackerKind::Imm, AssociationMethod::Jpda)),
         "cued" => serde_json::to_value(CuedConfig::default()),
         _ => Ok(Value::Object(serde_json::Map::new())),
     };
@@ -66,7 +77,7 @@ pub fn default_config(name: &str) -> Result<Value, ConfigError> {
 pub fn resolve_config(name: &str, overrides: &Value) -> Result<Value, ConfigError> {
     let merged = merge(&default_config(name)?, overrides)?;
     match builtin(name)?.name {
-        "default" | "imm" => {
+        "default" | "imm" | "jpda" | "imm-jpda" => {
             let c: DefaultTaConfig = parse(&merged)?;
             c.tracker.validate().map_err(|e| ConfigError::BadValue { key: "tracker".into(), why: e.to_string() })?;
             c.resource_manager.validate().map_err(|(key, why)| ConfigError::BadValue { key, why })?;
@@ -89,7 +100,7 @@ pub fn resolve_config(name: &str, overrides: &Value) -> Result<Value, ConfigErro
 /// the world's truth; every other built-in learns the ships from its `start` event only.
 pub fn build<'w>(name: &str, config: &Value, world: &'w World) -> Result<Box<dyn TestArticle + 'w>, ConfigError> {
     Ok(match builtin(name)?.name {
-        "default" | "imm" => Box::new(DefaultTa::new(name, parse(config)?)),
+        "default" | "imm" | "jpda" | "imm-jpda" => Box::new(DefaultTa::new(name, parse(config)?)),
         "cued" => Box::new(Cued::new(world, parse(config)?)),
         _ => Box::new(Passive),
     })
@@ -116,6 +127,9 @@ mod tests {
             assert_eq!(c, default_config(b.name).expect("default"));
         }
         assert_eq!(default_config("imm").expect("imm")["tracker"]["kind"], json!("imm"));
+        let c = default_config("imm-jpda").expect("imm-jpda");
+        assert_eq!((&c["tracker"]["kind"], &c["tracker"]["association_method"]), (&json!("imm"), &json!("jpda")));
+        assert_eq!(default_config("jpda").expect("jpda")["tracker"]["association_method"], json!("jpda"));
     }
 
     #[test]

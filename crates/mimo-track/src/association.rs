@@ -14,15 +14,20 @@ use serde::{Deserialize, Serialize};
 /// `nis + ln_det_2pi_s = −2 ln` (measurement likelihood), which is what the likelihood cost uses.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hypothesis {
+    /// Normalized innovation squared d² = νᵀS⁻¹ν.
     pub nis: f64,
+    /// ln|2πS|, for likelihood costs.
     pub ln_det_2pi_s: f64,
 }
 
 /// Gated hypotheses of one channel: `entries[t · n_meas + m]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HypothesisTable {
+    /// Number of tracks (rows).
     pub n_tracks: usize,
+    /// Number of measurements (columns).
     pub n_meas: usize,
+    /// Row-major gated hypotheses; `None` outside the gate.
     pub entries: Vec<Option<Hypothesis>>,
 }
 
@@ -47,6 +52,12 @@ impl HypothesisTable {
 pub trait Associator: Send + Sync {
     /// The measurement index assigned to each track (`None` = missed).
     fn associate(&self, table: &HypothesisTable) -> Vec<Option<usize>>;
+
+    /// Marginal association probabilities, for soft (JPDA) association; `None` (the default)
+    /// means the tracker updates each track with its [`Associator::associate`] measurement only.
+    fn probabilities(&self, _table: &HypothesisTable) -> Option<crate::jpda::AssociationProbabilities> {
+        None
+    }
 }
 
 /// Cost of a track–measurement pairing and of a miss.
@@ -54,10 +65,20 @@ pub trait Associator: Send + Sync {
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum AssociationCost {
     /// `c = d²`, miss cost `miss_cost` (usually the gate threshold).
-    Nis { miss_cost: f64 },
+    Nis {
+        /// Cost of leaving a track without a measurement.
+        miss_cost: f64,
+    },
     /// `c = d² + ln|2πS| − 2 ln(P_D/λ_FA)`, miss cost `−2 ln(1 − P_D P_G)`, with `λ_FA` the
     /// false-alarm density in measurement space (per m of R_B per unit u per unit v).
-    Likelihood { pd: f64, clutter_density: f64, gate_probability: f64 },
+    Likelihood {
+        /// Detection probability P_D.
+        pd: f64,
+        /// False-alarm density λ_FA in measurement space.
+        clutter_density: f64,
+        /// Gate probability P_G.
+        gate_probability: f64,
+    },
 }
 
 impl Default for AssociationCost {
@@ -96,6 +117,7 @@ impl AssociationCost {
 /// Global nearest neighbour: the assignment minimizing the total cost, exactly.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct GnnAssociator {
+    /// The pairing and miss costs.
     pub cost: AssociationCost,
 }
 
@@ -132,6 +154,7 @@ impl Associator for GnnAssociator {
 /// track then measurement index). Not globally optimal.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct GreedyAssociator {
+    /// The pairing and miss costs.
     pub cost: AssociationCost,
 }
 

@@ -14,11 +14,15 @@ use serde::{Deserialize, Serialize};
 /// What a deleter sees of a track.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrackView<'a> {
+    /// The track.
     pub track_id: u64,
+    /// Its status.
     pub status: TrackStatus,
     /// Consecutive looks at the track without a detection (reset by any update).
     pub consecutive_misses: u32,
+    /// Updates so far.
     pub n_updates: u32,
+    /// Time of the last update (s).
     pub t_last_update_s: f64,
     /// Time of the check.
     pub t_s: f64,
@@ -44,12 +48,14 @@ pub enum DeleteReason {
 
 /// The deletion family.
 pub trait Deleter: Send + Sync {
+    /// The reason to delete the track now, or `None` to keep it.
     fn check(&self, track: &TrackView<'_>) -> Option<DeleteReason>;
 }
 
 /// Delete a confirmed track after `n_miss` consecutive missed looks (re-dwells count).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct MissCountDeleter {
+    /// Consecutive misses that end a track.
     pub n_miss: u32,
 }
 
@@ -62,6 +68,7 @@ impl Deleter for MissCountDeleter {
 /// Delete when `tr P_pos` of the prediction exceeds a limit (m²).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CovarianceDeleter {
+    /// Largest predicted position-covariance trace (m²) before the track ends.
     pub max_position_trace_m2: f64,
 }
 
@@ -75,7 +82,9 @@ impl Deleter for CovarianceDeleter {
 /// Delete a track not updated for longer than its status allows (s).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CoastDeleter {
+    /// Longest a tentative track may go without an update (s).
     pub tentative_max_s: f64,
+    /// Longest a confirmed track may go without an update (s).
     pub confirmed_max_s: f64,
 }
 
@@ -92,6 +101,7 @@ impl Deleter for CoastDeleter {
 /// The first reason any member gives.
 #[derive(Default)]
 pub struct AnyDeleter {
+    /// The rules; the first that fires gives the reason.
     pub members: Vec<Box<dyn Deleter>>,
 }
 

@@ -17,7 +17,9 @@ use crate::update::{Innovation, UpdateError, Updater};
 /// A mixture of mode-conditioned Gaussians with mode probabilities.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterState {
+    /// Mode-conditioned estimates (one for a single-model filter).
     pub modes: Vec<Gaussian>,
+    /// Mode probabilities, summing to one.
     pub mu: Vec<f64>,
 }
 
@@ -61,14 +63,18 @@ pub fn moment_match(w: &[f64], g: &[Gaussian]) -> Gaussian {
 /// probabilities `c̄`, and their combination.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterPrediction {
+    /// Mode-conditioned predictions.
     pub modes: Vec<Gaussian>,
+    /// Predicted mode probabilities c̄.
     pub cbar: Vec<f64>,
+    /// The moment-matched combination.
     pub combined: Gaussian,
 }
 
 /// Result of a filter update.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterUpdate {
+    /// The updated state.
     pub state: FilterState,
     /// Innovation of the combined prediction (NIS for consistency checks).
     pub innovation: Innovation,
@@ -119,8 +125,11 @@ pub trait TrackFilter: Send + Sync {
 
 /// One motion model, one updater: the EKF of the default tracker.
 pub struct SingleModelFilter {
+    /// Name for manifests.
     pub name: String,
+    /// The motion model’s predictor.
     pub predictor: Box<dyn Predictor>,
+    /// The measurement update.
     pub updater: Box<dyn Updater>,
 }
 
@@ -167,6 +176,7 @@ impl TrackFilter for SingleModelFilter {
 
 /// Interacting multiple model estimator.
 pub struct ImmFilter {
+    /// Name for manifests.
     pub name: String,
     /// One predictor per mode.
     pub predictors: Vec<Box<dyn Predictor>>,
@@ -175,6 +185,7 @@ pub struct ImmFilter {
     pub sojourn_s: Vec<f64>,
     /// Mode probabilities of a new track.
     pub initial_mu: Vec<f64>,
+    /// The measurement update of each mode.
     pub updater: Box<dyn Updater>,
 }
 

@@ -13,7 +13,9 @@ use mimo_core::{DMat3, DVec3};
 /// A Gaussian state estimate `x = [p; v]` (m, m/s) with covariance `p` in the tracking frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gaussian {
+    /// Mean `[p; v]` (m, m/s).
     pub x: Vec6,
+    /// Covariance.
     pub p: Mat6,
 }
 
@@ -42,8 +44,11 @@ impl Gaussian {
 /// A state estimate rotated to ECEF: position (m), velocity (m/s) and the 6×6 covariance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StateEcef {
+    /// Position (m, ECEF).
     pub pos: DVec3,
+    /// Velocity (m/s, ECEF).
     pub vel: DVec3,
+    /// Covariance of `[pos; vel]` in ECEF.
     pub cov: Mat6,
 }
 
@@ -51,7 +56,9 @@ pub struct StateEcef {
 /// tracking frame → face.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocalFace {
+    /// Face origin in the tracking frame (m).
     pub origin: DVec3,
+    /// Rotation from the tracking frame into face coordinates.
     pub face_from_local: DMat3,
 }
 
@@ -67,7 +74,9 @@ impl LocalFace {
 /// The fixed ENU tracking frame at the scenario centre.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrackFrame {
+    /// Origin of the ENU frame.
     pub centre: Geodetic,
+    /// The ENU frame at `centre`.
     pub enu: EnuFrame,
 }
 

@@ -26,13 +26,16 @@ pub trait SensorGeometry {
 /// One stationary ship: its site and its faces.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShipGeometry {
+    /// Radar site (m, ECEF).
     pub site_ecef: DVec3,
+    /// Array faces.
     pub faces: Vec<FaceFrame>,
 }
 
 /// Stationary ships: a [`SensorGeometry`] that ignores time.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct StaticGeometry {
+    /// Ships by radar id.
     pub ships: BTreeMap<RadarId, ShipGeometry>,
 }
 

@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 /// A new tentative track.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Initiation {
+    /// The initial estimate.
     pub state: Gaussian,
     /// Measurements used (the last one is the current detection).
     pub meas_ids: Vec<u64>,
@@ -95,11 +96,13 @@ struct Pending {
 /// `x = [p₂; (p₂ − p₁)/T]`, `P = [[R₂, R₂/T], [R₂/T, (R₁ + R₂)/T²]]` plus a DWNA velocity term.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct TwoPointInitiator {
+    /// Gating and velocity limits.
     pub config: TwoPointConfig,
     pending: Vec<Pending>,
 }
 
 impl TwoPointInitiator {
+    /// A two-point initiator with this configuration.
     pub fn new(config: TwoPointConfig) -> TwoPointInitiator {
         TwoPointInitiator { config, pending: Vec::new() }
     }
@@ -160,14 +163,18 @@ impl Initiator for TwoPointInitiator {
 /// Outcome of the confirmation logic for a tentative track.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Confirmation {
+    /// Enough hits: confirm.
     Confirm,
+    /// Not decided yet.
     Pending,
+    /// Too many misses: drop.
     Reject,
 }
 
 /// The confirmation family: decide from the looks at a tentative track (`true` = detected),
 /// starting with the initiating detection(s).
 pub trait Confirmer: Send + Sync {
+    /// Decide from the looks so far.
     fn decide(&self, looks: &[bool]) -> Confirmation;
 }
 
@@ -175,7 +182,9 @@ pub trait Confirmer: Send + Sync {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MOfN {
+    /// Hits needed.
     pub m: u32,
+    /// Looks in the window.
     pub n: u32,
 }
 

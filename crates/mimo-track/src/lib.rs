@@ -25,7 +25,7 @@
 //! | updater | [`update::Updater`] | [`update::EkfUpdater`] (Joseph form, Cholesky gain, PD repair, iterated) |
 //! | filter (predictor + updater per track) | [`filter::TrackFilter`] | [`filter::SingleModelFilter`] (EKF), [`filter::ImmFilter`] |
 //! | gater | [`gating::Gater`] | [`gating::ChiSquareGate`] (NIS ≤ 11.34 / 16.27) |
-//! | associator | [`association::Associator`] | [`association::GnnAssociator`] (exact, NIS or likelihood cost), [`association::GreedyAssociator`] |
+//! | associator | [`association::Associator`] | [`association::GnnAssociator`] (exact, NIS or likelihood cost), [`association::GreedyAssociator`], [`jpda::JpdaAssociator`] (soft, marginal probabilities) |
 //! | initiator | [`initiation::Initiator`] | [`initiation::OnePointInitiator`], [`initiation::TwoPointInitiator`] |
 //! | confirmer | [`initiation::Confirmer`] | [`initiation::MOfN`] |
 //! | deleter | [`deletion::Deleter`] | [`deletion::MissCountDeleter`], [`deletion::CovarianceDeleter`], [`deletion::CoastDeleter`], [`deletion::AnyDeleter`] |
@@ -42,7 +42,10 @@
 //!    measurement time, gated on its NIS, and the channel's measurements are assigned by GNN
 //!    (exact assignment with a miss option); a `merged` measurement may also update a gated
 //!    track that GNN left empty. Assigned tracks are updated (iterated EKF for the first
-//!    updates). In search dwells, detections outside every gate start tentative tracks.
+//!    updates). With `association_method = jpda` ([`jpda`]) each track is instead updated with
+//!    every gated measurement, weighted by its marginal association probability. Detections
+//!    outside every gate and every track's resolution cell start tentative tracks (search
+//!    dwells and monostatic channels).
 //! 3. Every track the dwell looked at (`DwellContext::target_tracks`, or inside a non-search
 //!    beam listed in `DwellContext::looks`) counts a hit or a miss. Tentative tracks are confirmed
 //!    or dropped by M-of-N; confirmed tracks count consecutive misses.
@@ -92,23 +95,36 @@
 //! it to [`MultiTargetTracker::with_components`]. Each family is a small object-safe trait, so
 //! a new filter, gate or deletion rule is one `impl` away.
 
+#![warn(missing_docs)]
+
 pub mod association;
+mod channel;
+pub mod components;
+pub mod config;
 pub mod deletion;
+pub mod diagnostics;
+pub mod dwell;
 pub mod filter;
 pub mod frame;
 pub mod gating;
 pub mod geometry;
 pub mod initiation;
+pub mod jpda;
 pub mod linalg;
 pub mod measurement;
 pub mod motion;
 pub mod policy;
+mod queries;
 pub mod tracker;
 pub mod update;
 
+pub use components::Components;
+pub use config::{
+    AssociationMethod, ImmConfig, InitiateOn, InitiationExclusion, InitiatorConfig, JpdaLimits, TrackerConfig,
+    TrackerConfigError, TrackerKind,
+};
+pub use diagnostics::{NisRecord, PredictedMeasurement, TrackInfo, TrackerStats};
+pub use dwell::{DwellContext, Look};
 pub use frame::{Gaussian, StateEcef, TrackFrame};
 pub use geometry::{SensorGeometry, StaticGeometry};
-pub use tracker::{
-    Components, DwellContext, ImmConfig, InitiateOn, InitiatorConfig, Look, MultiTargetTracker, NisRecord,
-    PredictedMeasurement, Track, TrackInfo, TrackerConfig, TrackerKind, TrackerStats,
-};
+pub use tracker::{MultiTargetTracker, Track};

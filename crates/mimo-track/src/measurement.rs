@@ -261,16 +261,25 @@ impl std::error::Error for MeasurementError {}
 /// measurement function.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PreparedMeasurement {
+    /// Measurement id.
     pub meas_id: u64,
+    /// Measurement time (s).
     pub t_s: f64,
+    /// Transmitter.
     pub tx: RadarId,
+    /// Receiver.
     pub rx: RadarId,
+    /// Receive face.
     pub rx_face: u8,
+    /// `z = (R_B, u, v)`.
     pub z: Vec3,
     /// Measurement covariance (diagonal, merged inflation included).
     pub r: Mat3,
+    /// The channel’s measurement model.
     pub model: BistaticRuv,
+    /// The detection may hold several unresolved targets.
     pub merged: bool,
+    /// Observed SNR (dB).
     pub snr_db: f64,
 }
 

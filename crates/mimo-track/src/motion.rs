@@ -32,10 +32,16 @@ pub trait MotionModel: Send + Sync {
 pub enum ProcessNoise {
     /// Discrete white-noise acceleration with standard deviation `sigma_a_mps2` (m/s²):
     /// `Q = σ_a² [[T⁴/4, T³/2], [T³/2, T²]] ⊗ I₃`.
-    Dwna { sigma_a_mps2: f64 },
+    Dwna {
+        /// σ_a (m/s²).
+        sigma_a_mps2: f64,
+    },
     /// Continuous white-noise acceleration with power spectral density `q_m2ps3` (m²/s³):
     /// `Q = q̃ [[T³/3, T²/2], [T²/2, T]] ⊗ I₃`.
-    Cwna { q_m2ps3: f64 },
+    Cwna {
+        /// q̃ (m²/s³).
+        q_m2ps3: f64,
+    },
 }
 
 impl ProcessNoise {
@@ -72,6 +78,7 @@ pub fn cv_transition(dt: f64) -> Mat6 {
 /// Nearly constant velocity.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Ncv {
+    /// Process noise.
     pub noise: ProcessNoise,
 }
 
@@ -109,7 +116,9 @@ impl MotionModel for Ncv {
 /// `FCoordTurn2D`). Linear in the state, so the Jacobian is the transition itself.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct HorizontalTurn {
+    /// Turn rate ω (rad/s), positive counter-clockwise seen from above.
     pub omega_radps: f64,
+    /// Process noise.
     pub noise: ProcessNoise,
 }
 
@@ -164,10 +173,12 @@ pub trait Predictor: Send + Sync {
 /// EKF prediction with a motion model: `x⁻ = f(x)`, `P⁻ = F P Fᵀ + Q` (symmetrized).
 #[derive(Clone)]
 pub struct KalmanPredictor<M: MotionModel> {
+    /// The motion model.
     pub model: M,
 }
 
 impl<M: MotionModel> KalmanPredictor<M> {
+    /// A Kalman predictor for `model`.
     pub fn new(model: M) -> Self {
         KalmanPredictor { model }
     }

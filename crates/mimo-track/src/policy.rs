@@ -97,7 +97,9 @@ pub fn revisit_interval(predict: &dyn Fn(f64) -> Gaussian, face: &LocalFace, pol
 /// What the scheduler needs to know about a track to decide when to look at it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DueInfo {
+    /// Track id.
     pub track_id: u64,
+    /// Tentative or confirmed.
     pub status: TrackStatus,
     /// When the track should next be looked at (s).
     pub next_due_s: f64,

@@ -43,6 +43,7 @@ impl Innovation {
 /// Result of a successful update.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UpdateOutcome {
+    /// The updated estimate.
     pub posterior: Gaussian,
     /// The innovation at the prior (used for NIS, gating and IMM likelihoods).
     pub innovation: Innovation,

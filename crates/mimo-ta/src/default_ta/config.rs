@@ -25,6 +25,14 @@ pub struct ResourceConfig {
     pub min_window_half_m: f64,
     /// Range window half-width in predicted range standard deviations. Default 5.
     pub window_sigmas: f64,
+    /// Largest share of a radar's timeline over the last `budget_window_s` that the test
+    /// article's dwells (track, confirmation, MIMO; transmitting or receiving) may take before
+    /// the radar stops being asked for more than the looks it must transmit, so that its
+    /// background search keeps running (docs/model.md §7.3). Default 1 (off); 0.9 keeps every
+    /// search stop of scenario 7 under 10 s at a cost in breaks (docs/DECISIONS.md).
+    pub max_ta_share: f64,
+    /// Window of the timeline budget (s). Default 8.
+    pub budget_window_s: f64,
 }
 
 impl Default for ResourceConfig {
@@ -37,6 +45,8 @@ impl Default for ResourceConfig {
             mimo: true,
             min_window_half_m: 1000.0,
             window_sigmas: 5.0,
+            max_ta_share: 1.0,
+            budget_window_s: 8.0,
         }
     }
 }
@@ -60,6 +70,13 @@ impl ResourceConfig {
         pos("resource_manager.pointing_sharpness", self.pointing_sharpness)?;
         pos("resource_manager.min_window_half_m", self.min_window_half_m)?;
         pos("resource_manager.window_sigmas", self.window_sigmas)?;
+        pos("resource_manager.budget_window_s", self.budget_window_s)?;
+        if !(self.max_ta_share > 0.0 && self.max_ta_share <= 1.0) {
+            return Err((
+                "resource_manager.max_ta_share".into(),
+                format!("a share in (0, 1], got {}", self.max_ta_share),
+            ));
+        }
         Ok(())
     }
 }

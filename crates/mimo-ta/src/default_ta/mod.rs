@@ -13,12 +13,15 @@
 //!   position and pulses sized for the wanted detection probability (§7.2); MIMO dwells for
 //!   confirmed tracks more than one radar can see (§7.5).
 
+mod budget;
 mod config;
 pub mod planner;
 
 pub use config::{DefaultTaConfig, ResourceConfig};
 
 use crate::geometry::ShipGeometry;
+use budget::RadarBudget;
+use mimo_core::records::Requester;
 use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
@@ -64,12 +67,21 @@ pub struct DefaultTa {
     pending: BTreeMap<u64, f64>,
     /// Earliest wake-up already asked for.
     next_wake_s: f64,
+    /// Each radar's recent test-article dwell time.
+    budget: RadarBudget,
 }
 
 impl DefaultTa {
     /// A default test article with this configuration, recorded under `name`.
     pub fn new(name: &str, cfg: DefaultTaConfig) -> DefaultTa {
-        DefaultTa { name: name.to_string(), cfg, state: None, pending: BTreeMap::new(), next_wake_s: f64::INFINITY }
+        DefaultTa {
+            name: name.to_string(),
+            cfg,
+            state: None,
+            pending: BTreeMap::new(),
+            next_wake_s: f64::INFINITY,
+            budget: RadarBudget::default(),
+        }
     }
 
     /// The configuration.
@@ -94,12 +106,22 @@ impl DefaultTa {
         }
         let mut out = Vec::new();
         let mut next = f64::INFINITY;
+        let rm = &self.cfg.resource_manager;
+        let over_budget: Vec<_> = if rm.max_ta_share < 1.0 {
+            st.geom
+                .ids()
+                .into_iter()
+                .filter(|&r| self.budget.share(r, now, rm.budget_window_s) >= rm.max_ta_share)
+                .collect()
+        } else {
+            Vec::new()
+        };
         for info in st.tracker.tracks() {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
             if info.next_due_s <= now + 1e-9 {
-                if let Some(req) = planner::plan(&self.cfg.resource_manager, &st.tracker, &st.geom, now, &info) {
+                if let Some(req) = planner::plan(rm, &st.tracker, &st.geom, now, &info, &over_budget) {
                     self.pending.insert(info.id, now);
                     out.push(Request::Dwell(req));
                 }
@@ -128,11 +150,17 @@ impl TestArticle for DefaultTa {
         self.state = Some(Running { geom, tracker, run: start.run, closed_loop: start.closed_loop });
         self.pending.clear();
         self.next_wake_s = f64::INFINITY;
+        self.budget.clear();
         Ok(Reply::default())
     }
     fn on_dwell(&mut self, report: &DwellReport) -> Result<Reply, TaFault> {
         for id in &report.tag {
             self.pending.remove(id);
+        }
+        if report.requested_by == Requester::Ta {
+            for p in &report.parts {
+                self.budget.record(p.radar, report.t_s, report.duration_s);
+            }
         }
         let st = self.state.as_mut().ok_or_else(Self::not_started)?;
         let dctx = dwell_context(st.run, report.group_id, report.kind, report.t_s, &report.parts);

@@ -15,6 +15,11 @@ pub const MAX_REDWELLS: u32 = 2;
 
 /// One dwell for track `info` at time `t_s`:
 ///
+/// * radars in `over_budget` (their test-article dwells took more than `max_ta_share` of the
+///   recent timeline, docs/model.md §7.3) transmit only when no other radar can, and never
+///   receive for another radar's MIMO dwell, so that they keep searching; a confirmed track
+///   whose only possible transmitters are over budget gets no dwell now (`None`) and is
+///   planned again at the next event;
 /// * the transmitter is the radar with the best predicted monostatic SNR for an
 ///   `assumed_rcs_m2` target at the predicted position; after [`MAX_REDWELLS`] misses in a row
 ///   the best radar may not see the target at all (a track just above its predicted horizon,
@@ -30,6 +35,7 @@ pub fn plan(
     geom: &ShipGeometry,
     t_s: f64,
     info: &TrackInfo,
+    over_budget: &[RadarId],
 ) -> Option<DwellRequest> {
     let (id, status, misses, n_updates) = (info.id, info.status, info.consecutive_misses, info.n_updates);
     let pred = tracker.predict(id, t_s)?;
@@ -46,12 +52,22 @@ pub fn plan(
         })
         .collect();
     // Best predicted SNR first (ties by radar id, so the choice is deterministic).
-    candidates.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    // Radars within their budget come first.
+    candidates.sort_by(|a, b| {
+        (over_budget.contains(&a.0), b.1, a.0)
+            .partial_cmp(&(over_budget.contains(&b.0), a.1, b.0))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
     if candidates.is_empty() {
         return None;
     }
     let k = (misses / (MAX_REDWELLS + 1)) as usize % candidates.len();
     let (tx, snr1, face) = candidates[k];
+    if over_budget.contains(&tx) && status == TrackStatus::Confirmed {
+        // Every radar that could look is over its budget: the look waits until the radar's
+        // share drops (docs/model.md §7.3).
+        return None;
+    }
     let p = geom.params(tx)?;
     let losses = pointing_loss(cfg.pointing_sharpness, cfg.pointing_sharpness, true) * straddle_loss();
     // Until a tentative track is seen again, its looks are cheap (most are false alarms).
@@ -70,7 +86,10 @@ pub fn plan(
         let tx_faces = &faces[tx.index()];
         for (&r, f) in ids.iter().zip(&faces) {
             let Some(pr) = geom.params(r) else { continue };
-            if r != tx && predict_pair(p, tx_faces, pr, f, aim, cfg.assumed_rcs_m2).is_some() {
+            if r != tx
+                && !over_budget.contains(&r)
+                && predict_pair(p, tx_faces, pr, f, aim, cfg.assumed_rcs_m2).is_some()
+            {
                 receivers.push(r);
             }
         }

@@ -1,0 +1,139 @@
+//! Evaluation of a recorded run directory for the formation goals (issue 13): fighter and airliner
+//! track NEES against truth, and search starvation (the longest stretch without a search dwell,
+//! per radar). Reads truth, so it is an evaluation tool, never part of a test article.
+//!
+//! `cargo run --example formation_check -- RUN_DIR`
+//!
+//! NEES: every confirmed-track row written after an update (n_updates ≥ 3) is paired with the
+//! truth nearest in position at that time (same run, within 5 km); the truth is moved to the row
+//! time along its sampled velocity. ε = (x̂ − x)ᵀ P⁻¹ (x̂ − x) over the 6-state [p; v] in ECEF,
+//! χ²₆ when the filter is consistent (mean 6). Targets named `F-…` are fighters.
+
+use mimo_core::records::{DwellKind, TrackRow, TrackStatus, TruthRow, unpack_cov};
+use mimo_store::read_table_dir;
+use mimo_track::linalg::{chol_mahalanobis, cholesky};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+fn main() {
+    let Some(dir) = std::env::args().nth(1).map(PathBuf::from) else {
+        eprintln!("usage: formation_check RUN_DIR");
+        std::process::exit(2);
+    };
+    if let Err(e) = run(&dir) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
+    let truth: Vec<TruthRow> = read_table_dir(dir, "truth")?;
+    let tracks: Vec<TrackRow> = read_table_dir(dir, "tracks")?;
+    // (run, target) -> samples by time.
+    let mut by_target: BTreeMap<(u32, String), Vec<&TruthRow>> = BTreeMap::new();
+    for t in &truth {
+        by_target.entry((t.run, t.target.clone())).or_default().push(t);
+    }
+    for v in by_target.values_mut() {
+        v.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    }
+    let mut nees: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+    for r in tracks.iter().filter(|r| r.status == TrackStatus::Confirmed && r.n_updates >= 3) {
+        let mut best: Option<(f64, [f64; 6], bool)> = None;
+        for ((run, name), samples) in &by_target {
+            if *run != r.run {
+                continue;
+            }
+            let k = samples.partition_point(|s| s.t_s <= r.t_s);
+            let s = match (k.checked_sub(1).map(|i| samples[i]), samples.get(k)) {
+                (Some(a), Some(b)) => {
+                    if r.t_s - a.t_s <= b.t_s - r.t_s {
+                        a
+                    } else {
+                        *b
+                    }
+                }
+                (Some(a), None) => a,
+                (None, Some(b)) => *b,
+                (None, None) => continue,
+            };
+            if (s.t_s - r.t_s).abs() > 2.0 {
+                continue;
+            }
+            let dt = r.t_s - s.t_s;
+            let x = [s.x_m + s.vx_mps * dt, s.y_m + s.vy_mps * dt, s.z_m + s.vz_mps * dt, s.vx_mps, s.vy_mps, s.vz_mps];
+            let d2 = (x[0] - r.x_m).powi(2) + (x[1] - r.y_m).powi(2) + (x[2] - r.z_m).powi(2);
+            if d2 < 5000.0f64.powi(2) && best.is_none_or(|b| d2 < b.0) {
+                best = Some((d2, x, name.starts_with("F-")));
+            }
+        }
+        let Some((_, x, fighter)) = best else { continue };
+        let e = [r.x_m - x[0], r.y_m - x[1], r.z_m - x[2], r.vx_mps - x[3], r.vy_mps - x[4], r.vz_mps - x[5]];
+        let Some(l) = cholesky(&unpack_cov(&r.cov)) else { continue };
+        nees.entry(if fighter { "fighters" } else { "airliners" }).or_default().push(chol_mahalanobis(&l, &e));
+    }
+    println!("track NEES (6-state, χ²₆ mean 6):");
+    for (class, mut v) in nees {
+        v.sort_by(f64::total_cmp);
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        let q = |p: f64| v[((v.len() - 1) as f64 * p) as usize];
+        let inside = v.iter().filter(|&&x| x <= 16.81).count() as f64 / v.len() as f64;
+        println!(
+            "  {class:9} rows {:7}  mean {mean:8.2}  median {:6.2}  p90 {:7.2}  within χ²₆ 99 % ({:.1} %)",
+            v.len(),
+            q(0.5),
+            q(0.9),
+            100.0 * inside
+        );
+    }
+    drop(tracks);
+    drop(truth);
+    let dwells: Vec<mimo_core::records::DwellRow> = read_table_dir(dir, "dwells")?;
+    // (radar, run) -> search start times.
+    let mut search: BTreeMap<(String, u32), Vec<f64>> = BTreeMap::new();
+    let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
+    for d in &dwells {
+        let end = t_end.entry(d.run).or_insert(0.0);
+        *end = end.max(d.t_s + d.duration_s);
+        if d.kind == DwellKind::Search {
+            search.entry((d.radar.to_string(), d.run)).or_default().push(d.t_s);
+        }
+    }
+    // FORMATION_DUMP="R1 0 208 212": that radar's dwells of one run in a time span.
+    if let Ok(spec) = std::env::var("FORMATION_DUMP") {
+        let f: Vec<&str> = spec.split_whitespace().collect();
+        if let [radar, run, from, to] = f[..] {
+            let (run, from, to): (u32, f64, f64) =
+                (run.parse().unwrap_or(0), from.parse().unwrap_or(0.0), to.parse().unwrap_or(0.0));
+            for d in
+                dwells.iter().filter(|d| d.radar.to_string() == radar && d.run == run && d.t_s >= from && d.t_s < to)
+            {
+                println!(
+                    "  {:9.4} {:7.4} s {:?} {:?} {:?} n={}",
+                    d.t_s, d.duration_s, d.kind, d.role, d.requested_by, d.n_pulses
+                );
+            }
+        }
+    }
+    let mut worst: BTreeMap<String, (f64, f64, u32)> = BTreeMap::new();
+    for ((radar, run), mut ts) in search {
+        ts.sort_by(f64::total_cmp);
+        let mut gap_max = ts.first().copied().unwrap_or(0.0);
+        let mut at = 0.0;
+        for w in ts.windows(2) {
+            if w[1] - w[0] > gap_max {
+                gap_max = w[1] - w[0];
+                at = w[0];
+            }
+        }
+        let e = worst.entry(radar).or_insert((0.0, 0.0, 0));
+        if gap_max > e.0 {
+            *e = (gap_max, at, run);
+        }
+    }
+    println!("longest search stop per radar (max over runs):");
+    for (radar, (gap, at, run)) in worst {
+        println!("  {radar}: {gap:7.2} s (run {run}, from t = {at:.1} s)");
+    }
+    Ok(())
+}

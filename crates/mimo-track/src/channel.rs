@@ -1,0 +1,276 @@
+//! One receive channel of a dwell: gate every track against the channel's measurements,
+//! associate, update, and start tentative tracks from unclaimed detections (docs/model.md §6.4,
+//! §6.5).
+
+use crate::association::HypothesisTable;
+use crate::diagnostics::NisRecord;
+use crate::dwell::DwellContext;
+use crate::filter::{FilterPrediction, TrackFilter};
+use crate::jpda::{AssociationProbabilities, combine};
+use crate::measurement::{MeasurementModel, PreparedMeasurement};
+use crate::tracker::{MultiTargetTracker, Track};
+use mimo_core::records::TrackStatus;
+use std::collections::BTreeSet;
+
+/// Per-track cache of predictions within one channel (usually one time).
+struct PredCache {
+    entries: Vec<(f64, FilterPrediction)>,
+}
+
+impl PredCache {
+    fn get(&mut self, filter: &dyn TrackFilter, track: &Track, t_s: f64) -> &FilterPrediction {
+        let k = match self.entries.iter().position(|(t, _)| *t == t_s) {
+            Some(k) => k,
+            None => {
+                self.entries.push((t_s, filter.predict(&track.state, t_s - track.t_s)));
+                self.entries.len() - 1
+            }
+        };
+        &self.entries[k].1
+    }
+}
+
+impl MultiTargetTracker {
+    pub(crate) fn process_channel(
+        &mut self,
+        ctx: &DwellContext,
+        list: &[PreparedMeasurement],
+        may_initiate: bool,
+        updated: &mut BTreeSet<u64>,
+        new_ids: &mut Vec<u64>,
+    ) {
+        let ids: Vec<u64> = self.tracks.keys().copied().collect();
+        let n_m = list.len();
+        let filter = &*self.c.filter;
+        let mut caches: Vec<PredCache> = ids.iter().map(|_| PredCache { entries: Vec::new() }).collect();
+        let mut table = HypothesisTable::new(ids.len(), n_m);
+        // A measurement inside an existing track's resolution cell, or within its initiation
+        // exclusion gate, never starts a track (docs/model.md §6.4).
+        let excl = self.config.initiation_exclusion;
+        let cell_uv = excl.beam_fraction * self.config.revisit.beamwidth;
+        let mut near = vec![false; n_m];
+        for (i, id) in ids.iter().enumerate() {
+            let track = &self.tracks[id];
+            for (j, m) in list.iter().enumerate() {
+                let pred = caches[i].get(filter, track, m.t_s);
+                if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r) {
+                    if self.c.gater.accepts(&h) {
+                        table.set(i, j, Some(h));
+                    }
+                    near[j] |= h.nis <= excl.nis;
+                }
+                let zp = m.model.h(&pred.combined.x);
+                let (dr, du, dv) = (m.z[0] - zp[0], m.z[1] - zp[1], m.z[2] - zp[2]);
+                near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
+            }
+        }
+        let claimed = match self.c.associator.probabilities(&table) {
+            Some(probs) => {
+                self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
+                vec![false; n_m]
+            }
+            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated),
+        };
+        let filter = &*self.c.filter;
+
+        if !may_initiate {
+            return;
+        }
+        // Unclaimed detections outside every existing track's gate start tentative tracks,
+        // strongest first; a detection inside the gate of a track started in this dwell is taken
+        // as the same target and skipped.
+        let mut cand: Vec<usize> = (0..n_m)
+            .filter(|&j| !claimed[j] && !near[j] && (0..ids.len()).all(|i| table.get(i, j).is_none()))
+            .collect();
+        cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
+        for j in cand {
+            let m = &list[j];
+            let dup = new_ids.iter().any(|nid| {
+                self.tracks.get(nid).is_some_and(|t| {
+                    let pred = filter.predict(&t.state, m.t_s - t.t_s);
+                    filter.hypothesis(&pred, &m.model, &m.z, &m.r).is_ok_and(|h| self.c.gater.accepts(&h))
+                })
+            });
+            if dup {
+                continue;
+            }
+            let Some(init) = self.c.initiator.initiate(m) else { continue };
+            let id = self.next_id;
+            self.next_id += 1;
+            let track = Track {
+                id,
+                status: TrackStatus::Tentative,
+                state: filter.init(init.state),
+                t_s: m.t_s,
+                t_init_s: m.t_s,
+                n_updates: init.meas_ids.len() as u32,
+                last_meas_id: Some(m.meas_id),
+                looks: init.looks,
+                consecutive_misses: 0,
+                next_due_s: m.t_s + self.config.revisit.confirm_delay_s,
+                last_face: Some((m.rx, m.rx_face)),
+                nis_sum: 0.0,
+                nis_count: 0,
+            };
+            self.tracks.insert(id, track);
+            self.stats.initiated += 1;
+            new_ids.push(id);
+        }
+    }
+
+    /// GNN: each track is updated with its assigned measurement (plus, with `share_merged`, a
+    /// gated `merged` measurement left to it). Returns which measurements were claimed.
+    fn hard_updates(
+        &mut self,
+        ctx: &DwellContext,
+        list: &[PreparedMeasurement],
+        ids: &[u64],
+        caches: &mut [PredCache],
+        table: &HypothesisTable,
+        updated: &mut BTreeSet<u64>,
+    ) -> Vec<bool> {
+        let n_m = list.len();
+        let filter = &*self.c.filter;
+        let mut assign = self.c.associator.associate(table);
+        assign.resize(ids.len(), None);
+        let mut claimed = vec![false; n_m];
+        for j in assign.iter().flatten() {
+            if *j < n_m {
+                claimed[*j] = true;
+            }
+        }
+        if self.config.share_merged {
+            for (i, a) in assign.iter_mut().enumerate() {
+                if a.is_some() {
+                    continue;
+                }
+                let best = (0..n_m)
+                    .filter(|&j| list[j].merged)
+                    .filter_map(|j| table.get(i, j).map(|h| (j, h.nis)))
+                    .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
+                if let Some((j, _)) = best {
+                    *a = Some(j);
+                }
+            }
+        }
+
+        for (i, id) in ids.iter().enumerate() {
+            let Some(j) = assign[i].filter(|&j| j < n_m) else { continue };
+            let m = &list[j];
+            let Some(track) = self.tracks.get(id) else { continue };
+            let iterations =
+                if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
+            let pred = caches[i].get(filter, track, m.t_s).clone();
+            match filter.update(&pred, &m.model, &m.z, &m.r, iterations) {
+                Ok(u) if u.state.is_finite() => {
+                    let Some(track) = self.tracks.get_mut(id) else { continue };
+                    track.state = u.state;
+                    track.t_s = m.t_s;
+                    track.n_updates += 1;
+                    track.last_meas_id = Some(m.meas_id);
+                    track.last_face = Some((m.rx, m.rx_face));
+                    track.nis_sum += u.innovation.nis;
+                    track.nis_count += 1;
+                    self.stats.updates += 1;
+                    if u.jitter {
+                        self.stats.jitter_events += 1;
+                    }
+                    self.nis_log.push(NisRecord {
+                        run: ctx.run,
+                        t_s: m.t_s,
+                        track_id: *id,
+                        meas_id: m.meas_id,
+                        tx: m.tx,
+                        rx: m.rx,
+                        nis: u.innovation.nis,
+                    });
+                    updated.insert(*id);
+                }
+                _ => self.stats.failed_updates += 1,
+            }
+        }
+
+        claimed
+    }
+
+    /// JPDA (docs/model.md §6.8): each track with gated measurements is updated with every one
+    /// of them and the posteriors are mixed with the association probabilities.
+    #[allow(clippy::too_many_arguments)]
+    fn soft_updates(
+        &mut self,
+        ctx: &DwellContext,
+        list: &[PreparedMeasurement],
+        ids: &[u64],
+        caches: &mut [PredCache],
+        table: &HypothesisTable,
+        probs: &AssociationProbabilities,
+        updated: &mut BTreeSet<u64>,
+    ) {
+        let n_m = list.len();
+        let filter = &*self.c.filter;
+        for (i, id) in ids.iter().enumerate() {
+            let Some(row) = probs.beta.get(i) else { continue };
+            // The most probable measurement sets the update time; measurements of the channel
+            // at another time (rare) are left out and the rest renormalized.
+            let Some(best) =
+                (0..n_m).filter(|&j| row[j] > 0.0).max_by(|&a, &b| row[a].total_cmp(&row[b]).then(b.cmp(&a)))
+            else {
+                continue;
+            };
+            let t_s = list[best].t_s;
+            let Some(track) = self.tracks.get(id) else { continue };
+            let iterations =
+                if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
+            let pred = caches[i].get(filter, track, t_s).clone();
+            let mut posteriors = Vec::new();
+            let mut jitter = false;
+            for j in (0..n_m).filter(|&j| row[j] > 0.0 && list[j].t_s == t_s) {
+                let m = &list[j];
+                if let Ok(u) = filter.update(&pred, &m.model, &m.z, &m.r, iterations)
+                    && u.state.is_finite()
+                {
+                    jitter |= u.jitter;
+                    posteriors.push((row[j], u.state));
+                }
+            }
+            if posteriors.is_empty() {
+                self.stats.failed_updates += 1;
+                continue;
+            }
+            let total: f64 = row[n_m] + posteriors.iter().map(|p| p.0).sum::<f64>();
+            let beta0 = row[n_m] / total;
+            posteriors.iter_mut().for_each(|p| p.0 /= total);
+            let state = combine(&pred, beta0, &posteriors);
+            if !state.is_finite() {
+                self.stats.failed_updates += 1;
+                continue;
+            }
+            let nis = table.get(i, best).map_or(f64::NAN, |h| h.nis);
+            let m = &list[best];
+            let Some(track) = self.tracks.get_mut(id) else { continue };
+            track.state = state;
+            track.t_s = t_s;
+            track.n_updates += 1;
+            track.last_meas_id = Some(m.meas_id);
+            track.last_face = Some((m.rx, m.rx_face));
+            if nis.is_finite() {
+                track.nis_sum += nis;
+                track.nis_count += 1;
+            }
+            self.stats.updates += 1;
+            if jitter {
+                self.stats.jitter_events += 1;
+            }
+            self.nis_log.push(NisRecord {
+                run: ctx.run,
+                t_s,
+                track_id: *id,
+                meas_id: m.meas_id,
+                tx: m.tx,
+                rx: m.rx,
+                nis,
+            });
+            updated.insert(*id);
+        }
+    }
+}

@@ -1,0 +1,221 @@
+//! Joint probabilistic data association (docs/model.md §6.8).
+//!
+//! [`JpdaAssociator`] turns a channel's [`HypothesisTable`] into marginal association
+//! probabilities `β_tj` (and `β_t0`, no measurement) by enumerating the feasible joint events of
+//! each cluster of tracks that share gated measurements. [`combine`] then merges the
+//! per-measurement posteriors of one track into one state by moment matching, which for a
+//! Kalman update with a common gain is exactly the PDA update with its spread-of-means term.
+
+use crate::association::{AssociationCost, Associator, GnnAssociator, HypothesisTable};
+use crate::filter::{FilterPrediction, FilterState, moment_match};
+use crate::frame::Gaussian;
+use serde::{Deserialize, Serialize};
+
+/// JPDA over one receive channel with a Poisson clutter model.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JpdaAssociator {
+    /// Detection probability P_D, gate probability P_G and clutter density λ (the likelihood
+    /// cost's parameters).
+    pub cost: AssociationCost,
+    /// Largest number of joint events enumerated in one cluster; a larger cluster falls back to
+    /// the GNN assignment (β = 1 on the assigned measurement). Default 20 000.
+    pub max_events: usize,
+    /// Association probabilities below this are dropped (and the rest renormalized), so that
+    /// far-fetched pairings do not cost an update. Default 0.01.
+    pub min_probability: f64,
+}
+
+impl Default for JpdaAssociator {
+    fn default() -> Self {
+        JpdaAssociator { cost: AssociationCost::default(), max_events: 20_000, min_probability: 0.01 }
+    }
+}
+
+/// Marginal association probabilities of one channel: `beta[t][j]` for measurement `j`, and
+/// `beta[t][n_meas]` for "no measurement" (each row sums to 1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AssociationProbabilities {
+    /// One row per track, `n_meas + 1` columns.
+    pub beta: Vec<Vec<f64>>,
+}
+
+impl JpdaAssociator {
+    /// ln of the likelihood ratio of pairing `(t, j)` against clutter: `−c/2` with the
+    /// likelihood cost `c = d² + ln|2πS| − 2 ln(P_D/λ)`.
+    fn log_pair(&self, table: &HypothesisTable, t: usize, j: usize) -> Option<f64> {
+        let h = table.get(t, j)?;
+        let c = self.cost.pair_cost(&h);
+        c.is_finite().then_some(-0.5 * c)
+    }
+
+    /// The marginal association probabilities of every track of the table.
+    pub fn probabilities(&self, table: &HypothesisTable) -> AssociationProbabilities {
+        let (n, m) = (table.n_tracks, table.n_meas);
+        let mut beta = vec![vec![0.0; m + 1]; n];
+        let log_miss = -0.5 * self.cost.miss_cost();
+        // Clusters: tracks connected through shared gated measurements.
+        let mut cluster = vec![usize::MAX; n];
+        let mut n_clusters = 0;
+        for start in 0..n {
+            if cluster[start] != usize::MAX {
+                continue;
+            }
+            let mut stack = vec![start];
+            cluster[start] = n_clusters;
+            while let Some(t) = stack.pop() {
+                for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
+                    for (u, c) in cluster.iter_mut().enumerate() {
+                        if *c == usize::MAX && table.get(u, j).is_some() {
+                            *c = n_clusters;
+                            stack.push(u);
+                        }
+                    }
+                }
+            }
+            n_clusters += 1;
+        }
+        let gnn = GnnAssociator { cost: self.cost }.associate(table);
+        for c in 0..n_clusters {
+            let tracks: Vec<usize> = (0..n).filter(|&t| cluster[t] == c).collect();
+            let options: Vec<Vec<(usize, f64)>> = tracks
+                .iter()
+                .map(|&t| {
+                    let mut o: Vec<(usize, f64)> = vec![(m, log_miss)];
+                    o.extend((0..m).filter_map(|j| self.log_pair(table, t, j).map(|l| (j, l))));
+                    o
+                })
+                .collect();
+            let mut ev = Enumeration {
+                options: &options,
+                used: vec![false; m],
+                choice: vec![0; tracks.len()],
+                events: Vec::new(),
+                limit: self.max_events,
+                overflow: false,
+            };
+            ev.walk(0, 0.0);
+            if ev.overflow || ev.events.is_empty() {
+                for &t in &tracks {
+                    beta[t][gnn.get(t).copied().flatten().filter(|&j| j < m).unwrap_or(m)] = 1.0;
+                }
+                continue;
+            }
+            let top = ev.events.iter().map(|e| e.1).fold(f64::NEG_INFINITY, f64::max);
+            let mut total = 0.0;
+            for (choice, l) in &ev.events {
+                let w = (l - top).exp();
+                total += w;
+                for (k, &t) in tracks.iter().enumerate() {
+                    beta[t][options[k][choice[k]].0] += w;
+                }
+            }
+            for &t in &tracks {
+                let row = &mut beta[t];
+                row.iter_mut().for_each(|b| *b /= total);
+                for b in row.iter_mut().take(m) {
+                    if *b < self.min_probability {
+                        *b = 0.0;
+                    }
+                }
+                let s: f64 = row.iter().sum();
+                row.iter_mut().for_each(|b| *b /= s);
+            }
+        }
+        AssociationProbabilities { beta }
+    }
+}
+
+/// Depth-first enumeration of the feasible joint events of one cluster: each track takes one of
+/// its options (a gated measurement not taken by another track, or none).
+struct Enumeration<'a> {
+    options: &'a [Vec<(usize, f64)>],
+    used: Vec<bool>,
+    choice: Vec<usize>,
+    events: Vec<(Vec<usize>, f64)>,
+    limit: usize,
+    overflow: bool,
+}
+
+impl Enumeration<'_> {
+    fn walk(&mut self, k: usize, log_w: f64) {
+        if self.overflow {
+            return;
+        }
+        if k == self.options.len() {
+            if self.events.len() >= self.limit {
+                self.overflow = true;
+                return;
+            }
+            self.events.push((self.choice.clone(), log_w));
+            return;
+        }
+        let n_opts = self.options[k].len();
+        for o in 0..n_opts {
+            let (j, l) = self.options[k][o];
+            let real = j < self.used.len();
+            if real && self.used[j] {
+                continue;
+            }
+            if real {
+                self.used[j] = true;
+            }
+            self.choice[k] = o;
+            self.walk(k + 1, log_w + l);
+            if real {
+                self.used[j] = false;
+            }
+        }
+    }
+}
+
+impl Associator for JpdaAssociator {
+    /// The most probable measurement of each track (for callers that want one).
+    fn associate(&self, table: &HypothesisTable) -> Vec<Option<usize>> {
+        let m = table.n_meas;
+        self.probabilities(table)
+            .beta
+            .iter()
+            .map(|row| {
+                let (j, _) = row.iter().enumerate().fold((m, -1.0), |a, (j, &b)| if b > a.1 { (j, b) } else { a });
+                (j < m).then_some(j)
+            })
+            .collect()
+    }
+
+    fn probabilities(&self, table: &HypothesisTable) -> Option<AssociationProbabilities> {
+        Some(JpdaAssociator::probabilities(self, table))
+    }
+}
+
+/// The state of a track after a JPDA update: the mixture of the prediction (weight `beta0`) and
+/// the per-measurement posteriors `(β_j, state_j)`, moment-matched mode by mode. Mode `i`'s
+/// probability is `Σ_j β_j μ_ij` (with `μ_i0 = c̄_i`), its estimate the β·μ-weighted moment
+/// match of the mode's estimates; for one mode this is the PDA update `x = x̄ + K Σ β_j ν_j`,
+/// `P = β₀ P̄ + (1 − β₀) P_c + K (Σ β_j ν_j ν_jᵀ − ν νᵀ) Kᵀ`.
+pub fn combine(pred: &FilterPrediction, beta0: f64, posteriors: &[(f64, FilterState)]) -> FilterState {
+    let n_modes = pred.modes.len();
+    let mut mu = vec![0.0; n_modes];
+    let mut modes = Vec::with_capacity(n_modes);
+    for (i, mu_i) in mu.iter_mut().enumerate() {
+        let mut w: Vec<f64> = vec![beta0 * pred.cbar[i]];
+        let mut g: Vec<Gaussian> = vec![pred.modes[i]];
+        for (b, s) in posteriors {
+            w.push(b * s.mu[i]);
+            g.push(s.modes[i]);
+        }
+        let total: f64 = w.iter().sum();
+        *mu_i = total;
+        if total > 0.0 {
+            w.iter_mut().for_each(|x| *x /= total);
+            modes.push(moment_match(&w, &g));
+        } else {
+            modes.push(pred.modes[i]);
+        }
+    }
+    let s: f64 = mu.iter().sum();
+    if s > 0.0 {
+        mu.iter_mut().for_each(|x| *x /= s);
+    }
+    FilterState { modes, mu }
+}

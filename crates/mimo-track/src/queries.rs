@@ -1,0 +1,90 @@
+//! What the scheduler asks a tracker between dwells: snapshots, due tracks, predictions,
+//! predicted measurements and revisit intervals (docs/model.md §7.1).
+
+use crate::diagnostics::{PredictedMeasurement, TrackInfo};
+use crate::frame::{Gaussian, StateEcef};
+use crate::geometry::SensorGeometry;
+use crate::linalg::sandwich;
+use crate::measurement::{BistaticRuv, MeasurementModel};
+use crate::policy::{DueInfo, due_tracks, revisit_interval};
+use crate::tracker::MultiTargetTracker;
+use mimo_core::face::FaceFrame;
+use mimo_core::ids::RadarId;
+
+impl MultiTargetTracker {
+    /// Snapshots of the live tracks, by id.
+    pub fn tracks(&self) -> Vec<TrackInfo> {
+        self.tracks
+            .values()
+            .map(|t| TrackInfo {
+                id: t.id,
+                status: t.status,
+                t_last_update_s: t.t_s,
+                n_updates: t.n_updates,
+                consecutive_misses: t.consecutive_misses,
+                next_due_s: t.next_due_s,
+                last_face: t.last_face,
+                mode_probabilities: t.state.mu.clone(),
+                mean_nis: if t.nis_count > 0 { t.nis_sum / t.nis_count as f64 } else { f64::NAN },
+            })
+            .collect()
+    }
+
+    /// Tracks due for a look by `t_now + lookahead_s`, confirmed first, then by due time.
+    pub fn due_tracks(&self, t_now: f64, lookahead_s: f64) -> Vec<u64> {
+        let infos: Vec<DueInfo> = self
+            .tracks
+            .values()
+            .map(|t| DueInfo { track_id: t.id, status: t.status, next_due_s: t.next_due_s })
+            .collect();
+        due_tracks(&infos, t_now, lookahead_s)
+    }
+
+    /// The (combined) prediction of a track at `t_s`, in the tracking frame.
+    pub fn predict_local(&self, id: u64, t_s: f64) -> Option<Gaussian> {
+        let t = self.tracks.get(&id)?;
+        if !t_s.is_finite() {
+            return None;
+        }
+        Some(self.c.filter.predict(&t.state, t_s - t.t_s).combined)
+    }
+
+    /// The (combined) prediction of a track at `t_s`, in ECEF.
+    pub fn predict(&self, id: u64, t_s: f64) -> Option<StateEcef> {
+        self.predict_local(id, t_s).map(|g| self.frame.state_to_ecef(&g))
+    }
+
+    /// The predicted measurement of a track on channel `tx → rx` (face `rx_face`) at `t_s`.
+    pub fn predict_measurement(
+        &self,
+        id: u64,
+        t_s: f64,
+        tx: RadarId,
+        rx: RadarId,
+        rx_face: u8,
+        geom: &dyn SensorGeometry,
+    ) -> Option<PredictedMeasurement> {
+        let g = self.predict_local(id, t_s)?;
+        let m = BistaticRuv::from_geometry(&self.frame, geom, tx, rx, rx_face, t_s).ok()?;
+        let z = m.h(&g.x);
+        let h = m.jacobian(&g.x);
+        let cov = sandwich(&h, &g.p);
+        let out = PredictedMeasurement {
+            rho_m: z[0] / 2.0,
+            u: z[1],
+            v: z[2],
+            sigma_rho_m: cov[0][0].max(0.0).sqrt() / 2.0,
+            cov,
+        };
+        (out.rho_m.is_finite() && out.u.is_finite() && out.v.is_finite()).then_some(out)
+    }
+
+    /// Covariance-based revisit interval of a track seen from `face` (docs/model.md §7.1), measured
+    /// from its last update.
+    pub fn revisit_interval(&self, id: u64, face: &FaceFrame) -> Option<f64> {
+        let t = self.tracks.get(&id)?;
+        let lf = self.frame.face_to_local(face);
+        let filter = &*self.c.filter;
+        Some(revisit_interval(&|dt| filter.predict(&t.state, dt).combined, &lf, &self.config.revisit))
+    }
+}
