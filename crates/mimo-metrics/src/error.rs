@@ -42,6 +42,11 @@ pub enum MetricsError {
         expected: String,
     },
 
+    /// A row breaks a table rule (`mimo_core::table_rules`): a repeated id, a time out of order,
+    /// a run other than the file's.
+    #[error("{}: {table} column `{column}` row {row}: {why}", path.display())]
+    BrokenRule { table: &'static str, path: PathBuf, column: &'static str, row: usize, why: String },
+
     /// A scoring option is out of range.
     #[error("invalid scoring option {option} = {value}: {expected}")]
     InvalidOption { option: &'static str, value: String, expected: &'static str },

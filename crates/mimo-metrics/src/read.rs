@@ -108,6 +108,19 @@ pub(crate) const fn col<'a>(name: &'static str, want: Want, check: Check<'a>) ->
 
 /// Read `paths` as one table with the given columns (in that order), validating every file.
 pub(crate) fn read_table(table: &'static str, paths: &[PathBuf], cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
+    read_table_checked(table, paths, cols, &|_, _| Ok(()))
+}
+
+/// A check of one file's frame (its table rules) before the files are stacked.
+pub(crate) type FileCheck<'a> = &'a dyn Fn(&Path, &DataFrame) -> Result<(), MetricsError>;
+
+/// [`read_table`], with `check` run on each file's frame (row numbers are then the file's).
+pub(crate) fn read_table_checked(
+    table: &'static str,
+    paths: &[PathBuf],
+    cols: &[Col<'_>],
+    check: FileCheck<'_>,
+) -> Result<DataFrame, MetricsError> {
     if paths.is_empty() {
         return Err(MetricsError::MissingTable {
             table,
@@ -118,6 +131,7 @@ pub(crate) fn read_table(table: &'static str, paths: &[PathBuf], cols: &[Col<'_>
     let mut out: Option<DataFrame> = None;
     for path in paths {
         let df = read_file(table, path, cols)?;
+        check(path, &df)?;
         match out.as_mut() {
             None => out = Some(df),
             Some(acc) => {
