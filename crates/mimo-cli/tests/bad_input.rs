@@ -506,7 +506,7 @@ fn a_closed_stdout_is_not_a_panic() {
 fn an_interrupted_simulation_leaves_nothing() {
     let tmp = tempfile::tempdir().expect("tmp");
     let d = tmp.path();
-    let mut child = Command::new(MIMO)
+    let child = Command::new(MIMO)
         .args(["simulate", "--scenario", "7", "--runs", "4", "--out", "o", "--quiet"])
         .current_dir(d)
         .stderr(Stdio::piped())

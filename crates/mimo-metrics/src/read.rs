@@ -107,14 +107,10 @@ pub(crate) const fn col<'a>(name: &'static str, want: Want, check: Check<'a>) ->
 }
 
 /// Read `paths` as one table with the given columns (in that order), validating every file.
-pub(crate) fn read_table(table: &'static str, paths: &[PathBuf], cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
-    read_table_checked(table, paths, cols, &|_, _| Ok(()))
-}
-
 /// A check of one file's frame (its table rules) before the files are stacked.
 pub(crate) type FileCheck<'a> = &'a dyn Fn(&Path, &DataFrame) -> Result<(), MetricsError>;
 
-/// [`read_table`], with `check` run on each file's frame (row numbers are then the file's).
+/// Read and stack the files of a table, with `check` run on each file's frame (row numbers are then the file's).
 pub(crate) fn read_table_checked(
     table: &'static str,
     paths: &[PathBuf],

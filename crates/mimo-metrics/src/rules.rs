@@ -8,13 +8,13 @@ use mimo_core::table_rules::{Key2, Violation, run_of_file_name, runs_match, time
 use polars::prelude::DataFrame;
 use std::path::Path;
 
-fn to_err(table: &'static str, path: &Path) -> impl FnOnce(Violation) -> MetricsError + '_ {
+fn to_err<'a>(table: &'static str, path: &'a Path) -> impl FnOnce(Violation) -> MetricsError + 'a {
     move |v| MetricsError::BrokenRule { table, path: path.to_path_buf(), column: v.column, row: v.row, why: v.why }
 }
 
 fn strs(df: &DataFrame, name: &str) -> Result<Vec<String>, MetricsError> {
     let c = df.column(name).map_err(crate::error::internal("column"))?;
-    Ok(c.str().map_err(crate::error::internal("column"))?.into_iter().map(|s| s.unwrap_or("").to_string()).collect())
+    Ok(c.str().map_err(crate::error::internal("column"))?.no_null_iter().map(str::to_string).collect())
 }
 
 /// Every row's run is the file's (for files named `run-K.parquet`).
