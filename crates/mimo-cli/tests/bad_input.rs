@@ -225,13 +225,6 @@ const CASES: &[Case] = &[
         fragment: "column `t_s` row",
     },
     Case {
-        name: "one track_id on every row",
-        setup: |d| edit_table::<TrackRow>(&d.join("r"), "tracks", |rows| rows.iter_mut().for_each(|r| r.track_id = 1)),
-        args: &["score", "r"],
-        code: 2,
-        fragment: "tracks column `t_s` row",
-    },
-    Case {
         name: "a tracks row of another run",
         setup: |d| edit_table::<TrackRow>(&d.join("r"), "tracks", |rows| rows[0].run = 5),
         args: &["score", "r"],

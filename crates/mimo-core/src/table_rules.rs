@@ -3,7 +3,8 @@
 //! typed reader and the metrics engine's own Parquet reader — check the same rules with these
 //! functions, so a table that breaks one is refused the same way wherever it is read.
 //!
-//! * tracks: one row per (run, `track_id`, `t_s`), and times increasing within each track;
+//! * tracks: times non-decreasing within each track (the updates of one dwell, and a deletion,
+//!   share a time);
 //! * truth: one row per (run, `target`, `t_s`), and times increasing within each target;
 //! * dwells: `dwell_id` unique within a run, and start times non-decreasing per (run, `radar`)
 //!   (a radar executes one dwell at a time, docs/model.md §7);

@@ -244,14 +244,14 @@ fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
 pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsError> {
     opts.validate()?;
     let truth = load_truth(&input.truth)?;
-    if let Some(t_end) = truth.t_end.values().copied().reduce(f64::max) {
-        if t_end / opts.interval_s > MAX_SCORING_TIMES {
-            return Err(MetricsError::InvalidOption {
-                option: "interval_s",
-                value: opts.interval_s.to_string(),
-                expected: "at least the run's last truth time / 10^7 (at most 10^7 scoring times per run)",
-            });
-        }
+    if let Some(t_end) = truth.t_end.values().copied().reduce(f64::max)
+        && t_end / opts.interval_s > MAX_SCORING_TIMES
+    {
+        return Err(MetricsError::InvalidOption {
+            option: "interval_s",
+            value: opts.interval_s.to_string(),
+            expected: "at least the run's last truth time / 10^7 (at most 10^7 scoring times per run)",
+        });
     }
     let run_set: BTreeSet<u32> = truth.runs.iter().copied().collect();
     let tracks = load_tracks(&input.tracks, &run_set)?;

@@ -4,7 +4,7 @@
 
 use crate::MetricsError;
 use crate::load::{f64s, u32s, u64s};
-use mimo_core::table_rules::{Key2, Violation, run_of_file_name, runs_match, times_ordered_per_key};
+use mimo_core::table_rules::{Key2, Violation, times_ordered_per_key};
 use polars::prelude::DataFrame;
 use std::path::Path;
 
@@ -17,26 +17,16 @@ fn strs(df: &DataFrame, name: &str) -> Result<Vec<String>, MetricsError> {
     Ok(c.str().map_err(crate::error::internal("column"))?.no_null_iter().map(str::to_string).collect())
 }
 
-/// Every row's run is the file's (for files named `run-K.parquet`).
-fn file_runs(table: &'static str, path: &Path, runs: &[u32]) -> Result<(), MetricsError> {
-    match path.file_name().and_then(|n| n.to_str()).and_then(run_of_file_name) {
-        Some(k) => runs_match(runs, k).map_err(to_err(table, path)),
-        None => Ok(()),
-    }
-}
-
 /// Tracks: one row per (run, track_id, t_s), times increasing within each track.
 pub(crate) fn check_tracks(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
     let (run, id, t) = (u32s(df, "run")?, u64s(df, "track_id")?, f64s(df, "t_s")?);
-    file_runs("tracks", path, &run)?;
-    times_ordered_per_key(run.iter().zip(&id).map(|(r, i)| Key2(*r, *i)), &t, true, "track")
+    times_ordered_per_key(run.iter().zip(&id).map(|(r, i)| Key2(*r, *i)), &t, false, "track")
         .map_err(to_err("tracks", path))
 }
 
 /// Truth: one row per (run, target, t_s), times increasing within each target.
 pub(crate) fn check_truth(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
     let (run, target, t) = (u32s(df, "run")?, strs(df, "target")?, f64s(df, "t_s")?);
-    file_runs("truth", path, &run)?;
     times_ordered_per_key(run.iter().zip(&target).map(|(r, s)| Key2(*r, s.as_str())), &t, true, "target")
         .map_err(to_err("truth", path))
 }
@@ -44,7 +34,6 @@ pub(crate) fn check_truth(path: &Path, df: &DataFrame) -> Result<(), MetricsErro
 /// Dwells: start times non-decreasing per (run, radar).
 pub(crate) fn check_dwells(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
     let (run, radar, t) = (u32s(df, "run")?, strs(df, "radar")?, f64s(df, "t_s")?);
-    file_runs("dwells", path, &run)?;
     times_ordered_per_key(run.iter().zip(&radar).map(|(r, s)| Key2(*r, s.as_str())), &t, false, "radar")
         .map_err(to_err("dwells", path))
 }

@@ -67,7 +67,7 @@ impl RowInvariants for MeasurementRow {
 impl RowInvariants for TrackRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.track_id)), &t, true, "track")
+        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.track_id)), &t, false, "track")
     }
     fn run_of(row: &Self) -> u32 {
         row.run
