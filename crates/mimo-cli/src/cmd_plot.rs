@@ -34,14 +34,12 @@ fn plot_err(e: PlotError) -> CliError {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    if a.out.exists() && !a.force {
-        return Err(CliError::input(format!("{}: already exists (use --force to replace it)", a.out.display())));
-    }
+    mimo_store::output::check_file_output(&a.out, a.force)?;
     let opts = ViewOptions { run: a.run_id, from_s: a.from, to_s: a.to, ..ViewOptions::default() };
     let page = mimo_plot::plot_run(&a.run, &opts).map_err(plot_err)?;
     mimo_plot::write_page(&a.out, &page, a.force).map_err(plot_err)?;
     if !a.quiet {
-        println!("wrote {} ({:.1} MB)", a.out.display(), page.len() as f64 / 1e6);
+        crate::outln!("wrote {} ({:.1} MB)", a.out.display(), page.len() as f64 / 1e6);
     }
     Ok(())
 }

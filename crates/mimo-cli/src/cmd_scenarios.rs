@@ -12,6 +12,9 @@ pub struct Args {
     /// SVG file.
     #[arg(long, value_name = "FILE")]
     pub map: Option<std::path::PathBuf>,
+    /// Replace the --map file if it exists.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Draw scenario 7's ships (at t = 0) and trajectories.
@@ -27,23 +30,43 @@ fn draw_map(path: &std::path::Path) -> Result<(), CliError> {
         }
     }
     let title = format!("{}: ships R1–R4 and targets over {} s", s.name, s.duration_s);
-    mimo_report::draw_geometry(&ships, &truth, &title, path).map_err(|e| CliError::Other(e.to_string()))
+    // Drawn beside the target and renamed, so a failed drawing leaves no half-written file.
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let tmp = path.with_file_name(format!(".{name}.partial-{}.{ext}", std::process::id()));
+    mimo_store::output::register(&tmp);
+    let drawn = mimo_report::draw_geometry(&ships, &truth, &title, &tmp)
+        .map_err(|e| CliError::Other(format!("{}: write failed: {e}", path.display())))
+        .and_then(|()| {
+            std::fs::rename(&tmp, path).map_err(|e| CliError::Other(format!("{}: write failed: {e}", path.display())))
+        });
+    if drawn.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    mimo_store::output::unregister(&tmp);
+    drawn
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
     if let Some(path) = &a.map {
+        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase());
+        if !matches!(ext.as_deref(), Some("png" | "svg")) {
+            return Err(CliError::input(format!("--map: {}: expected a .png or .svg file name", path.display())));
+        }
+        mimo_store::output::check_file_output(path, a.force)?;
+        let _ = crate::interrupt::install();
         draw_map(path)?;
     }
     let list = mimo_scenario::list_standard()?;
     if a.json {
         let v: Vec<_> = list.iter().map(|(n, s)| serde_json::json!({"number": n, "scenario": s})).collect();
-        println!("{}", serde_json::to_string_pretty(&v).map_err(|e| CliError::Other(e.to_string()))?);
+        crate::outln!("{}", serde_json::to_string_pretty(&v).map_err(|e| CliError::Other(e.to_string()))?);
         return Ok(());
     }
-    println!("{:<3} {:<12} {:>10}  {:<28} ships", "#", "name", "duration_s", "targets");
+    crate::outln!("{:<3} {:<12} {:>10}  {:<28} ships", "#", "name", "duration_s", "targets");
     for (n, s) in &list {
         let ships: Vec<String> = s.ships.iter().map(|x| x.id.to_string()).collect();
-        println!(
+        crate::outln!(
             "{:<3} {:<12} {:>10}  {:<28} {}",
             n,
             s.name,
@@ -52,11 +75,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
             ships.join(", ")
         );
     }
-    println!();
-    println!("Ships:");
+    crate::outln!();
+    crate::outln!("Ships:");
     if let Some((_, s)) = list.first() {
         for sh in &s.ships {
-            println!(
+            crate::outln!(
                 "  {}  {:.4}°N {:.4}°E  heading {:>5.1}°  speed {:>4.1} m/s  {} faces at {:?}° (bow-relative)",
                 sh.id,
                 sh.lat_deg,

@@ -42,37 +42,54 @@ pub struct Args {
     pub quiet: bool,
 }
 
+/// Largest gate and OSPA cut-off (m): about the earth's diameter.
+pub const MAX_DISTANCE_M: f64 = 1.3e7;
+/// Largest OSPA/GOSPA order: c^p must stay finite (docs/design.md §6).
+pub const MAX_OSPA_P: f64 = 20.0;
+
+/// The scoring options, named as the user typed them (docs/DECISIONS.md "Bounds").
+fn check_options(a: &Args, duration_s: f64) -> Result<(), CliError> {
+    let i = a.interval;
+    if !(i.is_finite() && i > 0.0) {
+        return Err(CliError::input(format!("--interval: expected a positive number of seconds, got {i}")));
+    }
+    let max = mimo_metrics::MAX_SCORING_TIMES;
+    if duration_s / i > max {
+        return Err(CliError::input(format!(
+            "--interval: {i} s gives {:.1e} scoring times over the run's {duration_s} s; at most {max:e} \
+             (an interval of at least {:e} s)",
+            duration_s / i,
+            duration_s / max
+        )));
+    }
+    for (flag, v) in [("--gate", a.gate), ("--ospa-c", a.ospa_c)] {
+        if !(v.is_finite() && v > 0.0 && v <= MAX_DISTANCE_M) {
+            return Err(CliError::input(format!("{flag}: expected metres in (0, {MAX_DISTANCE_M:e}], got {v}")));
+        }
+    }
+    let p = a.ospa_p;
+    if !(p.is_finite() && (1.0..=MAX_OSPA_P).contains(&p)) {
+        return Err(CliError::input(format!("--ospa-p: expected an order in [1, {MAX_OSPA_P}], got {p}")));
+    }
+    Ok(())
+}
+
 fn metrics_err(e: MetricsError) -> CliError {
     if e.is_bad_input() { CliError::Input(e.to_string()) } else { CliError::Other(e.to_string()) }
 }
 
-/// The run directory holding truth and dwells: RUN itself, or its parent chain.
-fn source_dir(run: &Path, m: &Manifest) -> Result<PathBuf, CliError> {
-    let Some(parent) = &m.parent else { return Ok(run.to_path_buf()) };
-    let given = PathBuf::from(parent);
-    let candidates = [given.clone(), run.parent().map(|d| d.join(&given)).unwrap_or_else(|| given.clone())];
-    for c in candidates {
-        if c.join("manifest.json").is_file() {
-            let pm = Manifest::read(&c)?;
-            return source_dir(&c, &pm);
-        }
-    }
-    Err(CliError::input(format!(
-        "{}: field 'parent': run directory '{parent}' not found (expected the run this one was tracked from)",
-        run.join("manifest.json").display()
-    )))
-}
-
 pub fn run(a: Args) -> Result<(), CliError> {
     let t0 = Instant::now();
-    if a.threads == Some(0) {
-        return Err(CliError::input("--threads: expected at least 1"));
-    }
+    crate::cmd_simulate::check_threads(a.threads)?;
+    let _ = crate::interrupt::install();
     let manifest = Manifest::read(&a.run)?;
-    let src = source_dir(&a.run, &manifest)?;
+    check_options(&a, manifest.duration_s)?;
+    let src = mimo_store::lineage::source_dir(&a.run, &manifest)?;
     let scenario = scenario_of(&a.run, &manifest)?;
     let radars: Vec<String> = scenario.ships.iter().map(|s| s.id.to_string()).collect();
-    let world = World::new(scenario)?;
+    let world = World::new(scenario).map_err(|e| {
+        CliError::input(format!("{}: field 'scenario.resolved': {e}", a.run.join("manifest.json").display()))
+    })?;
     let ships = world.scenario.ships.clone();
     let scorable: mimo_metrics::ScorablePredicate =
         Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt)));
@@ -103,9 +120,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         let pct = |x: Option<f64>| x.map(|v| format!("{:.2} %", 100.0 * v)).unwrap_or_else(|| "n/a".into());
         let num = |x: Option<f64>| x.map(|v| format!("{v:.1}")).unwrap_or_else(|| "n/a".into());
         if replaced {
-            println!("replaced {}", score_dir.display());
+            crate::outln!("replaced {}", score_dir.display());
         }
-        println!(
+        crate::outln!(
             "{}: {} run(s), completeness {} (challenge {} %: {}), redundant {}, spurious {}, breaks {:.1}, switches {:.1}, RMSE {} m / {} m/s",
             s.scenario,
             s.runs,
@@ -119,7 +136,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             num(s.track.position_rmse_m),
             num(s.track.velocity_rmse_mps),
         );
-        println!(
+        crate::outln!(
             "usage per run: energy {:.0} J ({:.0} J by the TA), dwell time {:.1} s ({:.1} s by the TA); scored in {:.2} s -> {}",
             s.usage.total_energy_j,
             s.usage.ta_energy_j,

@@ -25,9 +25,12 @@ pub struct Args {
     /// Standard scenario number 1–7, or the path of a scenario TOML file.
     #[arg(long, value_name = "N|PATH")]
     pub scenario: String,
-    /// Number of Monte Carlo runs.
+    /// Number of Monte Carlo runs (above 1000 only with --many-runs; at most 100000).
     #[arg(long, default_value_t = 1, value_name = "N")]
     pub runs: u32,
+    /// Allow --runs above 1000 (each run writes five or six files).
+    #[arg(long)]
+    pub many_runs: bool,
     /// Master random seed (every draw is keyed by seed, run, radar and dwell).
     #[arg(long, default_value_t = DEFAULT_SEED)]
     pub seed: u64,
@@ -56,6 +59,36 @@ pub struct Args {
     pub quiet: bool,
 }
 
+/// Most runs without --many-runs (docs/DECISIONS.md "Bounds").
+pub const RUNS_WITHOUT_FLAG: u32 = 1000;
+/// Most search pulses per dwell (the radar's own limit is at most 10 000 pulses, docs/model.md §3.4).
+pub const MAX_SEARCH_PULSES: u32 = 1000;
+/// Most worker threads.
+pub const MAX_THREADS: usize = 4096;
+
+/// Check `--threads` (shared by the commands that take it).
+pub fn check_threads(threads: Option<usize>) -> Result<(), CliError> {
+    match threads {
+        Some(0) => Err(CliError::input("--threads: expected at least 1")),
+        Some(n) if n > MAX_THREADS => {
+            Err(CliError::input(format!("--threads: {n} is above the limit of {MAX_THREADS}")))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The file a scenario came from, for messages that do not name one (a trajectory that leaves
+/// its flight envelope is found only when trajectories are built).
+pub fn scenario_error(arg: &str, e: mimo_scenario::ScenarioError) -> CliError {
+    match e {
+        mimo_scenario::ScenarioError::Envelope { .. } => match arg.trim().parse::<u32>() {
+            Ok(n) => CliError::input(format!("scenarios/{n}.toml (standard scenario {n}): {e}")),
+            Err(_) => CliError::input(format!("{arg}: {e}")),
+        },
+        e => CliError::from(e),
+    }
+}
+
 /// Resolve `--scenario`: a number 1–7 or a path.
 pub fn load_scenario(arg: &str) -> Result<Scenario, CliError> {
     match arg.trim().parse::<u32>() {
@@ -68,8 +101,23 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let t_start = Instant::now();
     // Validate everything before anything is written.
     let mut scenario = load_scenario(&a.scenario)?;
+    let _ = crate::interrupt::install();
     if a.runs == 0 {
         return Err(CliError::input("--runs: expected at least 1 run"));
+    }
+    if a.runs > mimo_store::manifest::MAX_RUNS {
+        return Err(CliError::input(format!(
+            "--runs: {} is above the limit of {}",
+            a.runs,
+            mimo_store::manifest::MAX_RUNS
+        )));
+    }
+    if a.runs > RUNS_WITHOUT_FLAG && !a.many_runs {
+        return Err(CliError::input(format!(
+            "--runs: {} is above {RUNS_WITHOUT_FLAG} (each run writes five or six files); add --many-runs to go up to {}",
+            a.runs,
+            mimo_store::manifest::MAX_RUNS
+        )));
     }
     if let Some(d) = a.duration {
         if !(d.is_finite() && d > 0.0 && d <= mimo_scenario::MAX_DURATION_S) {
@@ -80,9 +128,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
         scenario.duration_s = d;
     }
-    if a.threads == Some(0) {
-        return Err(CliError::input("--threads: expected at least 1"));
-    }
+    check_threads(a.threads)?;
     let record_voltages = match a.record.as_slice() {
         [] => false,
         r if r.iter().all(|x| x == "voltages") => true,
@@ -92,10 +138,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
     };
     let ta = a.ta.resolve()?;
-    if a.search_pulses == 0 {
-        return Err(CliError::input("--search-pulses: expected at least 1"));
+    if a.search_pulses == 0 || a.search_pulses > MAX_SEARCH_PULSES {
+        return Err(CliError::input(format!(
+            "--search-pulses: expected 1 to {MAX_SEARCH_PULSES}, got {}",
+            a.search_pulses
+        )));
     }
-    let world = World::new(scenario)?;
+    let world = World::new(scenario).map_err(|e| scenario_error(&a.scenario, e))?;
     let t_setup = t_start.elapsed().as_secs_f64();
     let writer = RunDirWriter::create(&a.out, a.force)?;
 
@@ -175,12 +224,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
         tracker: Some(TrackerInfo { name: info.name, config: info.config }),
         schedule: ta.schedule(),
         parent: None,
+        parent_check: None,
         tables,
         timing_s: timing,
     };
     let out = writer.finish(&manifest)?;
     if !a.quiet {
-        println!(
+        crate::outln!(
             "simulated {} × {} s of {} in {:.1} s: {} dwells ({} search, {} TA), {} measurements -> {}",
             a.runs,
             world.scenario.duration_s,

@@ -77,7 +77,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             Some(s) => format!("shard {}/{}: ", s.k, s.n),
             None => String::new(),
         };
-        println!(
+        crate::outln!(
             "{share}ran {} of {} runs in {:.1} s ({} already done, {} failed)",
             outcome.ran,
             outcome.items,
@@ -86,9 +86,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
             outcome.failed
         );
         if outcome.merged {
-            println!("results, summary, charts and report -> {}", a.out.join("report.md").display());
+            crate::outln!("results, summary, charts and report -> {}", a.out.join("report.md").display());
         } else {
-            println!("when every shard is done: mimo study {} --out {} --merge", a.plan.display(), a.out.display());
+            crate::outln!(
+                "when every shard is done: mimo study {} --out {} --merge",
+                a.plan.display(),
+                a.out.display()
+            );
         }
     }
     Ok(())

@@ -46,10 +46,11 @@ pub struct Args {
 
 /// The scenario a run directory was made from, checked.
 pub fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, CliError> {
-    let s: Scenario = serde_json::from_value(m.scenario.resolved.clone()).map_err(|e| {
-        CliError::input(format!("{}: field 'scenario.resolved': {e}", run_dir.join("manifest.json").display()))
-    })?;
-    s.validate()?;
+    let file = run_dir.join("manifest.json");
+    let s: Scenario = serde_json::from_value(m.scenario.resolved.clone())
+        .map_err(|e| CliError::input(format!("{}: field 'scenario.resolved': {e}", file.display())))?;
+    // The scenario's own errors name fields, not files: say which manifest holds it.
+    s.validate().map_err(|e| CliError::input(format!("{}: field 'scenario.resolved': {e}", file.display())))?;
     Ok(s)
 }
 
@@ -71,11 +72,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
             ta.label()
         )));
     }
-    if a.threads == Some(0) {
-        return Err(CliError::input("--threads: expected at least 1"));
-    }
+    crate::cmd_simulate::check_threads(a.threads)?;
+    let _ = crate::interrupt::install();
+    mimo_store::lineage::check_output_apart(&a.run, &a.out)?;
     let manifest = Manifest::read(&a.run)?;
-    let world = World::new(scenario_of(&a.run, &manifest)?)?;
+    let world = World::new(scenario_of(&a.run, &manifest)?).map_err(|e| {
+        CliError::input(format!("{}: field 'scenario.resolved': {e}", a.run.join("manifest.json").display()))
+    })?;
     let runs: Vec<u32> = (0..manifest.runs).collect();
     // Check every input file before writing anything.
     let source = match from {
@@ -91,6 +94,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
     }
     let writer = RunDirWriter::create(&a.out, a.force)?;
+    let (parent, parent_check) = mimo_store::lineage::link(&a.out, &a.run, &manifest)?;
     let cfg = EngineConfig {
         seed: manifest.seed,
         duration_s: manifest.duration_s,
@@ -173,13 +177,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
             config: serde_json::json!({"config": info.config, "from": a.from}),
         }),
         schedule: format!("open-loop re-run of the recorded schedule of {}", a.run.display()),
-        parent: Some(a.run.display().to_string()),
+        parent: Some(parent),
+        parent_check: Some(parent_check),
         tables,
         timing_s: timing,
     };
     let out = writer.finish(&m)?;
     if !a.quiet {
-        println!(
+        crate::outln!(
             "tracked {} run(s) of {} with '{}' from {} in {:.2} s ({:.0} measurements/s) -> {}",
             manifest.runs,
             a.run.display(),

@@ -41,6 +41,12 @@ impl From<mimo_store::StoreError> for CliError {
     }
 }
 
+impl From<mimo_metrics::MetricsError> for CliError {
+    fn from(e: mimo_metrics::MetricsError) -> CliError {
+        if e.is_bad_input() { CliError::Input(e.to_string()) } else { CliError::Other(e.to_string()) }
+    }
+}
+
 impl From<mimo_scenario::ScenarioError> for CliError {
     fn from(e: mimo_scenario::ScenarioError) -> CliError {
         CliError::Input(e.to_string())

@@ -12,10 +12,21 @@ mod cmd_simulate;
 mod cmd_study;
 mod cmd_track;
 mod error;
+mod interrupt;
 mod progress;
 mod ta_args;
 
 pub use error::CliError;
+
+/// `println!` that does not panic when standard output is closed (`mimo score RUN | head -1`):
+/// what cannot be printed is dropped and the command finishes as it would have.
+#[macro_export]
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
 
 use clap::{Parser, Subcommand};
 use std::ffi::OsString;

@@ -97,7 +97,12 @@ fn replay_reproduces_the_closed_loop() {
         let replayed: Vec<TrackRow> = mimo_store::read_table(&dir.join("tracks/run-0000.parquet")).expect("tracks");
         assert_eq!(replayed, closed, "{} differs from the closed loop", dir.display());
         let m = mimo_store::manifest::Manifest::read(dir).expect("manifest");
-        assert_eq!(m.parent.as_deref(), Some(p(&run)));
+        // Relative to the re-tracked run's own directory (issue 14), and resolving to the run.
+        assert_eq!(m.parent.as_deref(), Some("../run"));
+        assert_eq!(
+            mimo_store::lineage::source_dir(dir, &m).expect("parent").canonicalize().ok(),
+            run.canonicalize().ok()
+        );
     }
     let mut rec: Vec<MeasurementRow> = mimo_store::read_table(&run.join("measurements/run-0000.parquet")).expect("m");
     let re: Vec<MeasurementRow> = mimo_store::read_table(&from_p.join("measurements/run-0000.parquet")).expect("m");
@@ -179,8 +184,9 @@ fn bad_input_exits_2_and_leaves_nothing() {
     let mine = write(&out, "precious.txt", "mine");
     assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "2", "--quiet", "--out", &o]), 2);
     assert_eq!(std::fs::read_to_string(&mine).expect("still there"), "mine");
-    assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "2", "--quiet", "--force", "--out", &o]), 0);
-    assert!(!mine.exists() && out.join("manifest.json").exists());
+    // --force replaces only a mimo run directory, never a folder of the user's (issue 14).
+    assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "2", "--quiet", "--force", "--out", &o]), 2);
+    assert!(mine.exists() && !out.join("manifest.json").exists());
 
     // mimo track on something that is not a run.
     let t_out = tmp.path().join("t");

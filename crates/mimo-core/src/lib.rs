@@ -12,6 +12,8 @@
 //! * [`ids`]: radar and target identifiers (`R1`…`R4`, `F-1`…`F-4`, `A`, `B`, `C`).
 //! * [`assign`]: an exact rectangular assignment solver (shortest augmenting path, Jonker–Volgenant
 //!   style) shared by the tracker's GNN and the metrics engine's truth–track pairing.
+//! * [`table_rules`]: what a well-formed table keeps beyond its schema (unique ids, ordered times),
+//!   checked by every reader of the tables.
 //! * [`records`]: the plain row structs of the run tables (docs/design.md §3). Stages push these into
 //!   sinks ([`sink::RunSink`]); only `mimo-store` turns them into Arrow.
 //!
@@ -28,6 +30,7 @@ pub mod params;
 pub mod records;
 pub mod rng;
 pub mod sink;
+pub mod table_rules;
 pub mod time;
 
 pub use glam::{DMat3, DVec3};

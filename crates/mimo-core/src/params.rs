@@ -105,6 +105,27 @@ impl Default for RadarParams {
     }
 }
 
+/// Upper ends of the plausible ranges of docs/model.md §3.4 (lower ends: the checks above).
+type Field = fn(&RadarParams) -> f64;
+const PLAUSIBLE: &[(&str, Field, f64, &str)] = &[
+    ("frequency_hz", |p| p.frequency_hz, 1e11, "Hz"),
+    ("aperture_x_m", |p| p.aperture_x_m, 50.0, "m"),
+    ("aperture_y_m", |p| p.aperture_y_m, 50.0, "m"),
+    ("beamwidth_factor", |p| p.beamwidth_factor, 3.0, ""),
+    ("monopulse_slope", |p| p.monopulse_slope, 10.0, ""),
+    ("scan_loss_exponent", |p| p.scan_loss_exponent, 10.0, ""),
+    ("peak_power_w", |p| p.peak_power_w, 1e8, "W"),
+    ("pulse_width_s", |p| p.pulse_width_s, 1e-2, "s"),
+    ("bandwidth_hz", |p| p.bandwidth_hz, 1e10, "Hz"),
+    ("prf_hz", |p| p.prf_hz, 1e6, "Hz"),
+    ("noise_figure_db", |p| p.noise_figure_db, 30.0, "dB"),
+    ("loss_db", |p| p.loss_db, 60.0, "dB"),
+    ("instrumented_range_m", |p| p.instrumented_range_m, 5e6, "m"),
+    ("dwell_overhead_s", |p| p.dwell_overhead_s, 10.0, "s"),
+];
+/// Most pulses per dwell (docs/model.md §3.4).
+pub const MAX_PULSES: u32 = 10_000;
+
 impl RadarParams {
     /// Wavelength λ (m).
     pub fn wavelength_m(&self) -> f64 {
@@ -146,6 +167,12 @@ impl RadarParams {
             }
         };
         pos("frequency_hz", self.frequency_hz)?;
+        if self.frequency_hz < 1e8 {
+            return Err((
+                "frequency_hz".into(),
+                format!("at least 1e8 Hz (plausible range, docs/model.md §3.4), got {:e}", self.frequency_hz),
+            ));
+        }
         pos("aperture_x_m", self.aperture_x_m)?;
         pos("aperture_y_m", self.aperture_y_m)?;
         pos("aperture_efficiency", self.aperture_efficiency)?;
@@ -181,6 +208,23 @@ impl RadarParams {
             if !(x.is_finite() && x >= 0.0) {
                 return Err((n.into(), format!("a finite number of dB >= 0, got {x}")));
             }
+        }
+        // Plausible ranges of docs/model.md §3.4: wide around any real surface radar, narrow
+        // enough that energies, SNRs and cell counts stay finite and tractable.
+        for &(name, x, hi, unit) in PLAUSIBLE {
+            let x = x(self);
+            if x > hi {
+                return Err((
+                    name.into(),
+                    format!("at most {hi:e} {unit} (plausible range, docs/model.md §3.4), got {x:e}"),
+                ));
+            }
+        }
+        if self.max_pulses > MAX_PULSES {
+            return Err((
+                "max_pulses".into(),
+                format!("at most {MAX_PULSES} (plausible range, docs/model.md §3.4), got {}", self.max_pulses),
+            ));
         }
         if !(self.min_range_m.is_finite() && self.min_range_m >= 0.0 && self.min_range_m < self.instrumented_range_m) {
             return Err(("min_range_m".into(), "a range >= 0 and below instrumented_range_m".into()));

@@ -102,6 +102,22 @@ pub enum MetricsError {
         expected: String,
     },
 
+    /// A row breaks a table rule (`mimo_core::table_rules`): a repeated id, a time out of order,
+    /// a run other than the file's.
+    #[error("{}: {table} column `{column}` row {row}: {why}", path.display())]
+    BrokenRule {
+        /// Which table (`truth`, `tracks`, `dwells`).
+        table: &'static str,
+        /// The file at fault.
+        path: PathBuf,
+        /// The column at fault.
+        column: &'static str,
+        /// Row index, 0-based, in the file.
+        row: usize,
+        /// Which rule the row breaks.
+        why: String,
+    },
+
     /// A scoring option is out of range.
     #[error("invalid scoring option {option} = {value}: {expected}")]
     InvalidOption {

@@ -101,6 +101,7 @@ pub mod ospa;
 mod output;
 mod read;
 mod results;
+mod rules;
 mod track_metrics;
 mod usage;
 
@@ -160,6 +161,10 @@ impl ScoreInput {
         Self::from_dirs(&run_dir.join("truth"), &run_dir.join("dwells"), &run_dir.join("tracks"), scorable)
     }
 }
+
+/// Most scoring times a run may have (docs/DECISIONS.md "Bounds"): 10^7 times (a 1000 s run at
+/// 0.1 ms) already take minutes; more only exhausts memory.
+pub const MAX_SCORING_TIMES: f64 = 1e7;
 
 /// Scoring options (the `mimo score` flags).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -240,6 +245,15 @@ fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
 pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsError> {
     opts.validate()?;
     let truth = load_truth(&input.truth)?;
+    if let Some(t_end) = truth.t_end.values().copied().reduce(f64::max)
+        && t_end / opts.interval_s > MAX_SCORING_TIMES
+    {
+        return Err(MetricsError::InvalidOption {
+            option: "interval_s",
+            value: opts.interval_s.to_string(),
+            expected: "at least the run's last truth time / 10^7 (at most 10^7 scoring times per run)",
+        });
+    }
     let run_set: BTreeSet<u32> = truth.runs.iter().copied().collect();
     let tracks = load_tracks(&input.tracks, &run_set)?;
     let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;

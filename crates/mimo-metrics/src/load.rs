@@ -3,7 +3,7 @@
 
 use crate::MetricsError;
 use crate::error;
-use crate::read::{Check, Want, col as rcol, read_file, read_table};
+use crate::read::{Check, Want, col as rcol, read_file, read_table_checked};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
@@ -56,7 +56,7 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
         rcol("vz_mps", F64, Finite),
         rcol("alt_m", F64, Finite),
     ];
-    let df = read_table("truth", paths, &cols)?;
+    let df = read_table_checked("truth", paths, &cols, &crate::rules::check_truth)?;
     let df = df
         .sort(["run", "target", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
         .map_err(error::internal("sorting truth"))?;
@@ -115,7 +115,7 @@ pub(crate) fn load_tracks(
         rcol("vy_mps", F64, Finite),
         rcol("vz_mps", F64, Finite),
     ];
-    let df = read_table("tracks", paths, &cols)?;
+    let df = read_table_checked("tracks", paths, &cols, &crate::rules::check_tracks)?;
     let df = df
         .sort(["run", "track_id", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
         .map_err(error::internal("sorting tracks"))?;
@@ -196,6 +196,7 @@ pub(crate) fn load_dwell_sums(
     let mut sums: Option<DataFrame> = None;
     for path in paths {
         let df = read_file("dwells", path, &cols)?;
+        crate::rules::check_dwells(path, &df)?;
         {
             let c = df.column("radar").map_err(error::internal("dwell radars"))?;
             let u = c.unique().map_err(error::internal("dwell radars"))?;

@@ -107,7 +107,16 @@ pub(crate) const fn col<'a>(name: &'static str, want: Want, check: Check<'a>) ->
 }
 
 /// Read `paths` as one table with the given columns (in that order), validating every file.
-pub(crate) fn read_table(table: &'static str, paths: &[PathBuf], cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
+/// A check of one file's frame (its table rules) before the files are stacked.
+pub(crate) type FileCheck<'a> = &'a dyn Fn(&Path, &DataFrame) -> Result<(), MetricsError>;
+
+/// Read and stack the files of a table, with `check` run on each file's frame (row numbers are then the file's).
+pub(crate) fn read_table_checked(
+    table: &'static str,
+    paths: &[PathBuf],
+    cols: &[Col<'_>],
+    check: FileCheck<'_>,
+) -> Result<DataFrame, MetricsError> {
     if paths.is_empty() {
         return Err(MetricsError::MissingTable {
             table,
@@ -118,6 +127,7 @@ pub(crate) fn read_table(table: &'static str, paths: &[PathBuf], cols: &[Col<'_>
     let mut out: Option<DataFrame> = None;
     for path in paths {
         let df = read_file(table, path, cols)?;
+        check(path, &df)?;
         match out.as_mut() {
             None => out = Some(df),
             Some(acc) => {

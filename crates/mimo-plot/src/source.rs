@@ -46,19 +46,10 @@ fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, PlotError> {
     Ok(s)
 }
 
-/// Follow `parent` links to the run that holds truth and dwells. The parent is resolved
-/// relative to the directory holding the run first, then as written.
-fn source_dir(run_dir: &Path, m: &Manifest, depth: usize) -> Result<PathBuf, PlotError> {
-    let Some(parent) = &m.parent else { return Ok(run_dir.to_path_buf()) };
-    let given = PathBuf::from(parent);
-    let beside = run_dir.parent().map(|d| d.join(&given));
-    for c in beside.into_iter().chain([given.clone()]) {
-        if depth < 16 && c.join(MANIFEST_FILE).is_file() {
-            let pm = Manifest::read(&c)?;
-            return source_dir(&c, &pm, depth + 1);
-        }
-    }
-    Err(PlotError::MissingParent { file: run_dir.join(MANIFEST_FILE), parent: parent.clone() })
+/// Follow `parent` links to the run that holds truth and dwells (checked, cycles refused:
+/// `mimo_store::lineage`).
+fn source_dir(run_dir: &Path, m: &Manifest) -> Result<PathBuf, PlotError> {
+    Ok(mimo_store::lineage::source_dir(run_dir, m)?)
 }
 
 impl RunSource {
@@ -66,7 +57,7 @@ impl RunSource {
     pub fn open(run_dir: &Path) -> Result<RunSource, PlotError> {
         let manifest = Manifest::read(run_dir)?;
         let scenario = scenario_of(run_dir, &manifest)?;
-        let source_dir = source_dir(run_dir, &manifest, 0)?;
+        let source_dir = source_dir(run_dir, &manifest)?;
         Ok(RunSource { run_dir: run_dir.to_path_buf(), manifest, scenario, source_dir })
     }
 

@@ -186,6 +186,7 @@ fn make_run(tracks: Vec<TrackRow>) -> Run {
         tracker: Some(TrackerInfo { name: "hand-made".into(), config: serde_json::Value::Null }),
         schedule: "hand-made".into(),
         parent: None,
+        parent_check: None,
         tables: BTreeMap::new(),
         timing_s: BTreeMap::new(),
     };

@@ -9,11 +9,16 @@
 //!   temporary name and renamed, carry the table name and schema version in their key-value
 //!   metadata, and are byte-identical for identical rows (no timestamps, single row group
 //!   layout fixed by the writer properties).
-//! * [`rundir`]: the run directory of docs/design.md §2 — staging, atomic publication, `--force`,
-//!   and [`manifest::Manifest`].
+//! * [`rundir`]: the run directory of docs/design.md §2 — staging, atomic publication, and
+//!   [`manifest::Manifest`]; [`output`]: who may write an output path (`--force`, the lock,
+//!   stale staging, clean-up on interrupt); [`lineage`]: `parent` links of `mimo track` outputs.
+//! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
 
 pub mod columns;
+pub mod invariants;
+pub mod lineage;
 pub mod manifest;
+pub mod output;
 pub mod rows;
 pub mod rundir;
 pub mod schema;
@@ -33,26 +38,43 @@ use std::path::{Path, PathBuf};
 pub enum StoreError {
     #[error("{}: {source}", path.display())]
     Io { path: PathBuf, source: std::io::Error },
+    /// Writing an output failed (disk full, permissions): a fault of the system, not the input.
+    #[error("{}: write failed: {why}", path.display())]
+    Write { path: PathBuf, why: String },
     #[error("{}: not a readable Parquet file ({why})", path.display())]
     Parquet { path: PathBuf, why: String },
     #[error("{}: column '{column}' {why}", file.display())]
     BadColumn { file: PathBuf, column: String, why: String },
     #[error("{}: {why}", file.display())]
     BadTable { file: PathBuf, why: String },
+    /// A row breaks a table rule (docs/design.md §7): duplicate ids, times out of order, a run
+    /// other than the file's.
+    #[error("{}: column '{column}' row {row}: {why}", file.display())]
+    BadRow { file: PathBuf, column: &'static str, row: usize, why: String },
     #[error("{}: field '{field}': {why}", file.display())]
     BadManifest { file: PathBuf, field: String, why: String },
     #[error("{}: already exists (use --force to replace it)", path.display())]
     Exists { path: PathBuf },
     #[error("{}: no such run directory or table", path.display())]
     Missing { path: PathBuf },
+    /// The output is not one `--force` may replace, or overlaps the input.
+    #[error("{}: {why}", path.display())]
+    Refused { path: PathBuf, why: String },
+    /// Another process is writing the same output.
+    #[error("{}: {why}", path.display())]
+    Busy { path: PathBuf, why: String },
     #[error("arrow: {0}")]
     Arrow(String),
 }
 
 impl StoreError {
-    /// Whether the error is the user's input (exit status 2) rather than an internal failure.
+    /// Whether the error is the user's input (exit status 2) rather than a failure of the system
+    /// or of mimo (exit status 1: I/O, a failed write, an internal Arrow error).
     pub fn is_input_error(&self) -> bool {
-        !matches!(self, StoreError::Arrow(_))
+        !matches!(
+            self,
+            StoreError::Arrow(_) | StoreError::Io { .. } | StoreError::Write { .. } | StoreError::Busy { .. }
+        )
     }
 }
 
@@ -103,14 +125,21 @@ pub(crate) fn write_batch(path: &Path, batch: &RecordBatch) -> Result<(), StoreE
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     }
+    write_batch_into(path, batch)
+}
+
+/// Write into an existing directory (never re-creating one removed meanwhile, e.g. a staging
+/// directory removed by the interrupt handler).
+pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), StoreError> {
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp"));
-    let file = File::create(&tmp).map_err(io_err(&tmp))?;
-    let mut w = ArrowWriter::try_new(file, batch.schema(), Some(writer_props()))
-        .map_err(|e| StoreError::Parquet { path: tmp.clone(), why: e.to_string() })?;
-    w.write(batch).map_err(|e| StoreError::Parquet { path: tmp.clone(), why: e.to_string() })?;
-    w.close().map_err(|e| StoreError::Parquet { path: tmp.clone(), why: e.to_string() })?;
-    std::fs::rename(&tmp, path).map_err(io_err(path))?;
+    let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
+    let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
+    let mut w =
+        ArrowWriter::try_new(file, batch.schema(), Some(writer_props())).map_err(|e| write_err(e.to_string()))?;
+    w.write(batch).map_err(|e| write_err(e.to_string()))?;
+    w.close().map_err(|e| write_err(e.to_string()))?;
+    std::fs::rename(&tmp, path).map_err(|e| write_err(e.to_string()))?;
     Ok(())
 }
 
@@ -165,6 +194,7 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
         let b = Batch::check(&batch, path, table_spec)?;
         out.extend(R::from_batch(&b)?);
     }
+    invariants::check(path, &out)?;
     Ok(out)
 }
 

@@ -35,6 +35,20 @@ pub struct TrackerInfo {
     pub config: serde_json::Value,
 }
 
+/// What a `mimo track` output recorded of its parent when it was made (crate::lineage): the
+/// parent must still hold the same scenario and seed, and the same `manifest.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParentCheck {
+    pub scenario: String,
+    pub seed: u64,
+    /// FNV-1a (64-bit) of the parent's `manifest.json`, hex.
+    pub manifest_fnv1a64: String,
+}
+
+/// Most Monte Carlo runs a manifest may list (docs/DECISIONS.md "Bounds"): far above any
+/// study, far below what would exhaust a file system's directory entries.
+pub const MAX_RUNS: u32 = 100_000;
+
 /// The run manifest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
@@ -50,8 +64,12 @@ pub struct Manifest {
     pub tracker: Option<TrackerInfo>,
     /// How the dwell schedule was produced (e.g. closed loop with a TA, or a fixed schedule).
     pub schedule: String,
-    /// For `mimo track` outputs: the run directory this one was derived from (as given).
+    /// For `mimo track` outputs: the run directory this one was derived from, relative to this
+    /// run's own directory (crate::lineage).
     pub parent: Option<String>,
+    /// For `mimo track` outputs: what the parent held when this run was made.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parent_check: Option<ParentCheck>,
     /// Table name → files and row counts.
     pub tables: BTreeMap<String, Vec<TableFile>>,
     /// Wall seconds per stage.
@@ -88,7 +106,41 @@ impl Manifest {
                 why: format!("{} does not match this mimo's {}", m.schema_version, crate::schema::SCHEMA_VERSION),
             });
         }
+        m.check_runs(&path)?;
         Ok(m)
+    }
+
+    /// `runs` is at least 1 (and at most [`MAX_RUNS`]), and every table lists files
+    /// `TABLE/run-K.parquet` of runs K < runs, each at most once (a study cell lists only the
+    /// runs that succeeded).
+    fn check_runs(&self, path: &Path) -> Result<(), StoreError> {
+        let bad = |field: String, why: String| StoreError::BadManifest { file: path.to_path_buf(), field, why };
+        if self.runs == 0 || self.runs > MAX_RUNS {
+            return Err(bad("runs".into(), format!("{} is outside 1..={MAX_RUNS}", self.runs)));
+        }
+        for (table, files) in &self.tables {
+            let mut seen = std::collections::BTreeSet::new();
+            for f in files {
+                let run = f
+                    .file
+                    .strip_prefix(&format!("{table}/"))
+                    .and_then(|n| crate::invariants::file_run(Path::new(n)))
+                    .filter(|&k| k < self.runs);
+                match run {
+                    Some(k) if seen.insert(k) => {}
+                    _ => {
+                        return Err(bad(
+                            format!("tables.{table}"),
+                            format!(
+                                "file '{}' is not one of {table}/run-0000.parquet … of runs 0..{} listed once",
+                                f.file, self.runs
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Pretty JSON text.

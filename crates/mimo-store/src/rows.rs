@@ -17,7 +17,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 /// A record type stored as one table.
-pub trait TableRow: Sized {
+pub trait TableRow: Sized + crate::invariants::RowInvariants {
     /// The table's schema spec.
     const SPEC: TableSpec;
     /// One Arrow array per column, in spec order.

@@ -1,14 +1,17 @@
 //! Run directories: staged writing and atomic publication.
 //!
-//! [`RunDirWriter::create`] refuses an existing output unless `force` is set, and writes into a
-//! hidden staging directory beside the target. [`RunDirWriter::finish`] writes the manifest last
-//! and renames the staging directory into place (removing the old one only then, with `force`).
-//! If the writer is dropped unfinished (an error or a panic), the staging directory is removed:
-//! a failed step leaves nothing that looks like a run.
+//! [`RunDirWriter::create`] locks the output, refuses an existing one unless `force` is set and
+//! it is a mimo run directory (or empty; [`crate::output`]), removes staging left by killed
+//! writers, and writes into a hidden staging directory beside the target.
+//! [`RunDirWriter::finish`] writes the manifest last and renames the staging directory into place
+//! (removing the old one only then, with `force`). If the writer is dropped unfinished (an error
+//! or a panic) or the process is interrupted, the staging directory is removed: a failed step
+//! leaves nothing that looks like a run.
 
 use crate::manifest::{MANIFEST_FILE, Manifest, TableFile};
+use crate::output::{self, OutputLock};
 use crate::rows::TableRow;
-use crate::{StoreError, io_err, run_file_name, write_table};
+use crate::{StoreError, io_err, run_file_name};
 use std::path::{Path, PathBuf};
 
 /// A run directory being written.
@@ -18,25 +21,44 @@ pub struct RunDirWriter {
     staging: PathBuf,
     force: bool,
     finished: bool,
+    // Dropped after `Drop::drop` has removed an unfinished staging directory.
+    _lock: OutputLock,
 }
 
-fn staging_for(target: &Path, what: &str) -> PathBuf {
-    let name = target.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_else(|| "run".into());
-    target.with_file_name(format!(".{name}.{what}-{}", std::process::id()))
+fn staging_for(target: &Path, what: &str) -> Result<PathBuf, StoreError> {
+    output::sibling(target, &format!("{what}-{}", std::process::id()))
+}
+
+/// Swap `staging` into `target`, removing what `target` held.
+fn publish(target: &Path, staging: &Path, replace: bool) -> Result<(), StoreError> {
+    if replace {
+        let old = staging_for(target, "old")?;
+        output::register(&old);
+        std::fs::rename(target, &old).map_err(io_err(target))?;
+        std::fs::rename(staging, target).map_err(io_err(target))?;
+        std::fs::remove_dir_all(&old).map_err(io_err(&old))?;
+        output::unregister(&old);
+    } else {
+        if let Some(parent) = target.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent).map_err(io_err(parent))?;
+        }
+        std::fs::rename(staging, target).map_err(io_err(target))?;
+    }
+    output::unregister(staging);
+    Ok(())
 }
 
 impl RunDirWriter {
-    /// Start writing `target`. Fails if it exists and `force` is false.
+    /// Start writing `target`: lock it (a second writer fails at once), refuse it if it exists
+    /// and is not replaceable ([`output::check_replaceable`]), remove stale staging.
     pub fn create(target: &Path, force: bool) -> Result<RunDirWriter, StoreError> {
-        if target.exists() && !force {
-            return Err(StoreError::Exists { path: target.to_path_buf() });
-        }
-        let staging = staging_for(target, "partial");
-        if staging.exists() {
-            std::fs::remove_dir_all(&staging).map_err(io_err(&staging))?;
-        }
+        let lock = OutputLock::acquire(target)?;
+        output::check_replaceable(target, force)?;
+        output::remove_stale(target)?;
+        let staging = staging_for(target, "partial")?;
+        output::register(&staging);
         std::fs::create_dir_all(&staging).map_err(io_err(&staging))?;
-        Ok(RunDirWriter { target: target.to_path_buf(), staging, force, finished: false })
+        Ok(RunDirWriter { target: target.to_path_buf(), staging, force, finished: false, _lock: lock })
     }
 
     /// The final path.
@@ -52,8 +74,15 @@ impl RunDirWriter {
     /// Write run `run`'s file of a table; returns the manifest entry.
     pub fn write_run_table<R: TableRow>(&self, table: &str, run: u32, rows: &[R]) -> Result<TableFile, StoreError> {
         let rel = format!("{table}/{}", run_file_name(run));
-        let n = write_table(&self.staging.join(&rel), rows)?;
-        Ok(TableFile { file: rel, rows: n })
+        // Not `create_dir_all`: a staging directory removed on interrupt is not re-created.
+        let dir = self.staging.join(table);
+        match std::fs::create_dir(&dir) {
+            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(io_err(&dir)(e)),
+            _ => {}
+        }
+        let batch = crate::rows::to_batch(rows)?;
+        crate::write_batch_into(&self.staging.join(&rel), &batch)?;
+        Ok(TableFile { file: rel, rows: rows.len() as u64 })
     }
 
     /// Write the manifest and publish the directory.
@@ -62,20 +91,9 @@ impl RunDirWriter {
         let tmp = self.staging.join(".manifest.json.tmp");
         std::fs::write(&tmp, manifest.to_json()).map_err(io_err(&tmp))?;
         std::fs::rename(&tmp, &mpath).map_err(io_err(&mpath))?;
-        if self.target.exists() {
-            if !self.force {
-                return Err(StoreError::Exists { path: self.target.clone() });
-            }
-            let old = staging_for(&self.target, "old");
-            std::fs::rename(&self.target, &old).map_err(io_err(&self.target))?;
-            std::fs::rename(&self.staging, &self.target).map_err(io_err(&self.target))?;
-            std::fs::remove_dir_all(&old).map_err(io_err(&old))?;
-        } else {
-            if let Some(parent) = self.target.parent().filter(|p| !p.as_os_str().is_empty()) {
-                std::fs::create_dir_all(parent).map_err(io_err(parent))?;
-            }
-            std::fs::rename(&self.staging, &self.target).map_err(io_err(&self.target))?;
-        }
+        // Checked again: something may have appeared at the target while the run was written.
+        let replace = output::check_replaceable(&self.target, self.force)?;
+        publish(&self.target, &self.staging, replace)?;
         self.finished = true;
         Ok(self.target.clone())
     }
@@ -85,30 +103,31 @@ impl Drop for RunDirWriter {
     fn drop(&mut self) {
         if !self.finished {
             let _ = std::fs::remove_dir_all(&self.staging);
+            output::unregister(&self.staging);
         }
     }
 }
 
 /// Replace a derived directory (such as `RUN/score/`) atomically: `build` writes into a staging
-/// directory, which then replaces `target`. Returns whether an old directory was replaced.
+/// directory, which then replaces `target`. The target is locked for the duration, and staging
+/// left beside it by killed processes is removed first. Returns whether an old directory was
+/// replaced.
 pub fn replace_dir<E: From<StoreError>>(target: &Path, build: impl FnOnce(&Path) -> Result<(), E>) -> Result<bool, E> {
-    let staging = staging_for(target, "partial");
-    if staging.exists() {
-        std::fs::remove_dir_all(&staging).map_err(io_err(&staging))?;
-    }
+    let _lock = OutputLock::acquire(target)?;
+    output::remove_stale(target)?;
+    let staging = staging_for(target, "partial")?;
+    output::register(&staging);
     std::fs::create_dir_all(&staging).map_err(io_err(&staging))?;
     if let Err(e) = build(&staging) {
         let _ = std::fs::remove_dir_all(&staging);
+        output::unregister(&staging);
         return Err(e);
     }
     let replaced = target.exists();
-    if replaced {
-        let old = staging_for(target, "old");
-        std::fs::rename(target, &old).map_err(io_err(target))?;
-        std::fs::rename(&staging, target).map_err(io_err(target))?;
-        std::fs::remove_dir_all(&old).map_err(io_err(&old))?;
-    } else {
-        std::fs::rename(&staging, target).map_err(io_err(target))?;
+    if let Err(e) = publish(target, &staging, replaced) {
+        let _ = std::fs::remove_dir_all(&staging);
+        output::unregister(&staging);
+        return Err(e.into());
     }
     Ok(replaced)
 }

@@ -413,7 +413,16 @@ pub const MANIFEST_KEYS: &[(&str, &str, &str)] = &[
     ("fidelity", "object", "every modelling switch in force"),
     ("tracker", "object {name, config} or null", "the test article / tracker and its configuration"),
     ("schedule", "string", "how the dwell schedule was produced"),
-    ("parent", "string or null", "for mimo track outputs, the run directory re-tracked"),
+    (
+        "parent",
+        "string or null",
+        "for mimo track outputs, the run directory re-tracked, relative to this run's directory",
+    ),
+    (
+        "parent_check",
+        "object {scenario, seed, manifest_fnv1a64} (absent if no parent)",
+        "for mimo track outputs, what the parent held when this run was made",
+    ),
     ("tables", "object table -> [{file, rows}]", "files of each table and their row counts"),
     ("timing_s", "object stage -> float64 (s)", "wall-clock seconds per stage"),
 ];

@@ -298,6 +298,7 @@ fn manifest() -> Manifest {
         tracker: None,
         schedule: "test".into(),
         parent: None,
+        parent_check: None,
         tables: Default::default(),
         timing_s: Default::default(),
     }

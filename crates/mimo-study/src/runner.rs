@@ -244,6 +244,7 @@ fn cell_manifest(plan: &Plan, prep: &Prepared, c: usize, recs: &[ItemRecord]) ->
         tracker: recs.iter().find_map(|r| r.ta.clone()).map(|(name, config)| TrackerInfo { name, config }),
         schedule,
         parent: None,
+        parent_check: None,
         tables,
         timing_s,
     })

@@ -1,0 +1,133 @@
+//! The rules a well-formed run table keeps beyond its schema (docs/design.md §3, §7): who may
+//! repeat, and which times may not run backwards. Both readers of the tables — `mimo-store`'s
+//! typed reader and the metrics engine's own Parquet reader — check the same rules with these
+//! functions, so a table that breaks one is refused the same way wherever it is read.
+//!
+//! * tracks: times non-decreasing within each track (the updates of one dwell, and a deletion,
+//!   share a time);
+//! * truth: one row per (run, `target`, `t_s`), and times increasing within each target;
+//! * dwells: `dwell_id` unique within a run, and start times non-decreasing per (run, `radar`)
+//!   (a radar executes one dwell at a time, docs/model.md §7);
+//! * measurements: `meas_id` unique within a run.
+//!
+//! Each check returns the first offending row (0-based, within the file checked) and a reason.
+
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
+use std::hash::Hash;
+
+/// A row that breaks a rule: the column to blame, the row (0-based) and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Violation {
+    /// The column whose value breaks the rule.
+    pub column: &'static str,
+    /// The row, 0-based within the file.
+    pub row: usize,
+    /// What is wrong, in words (names the earlier row it conflicts with).
+    pub why: String,
+}
+
+/// Times within each key: strictly increasing (`strict`, no repeated time) or non-decreasing.
+/// `what` names the key in messages ("track", "target", "radar").
+pub fn times_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
+    keys: impl IntoIterator<Item = K>,
+    t_s: &[f64],
+    strict: bool,
+    what: &str,
+) -> Result<(), Violation> {
+    let mut last: HashMap<K, (f64, usize)> = HashMap::new();
+    for (row, (key, &t)) in keys.into_iter().zip(t_s).enumerate() {
+        match last.entry(key) {
+            Entry::Vacant(v) => {
+                v.insert((t, row));
+            }
+            Entry::Occupied(mut o) => {
+                let (prev, prev_row) = *o.get();
+                if t < prev || (strict && t == prev) {
+                    let rel = if t < prev { "is before" } else { "repeats" };
+                    let rule =
+                        if strict { "times must increase within each" } else { "times must not decrease within each" };
+                    return Err(Violation {
+                        column: "t_s",
+                        row,
+                        why: format!("{t} {rel} {prev} at row {prev_row} for {what} {} ({rule} {what})", o.key()),
+                    });
+                }
+                o.insert((t, row));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Keys that must be unique (e.g. `(run, dwell_id)`): the first repeat.
+pub fn unique<K: Hash + Eq + std::fmt::Display>(
+    keys: impl IntoIterator<Item = K>,
+    column: &'static str,
+) -> Result<(), Violation> {
+    let mut seen: HashMap<K, usize> = HashMap::new();
+    for (row, key) in keys.into_iter().enumerate() {
+        match seen.entry(key) {
+            Entry::Vacant(v) => {
+                v.insert(row);
+            }
+            Entry::Occupied(o) => {
+                return Err(Violation {
+                    column,
+                    row,
+                    why: format!("{} repeats row {} ({column} must be unique within a run)", o.key(), o.get()),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every row's run is the file's run (files are `run-K.parquet`, one run each).
+pub fn runs_match(runs: &[u32], file_run: u32) -> Result<(), Violation> {
+    match runs.iter().position(|&r| r != file_run) {
+        None => Ok(()),
+        Some(row) => Err(Violation {
+            column: "run",
+            row,
+            why: format!("{} in the file of run {file_run} (each file holds one run)", runs[row]),
+        }),
+    }
+}
+
+/// The run of a file named `run-K.parquet` (docs/design.md §2), if it is named so.
+pub fn run_of_file_name(name: &str) -> Option<u32> {
+    name.strip_prefix("run-")?.strip_suffix(".parquet")?.parse().ok()
+}
+
+/// A key of two parts shown as `a/b` in messages (run and id).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Key2<A, B>(pub A, pub B);
+
+impl<A: std::fmt::Display, B: std::fmt::Display> std::fmt::Display for Key2<A, B> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} of run {}", self.1, self.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn order_and_uniqueness() {
+        let keys = [Key2(0u32, 1u64), Key2(0, 2), Key2(0, 1), Key2(0, 1)];
+        assert!(times_ordered_per_key(keys.iter().cloned(), &[0.0, 0.0, 1.0, 2.0], true, "track").is_ok());
+        let e = times_ordered_per_key(keys.iter().cloned(), &[0.0, 0.0, 1.0, 1.0], true, "track").expect_err("repeat");
+        assert_eq!((e.column, e.row), ("t_s", 3));
+        assert!(e.why.contains("repeats"), "{}", e.why);
+        assert!(times_ordered_per_key(keys.iter().cloned(), &[0.0, 0.0, 1.0, 1.0], false, "radar").is_ok());
+        let e = times_ordered_per_key(keys.iter().cloned(), &[5.0, 0.0, 1.0, 2.0], false, "track").expect_err("back");
+        assert_eq!(e.row, 2);
+        assert!(e.why.contains("is before 5"), "{}", e.why);
+        let e = unique([Key2(0u32, 7u64), Key2(1, 7), Key2(0, 7)], "dwell_id").expect_err("dup");
+        assert_eq!((e.column, e.row), ("dwell_id", 2));
+        assert!(unique([Key2(0u32, 7u64), Key2(1, 7)], "dwell_id").is_ok());
+        assert_eq!(runs_match(&[3, 3, 4], 3).expect_err("run").row, 2);
+    }
+}
