@@ -209,7 +209,15 @@ struct Look {
 }
 
 fn stream(d: &Dwell, extra: &[u64]) -> Stream {
-    let mut k = Vec::with_capacity(d.keys.len() + extra.len());
+    // The keys on the stack when they fit (every dwell does): no heap allocation per stream.
+    let n = d.keys.len() + extra.len();
+    let mut buf = [0u64; 12];
+    if n <= buf.len() {
+        buf[..d.keys.len()].copy_from_slice(d.keys);
+        buf[d.keys.len()..n].copy_from_slice(extra);
+        return Stream::new(d.seed, &buf[..n]);
+    }
+    let mut k = Vec::with_capacity(n);
     k.extend_from_slice(d.keys);
     k.extend_from_slice(extra);
     Stream::new(d.seed, &k)
@@ -286,12 +294,27 @@ fn all_returns(d: &Dwell, targets: &[Target]) -> Vec<Vec<Vec<Return>>> {
             looks(&tx.frame, &ant, tx.beam_u, tx.beam_v, targets, &mut heights, fid.refraction)
         })
         .collect();
+    // A receiver that is also a transmitter with the same face and beam (every monostatic dwell,
+    // so every search dwell) sees the targets exactly as that transmitter does: its looks are
+    // copied, not recomputed (the same function of the same inputs, so the same values).
     let rx_looks: Vec<Vec<Option<Look>>> = d
         .receivers
         .iter()
         .map(|rx| {
-            let ant = Antenna::new(rx.params, fid.pattern);
-            looks(&rx.frame, &ant, rx.beam_u, rx.beam_v, targets, &mut heights, fid.refraction)
+            let same = d.transmitters.iter().position(|tx| {
+                tx.radar == rx.radar
+                    && std::ptr::eq(tx.params, rx.params)
+                    && tx.frame == rx.frame
+                    && tx.beam_u == rx.beam_u
+                    && tx.beam_v == rx.beam_v
+            });
+            match same {
+                Some(j) => tx_looks[j].clone(),
+                None => {
+                    let ant = Antenna::new(rx.params, fid.pattern);
+                    looks(&rx.frame, &ant, rx.beam_u, rx.beam_v, targets, &mut heights, fid.refraction)
+                }
+            }
         })
         .collect();
     let mut out = Vec::with_capacity(d.transmitters.len());

@@ -305,7 +305,21 @@ impl Trajectories {
 
     /// ECEF position of target `i` at `t_s` (m). Panics if `i >= self.len()`.
     pub fn position_at(&self, i: usize, t_s: f64) -> DVec3 {
-        self.pos_vel_at(i, t_s).0
+        // The position half of `pos_vel_at` (the same expression, so the same value), without the
+        // velocity: the engine asks for every target's position at every dwell.
+        let pos = &self.pos[i];
+        let last = pos.len() - 1;
+        if t_s <= 0.0 || t_s >= last as f64 * STEP_S {
+            return self.pos_vel_at(i, t_s).0;
+        }
+        let vel = &self.vel[i];
+        let k = ((t_s / STEP_S).floor() as usize).min(last - 1);
+        let s = (t_s - k as f64 * STEP_S) / STEP_S;
+        let (p0, p1) = (pos[k], pos[k + 1]);
+        let (m0, m1) = (vel[k] * STEP_S, vel[k + 1] * STEP_S);
+        let s2 = s * s;
+        let s3 = s2 * s;
+        p0 * (2.0 * s3 - 3.0 * s2 + 1.0) + m0 * (s3 - 2.0 * s2 + s) + p1 * (3.0 * s2 - 2.0 * s3) + m1 * (s3 - s2)
     }
 
     /// Mean RCS of target `i` (m²). Panics if `i >= self.len()`.

@@ -432,8 +432,10 @@ impl<'a> Engine<'a> {
             predicted_snr: None,
             tag: Vec::new(),
         };
-        let gid = self.alloc_group(group);
-        self.start_group(gid)
+        // A search group starts at once: it takes its id without passing through `groups`.
+        let gid = self.next_dwell_id;
+        self.next_dwell_id += group.parts.len() as u64;
+        self.run_group(gid, group)
     }
 
     /// Plan a requested dwell's parts and reserve the earliest common slot.
@@ -462,6 +464,11 @@ impl<'a> Engine<'a> {
     /// Execute a group now: physics, rows, report, timelines.
     fn start_group(&mut self, gid: u64) -> Result<(), EngineError> {
         let Some(g) = self.groups.remove(&gid) else { return Ok(()) };
+        self.run_group(gid, g)
+    }
+
+    /// Execute group `gid` (already taken out of `groups`, or never in it) now.
+    fn run_group(&mut self, gid: u64, g: Group) -> Result<(), EngineError> {
         let t0 = self.now.as_secs();
         let end = self.now.plus_secs(g.duration_s);
         for p in &g.parts {
