@@ -6,6 +6,16 @@
   MARKS.plotly_loaded_ms = performance.now();
   var D = JSON.parse(document.getElementById('mimo-data').textContent);
   MARKS.data_parsed_ms = performance.now();
+  // Click details (ellipsoid axes, velocities, ids, …: about half the data) are parsed on the
+  // first selection, not at opening (crates/mimo-plot/src/html.rs, DETAIL_COLUMNS).
+  var detailed = false;
+  function details() {
+    if (detailed) return;
+    detailed = true;
+    var X = JSON.parse(document.getElementById('mimo-detail').textContent);
+    ['tracks', 'meas', 'beams'].forEach(function (k) { Object.keys(X[k]).forEach(function (c) { D[k][c] = X[k][c]; }); });
+    X.truth.forEach(function (v, i) { D.truth[i].v = v; });
+  }
   var F = D.frame, R = F.enu_from_ecef, O = F.origin_ecef_m;
   var KIND_COLORS = ['#9e9e9e', '#ff7f0e', '#2ca02c', '#9467bd'];
   var RADAR_COLORS = ['#d62728', '#1f77b4', '#2ca02c', '#8c564b', '#e377c2', '#17becf', '#bcbd22', '#7f7f7f'];
@@ -105,7 +115,7 @@
       if (!S.radarsOn[i] || !S.layers.ships) return;
       var c = RADAR_COLORS[i % RADAR_COLORS.length], p = shipAt(i, t);
       if (!p) return;
-      addMark(mk, p, ['ship', i], 'square', 6, c, 'radar ' + r.id);
+      addMark(mk, p, ['ship', i], 'square', 9, c, 'radar ' + r.id);
       labels.push(label(p, r.id, c, 14));
       if (!S.layers.faces) return;
       r.faces.forEach(function (a) {
@@ -123,7 +133,7 @@
       var now = interp(p.t, p.p, t);
       if (now && t <= p.t[p.t.length - 1]) {
         trail.push(now);
-        addMark(mk, now, ['truth', ti, Math.max(b - 1, 0)], 'circle', 4, '#222', 'truth ' + p.id);
+        addMark(mk, now, ['truth', ti, Math.max(b - 1, 0)], 'circle', 6, '#222', 'truth ' + p.id);
         labels.push(label(now, p.id, '#222', -12));
       }
       if (trail.length > 1) addLine(solid, trail, '#222');
@@ -136,12 +146,12 @@
         var c = trackColor(id), prev = null;
         rows.forEach(function (r) {
           if (prev !== null) addLine(T.st[r] === 0 ? dotted : solid, [pt(T.p, prev), pt(T.p, r)], c);
-          addMark(mk, pt(T.p, r), ['track', r], 'circle', 2.5, c, 'track ' + id);
+          addMark(mk, pt(T.p, r), ['track', r], 'circle', 3.5, c, 'track ' + id);
           prev = r;
         });
         var last = rows[rows.length - 1];
-        if (T.st[last] === 2) addMark(mk, pt(T.p, last), ['track', last], 'x', 5, c, 'track ' + id + ' deleted');
-        else addMark(mk, pt(T.p, last), ['track', last], 'circle', 5, c, 'track ' + id + ' (' + D.meta.statuses[T.st[last]] + ')');
+        if (T.st[last] === 2) addMark(mk, pt(T.p, last), ['track', last], 'x', 7, c, 'track ' + id + ' deleted');
+        else addMark(mk, pt(T.p, last), ['track', last], 'circle', 6, c, 'track ' + id + ' (' + D.meta.statuses[T.st[last]] + ')');
       });
     }
     // Measurements: monostatic circles, bistatic diamonds; coloured by receiving radar.
@@ -149,14 +159,14 @@
     if (S.layers.meas) for (i = ma; i < mb; i++) {
       if (!S.kindsOn[M.kind[i]] || !(S.radarsOn[M.tx[i]] || S.radarsOn[M.rx[i]])) continue;
       var bist = M.tx[i] !== M.rx[i];
-      addMark(mk, pt(M.p, i), ['meas', i], bist ? 'diamond' : 'circle', bist ? 3.5 : 2.5, RADAR_COLORS[M.rx[i] % RADAR_COLORS.length],
+      addMark(mk, pt(M.p, i), ['meas', i], bist ? 'diamond' : 'circle', bist ? 5 : 4, RADAR_COLORS[M.rx[i] % RADAR_COLORS.length],
         (bist ? D.radars[M.tx[i]].id + '→' + D.radars[M.rx[i]].id : D.radars[M.rx[i]].id) + ' ' + fmt(M.snr[i], 1) + ' dB');
     }
     // Beam points of the test article's dwells, coloured by kind.
     var B = D.beams, ba = lowerBound(B.t, t0), bb = upperBound(B.t, t);
     if (S.layers.beams) for (i = ba; i < bb; i++) {
       if (!S.kindsOn[B.kind[i]] || !radarsVisible(B.tx[i] | B.rx[i])) continue;
-      addMark(mk, pt(B.p, i), ['beam', i], 'square-open', 3, KIND_COLORS[B.kind[i]], D.meta.kinds[B.kind[i]] + ' dwell');
+      addMark(mk, pt(B.p, i), ['beam', i], 'square-open', 4.5, KIND_COLORS[B.kind[i]], D.meta.kinds[B.kind[i]] + ' dwell');
     }
     // Selection: sensor lines and a ring; its ellipsoids are the only meshes.
     var info = selectionInfo(), out = [solid, dotted, mk];
@@ -192,6 +202,7 @@
   }
   function selectionInfo() { // position, axes, time, transmitters and receivers of the selection
     var s = S.sel; if (!s) return null;
+    details();
     if (s.layer === 'meas') { var M = D.meas; return { p: pt(M.p, s.i), ax: M.ax.slice(9 * s.i, 9 * s.i + 9), t: M.t[s.i], tx: 1 << M.tx[s.i], rx: 1 << M.rx[s.i] }; }
     if (s.layer === 'beam') { var B = D.beams; return { p: pt(B.p, s.i), ax: null, t: B.t[s.i], tx: B.tx[s.i], rx: B.rx[s.i] }; }
     if (s.layer === 'track') { var T = D.tracks; return { p: pt(T.p, s.i), ax: T.ax.slice(9 * s.i, 9 * s.i + 9), t: T.t[s.i], tx: 0, rx: 0 }; }
@@ -224,6 +235,7 @@
   function renderPanel() {
     var s = S.sel, h = '', body = document.getElementById('infobody');
     if (!s) { body.innerHTML = 'Click a truth, track, measurement, beam or ship.'; body.dataset.layer = ''; return; }
+    details();
     if (s.layer === 'meas') {
       var M = D.meas, i = s.i, bist = M.tx[i] !== M.rx[i];
       h = row('object', (bist ? 'bistatic' : 'monostatic') + ' measurement ' + M.id[i]) + row('time', fmt(M.t[i], 3) + ' s') + posRows(pt(M.p, i)) +
@@ -255,15 +267,20 @@
   var gd = document.getElementById('scene'), mg = document.getElementById('metrics');
   function sceneLayout() {
     var lo = D.region.lo, hi = D.region.hi, sc;
-    var ax = function (title, r) { return { title: { text: title }, range: r, nticks: 5, showbackground: false, showspikes: false, zeroline: false }; };
+    // No axis box, ticks or titles: an ENU-metre box says little on a globe, and tick text is
+    // costly to draw (text vectorised per label). The up axis keeps only its floor (the sea).
+    var ax = function (r) { return { visible: false, range: r, showspikes: false }; };
     if (S.mode === 'region') {
       var w = hi[0] - lo[0];
-      sc = { xaxis: ax('east (m)', [lo[0], hi[0]]), yaxis: ax('north (m)', [lo[1], hi[1]]), zaxis: ax('up (m)', [lo[2], hi[2]]),
+      sc = { xaxis: ax([lo[0], hi[0]]), yaxis: ax([lo[1], hi[1]]), zaxis: ax([lo[2], hi[2]]),
         aspectmode: 'manual', aspectratio: { x: 1, y: (hi[1] - lo[1]) / w, z: Math.max(0.05, S.vex * (hi[2] - lo[2]) / w) },
-        camera: { eye: { x: -0.9, y: -1.3, z: 0.9 }, center: { x: 0, y: 0, z: -0.1 } } };
-      if (S.layers.earth) { sc.zaxis.showbackground = true; sc.zaxis.backgroundcolor = '#e3eef7'; } // the sea, under the graticule
+        camera: { eye: { x: -0.45, y: -0.8, z: 0.55 }, center: { x: 0, y: 0, z: -0.1 } } }; // frames the box of ships and targets
+      if (S.layers.earth) { // the sea, under the graticule: the up axis's floor, with nothing else of the axis drawn
+        sc.zaxis = { visible: true, range: [lo[2], hi[2]], showbackground: true, backgroundcolor: '#e3eef7', showticklabels: false, ticks: '',
+          showgrid: false, showline: false, zeroline: false, showspikes: false, title: { text: '' } };
+      }
     } else {
-      sc = { xaxis: ax('east (m)', [-6.5e6, 6.5e6]), yaxis: ax('north (m)', [-6.5e6, 6.5e6]), zaxis: ax('up (m)', [-12.8e6, 2e5]),
+      sc = { xaxis: ax([-6.5e6, 6.5e6]), yaxis: ax([-6.5e6, 6.5e6]), zaxis: ax([-12.8e6, 2e5]),
         aspectmode: 'data', camera: { eye: { x: 0, y: -0.25, z: 0.9 }, center: { x: 0, y: 0, z: 0 } } };
     }
     sc.annotations = S.labels || [];

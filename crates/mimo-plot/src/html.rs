@@ -21,14 +21,51 @@ fn script_json(json: &str) -> String {
     json.replace("</", "<\\/")
 }
 
+/// Columns only the click panel and the selection's ellipsoid read. They go into a second
+/// data element that the page parses on the first click, not at opening (about half the data).
+pub const DETAIL_COLUMNS: [(&str, &[&str]); 3] = [
+    ("tracks", &["v", "ax", "n", "truth", "tk"]),
+    ("meas", &["id", "ax", "trk", "hint", "merged"]),
+    ("beams", &["gid", "np", "e"]),
+];
+
+/// Split the view's JSON into what the page draws from and the click details
+/// ([`DETAIL_COLUMNS`] and the truth velocities, as `truth: [v, …]` in target order).
+pub fn split_view(view: &View) -> Result<(serde_json::Value, serde_json::Value), serde_json::Error> {
+    use serde_json::{Map, Value};
+    let mut main = serde_json::to_value(view)?;
+    let mut detail = Map::new();
+    for (table, cols) in DETAIL_COLUMNS {
+        let mut d = Map::new();
+        if let Some(t) = main.get_mut(table).and_then(Value::as_object_mut) {
+            for c in cols {
+                if let Some(v) = t.remove(*c) {
+                    d.insert((*c).to_string(), v);
+                }
+            }
+        }
+        detail.insert(table.to_string(), Value::Object(d));
+    }
+    let truth_v: Vec<Value> = main
+        .get_mut("truth")
+        .and_then(Value::as_array_mut)
+        .map(|a| a.iter_mut().filter_map(|p| p.as_object_mut().and_then(|o| o.remove("v"))).collect())
+        .unwrap_or_default();
+    detail.insert("truth".to_string(), Value::Array(truth_v));
+    Ok((main, Value::Object(detail)))
+}
+
 /// Render the page of a view.
 pub fn render(view: &View) -> Result<String, serde_json::Error> {
-    let data = script_json(&serde_json::to_string(view)?);
+    let (main, detail) = split_view(view)?;
+    let data = script_json(&serde_json::to_string(&main)?);
+    let detail = script_json(&serde_json::to_string(&detail)?);
     let title = escape_text(&format!("mimo plot — {} run {}", view.meta.scenario, view.meta.run));
     let licence = format!("/*! plotly.js licence:\n{}*/\n", PLOTLY_LICENSE.replace("*/", "* /"));
     // Replace the script placeholders last, so nothing inside plotly.js or the data is touched.
     let page = TEMPLATE.replace("__TITLE__", &title);
     let page = page.replacen("/*__VIEWJS__*/", VIEW_JS, 1);
+    let page = page.replacen("__DETAIL__", &detail, 1);
     let page = page.replacen("__DATA__", &data, 1);
     let (head, tail) = page.split_once("/*__PLOTLY__*/").unwrap_or((page.as_str(), ""));
     let mut out = String::with_capacity(head.len() + licence.len() + PLOTLY_JS.len() + tail.len());
@@ -49,6 +86,7 @@ mod tests {
         assert!(!VIEW_JS.contains("</script"));
         assert_eq!(script_json(r#"{"a":"</script>"}"#), r#"{"a":"<\/script>"}"#);
         assert_eq!(TEMPLATE.matches("__DATA__").count(), 1);
+        assert_eq!(TEMPLATE.matches("__DETAIL__").count(), 1);
         assert_eq!(TEMPLATE.matches("/*__PLOTLY__*/").count(), 1);
         assert_eq!(TEMPLATE.matches("/*__VIEWJS__*/").count(), 1);
     }

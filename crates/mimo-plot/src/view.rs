@@ -148,8 +148,8 @@ fn region(frame: &PlotFrame, truth: &[TruthPath], radars: &[RadarView]) -> Regio
     if lo[0] > hi[0] {
         (lo, hi) = ([-50_000, -50_000, -1000], [50_000, 50_000, 12_000]);
     }
-    // A square horizontal box with a 15 % margin (at least 30 km).
-    let half = ((hi[0] - lo[0]).max(hi[1] - lo[1]) as f64 * 0.65).max(30_000.0);
+    // A square horizontal box with a 10 % margin (at least 30 km): the default camera frames it.
+    let half = ((hi[0] - lo[0]).max(hi[1] - lo[1]) as f64 * 0.55).max(30_000.0);
     let (cx, cy) = ((lo[0] + hi[0]) as f64 / 2.0, (lo[1] + hi[1]) as f64 / 2.0);
     let (x0, x1, y0, y1) = (cx - half, cx + half, cy - half, cy + half);
     let corners = [(x0, y0), (x0, y1), (x1, y0), (x1, y1)]
@@ -236,6 +236,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         ),
         "primitives are not drawn (each measurement is its strongest primitive, docs/model.md §4.5)".to_string(),
         "the earth is drawn as parallels and meridians (every 0.5° in the region view, 15° in the globe view) over a sea-coloured floor, not as a filled surface, so the page opens quickly".to_string(),
+        "the 3-D axes (box, ticks, titles in ENU metres) are not drawn: tick text is slow to draw and says little on a globe; the click panel gives positions".to_string(),
     ];
     if meas_dropped.unplaceable + meas_dropped.unknown_radar > 0 {
         dropped.push(format!(

@@ -413,11 +413,28 @@ fn the_page_is_self_contained() {
     for bad in ["http:", "https:", "<link", "@import", "<iframe", "<img"] {
         assert!(!markup.contains(bad), "page references {bad}");
     }
-    assert_eq!(page.matches("<script").count(), 4, "the recorder, plotly.js, the data and the page's script");
+    assert_eq!(
+        page.matches("<script").count(),
+        5,
+        "the recorder, plotly.js, the data, the click details and the page's script"
+    );
     // The data element parses back to the view.
     let start = page.find("id=\"mimo-data\">").expect("data element") + "id=\"mimo-data\">".len();
     let end = start + page[start..].find("</script>").expect("end of data");
     let v: serde_json::Value = serde_json::from_str(&page[start..end].replace("<\\/", "</")).expect("json");
     assert_eq!(v["tracks"]["id"][0], 7);
     assert_eq!(v["meta"]["run"], 0);
+    // The click details are in their own element, parsed on the first click; with the drawn
+    // columns they make up the whole view.
+    let start = page.find("id=\"mimo-detail\">").expect("detail element") + "id=\"mimo-detail\">".len();
+    let end = start + page[start..].find("</script>").expect("end of details");
+    let d: serde_json::Value = serde_json::from_str(&page[start..end].replace("<\\/", "</")).expect("json");
+    let view = view_of(&run, &ViewOptions::default()).expect("view");
+    let full = serde_json::to_value(&view).expect("view json");
+    assert!(v["tracks"].get("ax").is_none() && v["meas"].get("ax").is_none() && v["truth"][0].get("v").is_none());
+    assert_eq!(d["tracks"]["ax"], full["tracks"]["ax"]);
+    assert_eq!(d["meas"]["id"], full["meas"]["id"]);
+    assert_eq!(d["beams"]["e"], full["beams"]["e"]);
+    assert_eq!(d["truth"][0], full["truth"][0]["v"]);
+    assert_eq!(v["tracks"]["p"], full["tracks"]["p"]);
 }
