@@ -1,4 +1,5 @@
-//! Detection, range centroiding and ML monopulse DOA (docs/model.md §2.5–§2.7, §4.3, §4.5, §4.6).
+//! Detection, range centroiding and the measurement variances (docs/model.md §2.5–§2.7, §4.3, §4.5,
+//! §4.6); the ML monopulse estimator itself is in [`crate::monopulse`].
 //!
 //! Input: the simulated cells of one Tx→Rx channel, sorted by cell index (cells that were not
 //! simulated are noise below threshold by construction, §4.4). Output: one [`PrimitiveRow`] per
@@ -22,15 +23,12 @@
 //! * Estimates with `|û − u_b| > θ_u` or `|v̂ − v_b| > θ_v` lie outside the linear region of the
 //!   monopulse curve and are rejected (no primitive).
 
+use crate::monopulse::{MERGE_T_THRESHOLD, ml_bias_factor, monopulse};
 use crate::pattern::Antenna;
 use mimo_core::ids::RadarId;
 use mimo_core::records::PrimitiveRow;
 use num_complex::Complex64;
 
-/// `χ²₂(0.99)`: threshold of the imaginary-part statistic `T` (§2.7).
-pub const MERGE_T_THRESHOLD: f64 = 9.21;
-/// Above this predicted mean SNR (linear, 20 dB) the ML bias correction is skipped (§2.5).
-pub const ML_CORRECTION_MAX_SNR: f64 = 100.0;
 /// Floor on the reported `σ_u`, `σ_v` (§4.6).
 pub const MIN_SIGMA_UV: f64 = 1e-4;
 /// Floor on the reported `σ_ρ` (m) (§4.6).
@@ -50,64 +48,14 @@ pub struct Source {
 pub struct Cell {
     /// Cell index `k` (`ρ_k = k·ΔR`).
     pub k: i64,
+    /// Sum-channel voltage Σ_k (noise power normalised to 1).
     pub sum: Complex64,
+    /// Azimuth difference-channel voltage Δa_k.
     pub az: Complex64,
+    /// Elevation difference-channel voltage Δe_k.
     pub el: Complex64,
     /// The dominant target contribution, `None` for noise-only cells.
     pub source: Option<Source>,
-}
-
-/// Result of the monopulse estimator on a set of cells (§2.5–§2.7).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Monopulse {
-    /// ML ratio estimates (bias-corrected when `c < 1`).
-    pub eta_a: f64,
-    pub eta_e: f64,
-    /// Imaginary parts `Σ Im(Δ_k Σ_k*)/S`.
-    pub eta_qa: f64,
-    pub eta_qe: f64,
-    /// Observed sum-channel SNR `S = Σ |Σ_k|²` (linear).
-    pub s: f64,
-    /// The bias factor used (1 when not applied).
-    pub c: f64,
-    /// Variances of `eta_a`, `eta_e`.
-    pub var_a: f64,
-    pub var_e: f64,
-    /// Imaginary-part statistic `T` (χ²₂ for one target).
-    pub t_stat: f64,
-}
-
-/// The ML bias factor `c = R̄/(1+R̄)` for a predicted mean SNR, or 1 when there is no prediction
-/// or it exceeds 20 dB.
-pub fn ml_bias_factor(predicted_snr: Option<f64>) -> f64 {
-    match predicted_snr {
-        Some(r) if r.is_finite() && r > 0.0 && r <= ML_CORRECTION_MAX_SNR => r / (1.0 + r),
-        _ => 1.0,
-    }
-}
-
-/// Monopulse ratio estimator over `(Σ_k, Δa_k, Δe_k)` samples with bias factor `c` (§2.5–§2.7).
-pub fn monopulse(samples: &[(Complex64, Complex64, Complex64)], c: f64) -> Monopulse {
-    let (mut s, mut ra, mut re, mut qa, mut qe) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for (sum, az, el) in samples {
-        s += sum.norm_sqr();
-        let pa = az * sum.conj();
-        let pe = el * sum.conj();
-        ra += pa.re;
-        qa += pa.im;
-        re += pe.re;
-        qe += pe.im;
-    }
-    let s = s.max(f64::MIN_POSITIVE);
-    let c = if c > 0.0 && c <= 1.0 { c } else { 1.0 };
-    let eta_a = ra / s / c;
-    let eta_e = re / s / c;
-    let (eta_qa, eta_qe) = (qa / s, qe / s);
-    // Conditional variances: the real part's about its mean and the imaginary part's (§2.6, §2.7).
-    let vq_a = (1.0 + c * eta_a * eta_a) / (2.0 * s);
-    let vq_e = (1.0 + c * eta_e * eta_e) / (2.0 * s);
-    let t_stat = eta_qa * eta_qa / vq_a + eta_qe * eta_qe / vq_e;
-    Monopulse { eta_a, eta_e, eta_qa, eta_qe, s, c, var_a: vq_a / (c * c), var_e: vq_e / (c * c), t_stat }
 }
 
 /// Two-point range centroid (§4.5, `δ_s = ΔR`): `ρ̂ = ρ_{k*} + dir·ΔR·A₁/(A₀+A₁)` where `dir` is
@@ -208,15 +156,21 @@ pub fn range_sigma_m(s_peak: f64, x_hat: f64, range_cell_m: f64) -> f64 {
 /// Everything about a channel the detector needs besides its cells.
 #[derive(Debug, Clone, Copy)]
 pub struct ChannelInfo<'a> {
+    /// Monte Carlo run index.
     pub run: u32,
     /// The receiver's dwell id.
     pub dwell_id: u64,
+    /// Time stamped on the primitives: the dwell mid-time (s).
     pub t_s: f64,
+    /// Receiving radar.
     pub rx: RadarId,
+    /// Transmitting radar (whose waveform this channel is matched to).
     pub tx: RadarId,
+    /// Receiving face index.
     pub rx_face: u8,
     /// Receiver beam steering direction.
     pub beam_u: f64,
+    /// Receiver beam steering direction, v (sine space).
     pub beam_v: f64,
     /// The receiver's antenna (monopulse curve).
     pub antenna: &'a Antenna,

@@ -16,10 +16,13 @@ use mimo_core::{DVec3, db_to_lin};
 pub struct PairPrediction {
     /// Faces chosen (indices into the slices given).
     pub tx_face: u8,
+    /// Receiving face chosen.
     pub rx_face: u8,
     /// Beam boresight cosines (scan loss).
     pub w_tx: f64,
+    /// Receive beam boresight cosine (scan loss).
     pub w_rx: f64,
+    /// Bistatic geometry of the target for the chosen faces.
     pub geometry: Bistatic,
     /// Predicted single-pulse mean SNR (linear), beams on the target, no straddle.
     pub snr1: f64,

@@ -22,6 +22,7 @@ pub struct BeamPoint {
     pub face: u8,
     /// Steering direction cosines in that face.
     pub u: f64,
+    /// Steering direction cosine v in that face.
     pub v: f64,
     /// Direction cosine along boresight, `w_b = cos θ_s` (≥ cos θ_max).
     pub w: f64,

@@ -56,7 +56,9 @@
 //!   no switch for it until radars carry polarization settings.
 //! * Refraction (§1.8, off by default) bends the direction used for both patterns (so the measured
 //!   `û, v̂` are apparent directions); ranges stay geometric.
+#![warn(missing_docs)]
 
+mod channel;
 pub mod detect;
 pub mod dwell;
 pub mod energy;
@@ -64,10 +66,13 @@ pub mod equation;
 pub mod fluctuation;
 pub mod geometry;
 pub mod measure;
+pub mod monopulse;
 pub mod pattern;
 pub mod range;
+mod returns;
 
-pub use detect::{Cell, Monopulse, Source};
+pub use detect::{Cell, Source};
 pub use dwell::{Channel, Dwell, DwellOutput, RangeWindow, Receiver, Target, Transmitter, evaluate};
 pub use measure::measurements_from_primitives;
+pub use monopulse::Monopulse;
 pub use pattern::{Antenna, Gains};

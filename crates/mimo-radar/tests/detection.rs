@@ -7,9 +7,10 @@ mod common;
 use common::{SEED, Ship, fidelity, rcs_for_snr, within};
 use mimo_core::params::{RadarParams, Swerling};
 use mimo_core::rng::{Stream, domain};
-use mimo_radar::detect::{MERGE_T_THRESHOLD, monopulse, range_centroid, range_sigma_m, range_sigma_predicted_m};
+use mimo_radar::detect::{range_centroid, range_sigma_m, range_sigma_predicted_m};
 use mimo_radar::dwell::{Dwell, Target, evaluate, simulate};
 use mimo_radar::measure::measurements_from_primitives;
+use mimo_radar::monopulse::{MERGE_T_THRESHOLD, monopulse};
 use num_complex::Complex64;
 
 fn cn(s: &mut Stream) -> Complex64 {
