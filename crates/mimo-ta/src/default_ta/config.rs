@@ -126,3 +126,27 @@ pub struct DefaultTaConfig {
     /// The resource manager (scheduling and energy).
     pub resource_manager: ResourceConfig,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_holds_unresolved_tracks_and_bad_hold_settings_are_named() {
+        let d = ResourceConfig::default();
+        assert!(d.unresolved_hold && d.rx_busy_share == 1.0);
+        assert!(d.validate().is_ok());
+        let bad = |f: &dyn Fn(&mut ResourceConfig)| {
+            let mut c = ResourceConfig::default();
+            f(&mut c);
+            c.validate().err().map(|(k, _)| k)
+        };
+        assert_eq!(bad(&|c| c.rx_busy_share = 0.0).as_deref(), Some("resource_manager.rx_busy_share"));
+        assert_eq!(bad(&|c| c.rx_busy_share = 1.5).as_deref(), Some("resource_manager.rx_busy_share"));
+        assert_eq!(bad(&|c| c.unresolved_revisit_s = -1.0).as_deref(), Some("resource_manager.unresolved_revisit_s"));
+        assert_eq!(
+            bad(&|c| c.unresolved_beam_fraction = f64::NAN).as_deref(),
+            Some("resource_manager.unresolved_beam_fraction")
+        );
+    }
+}
