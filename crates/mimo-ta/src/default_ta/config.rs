@@ -33,6 +33,25 @@ pub struct ResourceConfig {
     pub max_ta_share: f64,
     /// Window of the timeline budget (s). Default 8.
     pub budget_window_s: f64,
+    /// Stop re-dwelling on pairs the radar cannot resolve (docs/model.md §7.2): a confirmed
+    /// track whose last look missed or returned a merged measurement while another track is
+    /// predicted in the same resolution cell from the transmitter gets no energy doubling, and
+    /// its next look waits `unresolved_revisit_s`. Default true.
+    pub unresolved_hold: bool,
+    /// Range part of the resolution cell, in range cells. Default 1000, so that in effect only
+    /// the angle counts: on scenario 7 the pairs R1 thrashed on share its beam but not its
+    /// range cell, and 1.5 cells left the thrashing in place (docs/DECISIONS.md).
+    pub unresolved_range_cells: f64,
+    /// Angular part of the resolution cell, as a fraction of the narrower beamwidth. Default 0.5.
+    pub unresolved_beam_fraction: f64,
+    /// Shortest time between looks at a track held as unresolved (s). Default 2.
+    pub unresolved_revisit_s: f64,
+    /// A radar whose test-article dwells took at least this share of the last
+    /// `rx_busy_window_s` is not asked to receive for another radar's MIMO dwell, so that its
+    /// search resumes (it still transmits its own looks). Default 1 (off).
+    pub rx_busy_share: f64,
+    /// Window of `rx_busy_share` (s). Default 3.
+    pub rx_busy_window_s: f64,
 }
 
 impl Default for ResourceConfig {
@@ -47,6 +66,12 @@ impl Default for ResourceConfig {
             window_sigmas: 5.0,
             max_ta_share: 1.0,
             budget_window_s: 8.0,
+            unresolved_hold: true,
+            unresolved_range_cells: 1000.0,
+            unresolved_beam_fraction: 0.5,
+            unresolved_revisit_s: 2.0,
+            rx_busy_share: 1.0,
+            rx_busy_window_s: 3.0,
         }
     }
 }
@@ -71,6 +96,16 @@ impl ResourceConfig {
         pos("resource_manager.min_window_half_m", self.min_window_half_m)?;
         pos("resource_manager.window_sigmas", self.window_sigmas)?;
         pos("resource_manager.budget_window_s", self.budget_window_s)?;
+        pos("resource_manager.unresolved_range_cells", self.unresolved_range_cells)?;
+        pos("resource_manager.unresolved_beam_fraction", self.unresolved_beam_fraction)?;
+        pos("resource_manager.unresolved_revisit_s", self.unresolved_revisit_s)?;
+        pos("resource_manager.rx_busy_window_s", self.rx_busy_window_s)?;
+        if !(self.rx_busy_share > 0.0 && self.rx_busy_share <= 1.0) {
+            return Err((
+                "resource_manager.rx_busy_share".into(),
+                format!("a share in (0, 1], got {}", self.rx_busy_share),
+            ));
+        }
         if !(self.max_ta_share > 0.0 && self.max_ta_share <= 1.0) {
             return Err((
                 "resource_manager.max_ta_share".into(),
@@ -90,4 +125,28 @@ pub struct DefaultTaConfig {
     pub tracker: TrackerConfig,
     /// The resource manager (scheduling and energy).
     pub resource_manager: ResourceConfig,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_holds_unresolved_tracks_and_bad_hold_settings_are_named() {
+        let d = ResourceConfig::default();
+        assert!(d.unresolved_hold && d.rx_busy_share == 1.0);
+        assert!(d.validate().is_ok());
+        let bad = |f: &dyn Fn(&mut ResourceConfig)| {
+            let mut c = ResourceConfig::default();
+            f(&mut c);
+            c.validate().err().map(|(k, _)| k)
+        };
+        assert_eq!(bad(&|c| c.rx_busy_share = 0.0).as_deref(), Some("resource_manager.rx_busy_share"));
+        assert_eq!(bad(&|c| c.rx_busy_share = 1.5).as_deref(), Some("resource_manager.rx_busy_share"));
+        assert_eq!(bad(&|c| c.unresolved_revisit_s = -1.0).as_deref(), Some("resource_manager.unresolved_revisit_s"));
+        assert_eq!(
+            bad(&|c| c.unresolved_beam_fraction = f64::NAN).as_deref(),
+            Some("resource_manager.unresolved_beam_fraction")
+        );
+    }
 }

@@ -26,7 +26,7 @@ use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_track::{DwellContext, Look, MultiTargetTracker};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The tracker's view of a finished dwell: everything comes from what the dwells table records
 /// (kind, time, and each part's radar, role, face and beam), so closed loop and replay agree.
@@ -69,6 +69,10 @@ pub struct DefaultTa {
     next_wake_s: f64,
     /// Each radar's recent test-article dwell time.
     budget: RadarBudget,
+    /// Tracks whose last look returned a merged measurement.
+    merged_last: BTreeSet<u64>,
+    /// Tracks held as unresolved: not looked at again before this time (s).
+    hold_until: BTreeMap<u64, f64>,
 }
 
 impl DefaultTa {
@@ -81,6 +85,8 @@ impl DefaultTa {
             pending: BTreeMap::new(),
             next_wake_s: f64::INFINITY,
             budget: RadarBudget::default(),
+            merged_last: BTreeSet::new(),
+            hold_until: BTreeMap::new(),
         }
     }
 
@@ -116,17 +122,37 @@ impl DefaultTa {
         } else {
             Vec::new()
         };
+        let busy_rx: Vec<_> = if rm.rx_busy_share < 1.0 {
+            st.geom
+                .ids()
+                .into_iter()
+                .filter(|&r| self.budget.share(r, now, rm.rx_busy_window_s) >= rm.rx_busy_share)
+                .collect()
+        } else {
+            Vec::new()
+        };
         for info in st.tracker.tracks() {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
-            if info.next_due_s <= now + 1e-9 {
-                if let Some(req) = planner::plan(rm, &st.tracker, &st.geom, now, &info, &over_budget) {
+            let due = info.next_due_s.max(self.hold_until.get(&info.id).copied().unwrap_or(f64::NEG_INFINITY));
+            if due <= now + 1e-9 {
+                // A look missed, returned a merged measurement, or left the track so vague that
+                // the tracker wants it again at its shortest revisit.
+                let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
+                let trouble = info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min;
+                let planned = planner::plan(rm, &st.tracker, &st.geom, now, &info, &over_budget, &busy_rx, trouble);
+                if let Some((req, unresolved)) = planned {
+                    if unresolved {
+                        self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);
+                    } else {
+                        self.hold_until.remove(&info.id);
+                    }
                     self.pending.insert(info.id, now);
                     out.push(Request::Dwell(req));
                 }
             } else {
-                next = next.min(info.next_due_s);
+                next = next.min(due);
             }
         }
         if next.is_finite() && (next < self.next_wake_s - 1e-9 || self.next_wake_s <= now) {
@@ -151,11 +177,19 @@ impl TestArticle for DefaultTa {
         self.pending.clear();
         self.next_wake_s = f64::INFINITY;
         self.budget.clear();
+        self.merged_last.clear();
+        self.hold_until.clear();
         Ok(Reply::default())
     }
     fn on_dwell(&mut self, report: &DwellReport) -> Result<Reply, TaFault> {
+        let merged = report.measurements.iter().any(|m| m.merged);
         for id in &report.tag {
             self.pending.remove(id);
+            if merged {
+                self.merged_last.insert(*id);
+            } else {
+                self.merged_last.remove(id);
+            }
         }
         if report.requested_by == Requester::Ta {
             for p in &report.parts {
@@ -169,6 +203,8 @@ impl TestArticle for DefaultTa {
         for r in &rows {
             if r.status == TrackStatus::Deleted {
                 self.pending.remove(&r.track_id);
+                self.merged_last.remove(&r.track_id);
+                self.hold_until.remove(&r.track_id);
             }
         }
         let requests = if changed { self.schedule(report.end_s) } else { Vec::new() };

@@ -28,7 +28,13 @@ pub const MAX_REDWELLS: u32 = 2;
 ///   expected pointing and straddle losses, doubled on each miss up to [`MAX_REDWELLS`] times;
 /// * the range window is `ρ̂ ± max(window_sigmas·σ_ρ, min_window_half_m)`;
 /// * a confirmed track that other radars can see gets a MIMO dwell: the transmitter also
-///   receives, and so does every other radar that can see the aim point.
+///   receives, and so does every other radar that can see the aim point, except radars in
+///   `busy_rx` (their search has been held off for a while, docs/model.md §7.3);
+/// * a track in `trouble` (its last look missed or returned a merged measurement) whose
+///   predicted position lies in the same resolution cell, seen from the transmitter, as another
+///   track's ([`unresolved_from`]) gets no energy doubling: more pulses cannot split the pair.
+///   The returned flag says so, and the caller stretches the track's revisit.
+#[allow(clippy::too_many_arguments)]
 pub fn plan(
     cfg: &ResourceConfig,
     tracker: &MultiTargetTracker,
@@ -36,7 +42,9 @@ pub fn plan(
     t_s: f64,
     info: &TrackInfo,
     over_budget: &[RadarId],
-) -> Option<DwellRequest> {
+    busy_rx: &[RadarId],
+    trouble: bool,
+) -> Option<(DwellRequest, bool)> {
     let (id, status, misses, n_updates) = (info.id, info.status, info.consecutive_misses, info.n_updates);
     let pred = tracker.predict(id, t_s)?;
     let aim = pred.pos;
@@ -74,7 +82,11 @@ pub fn plan(
     let unconfirmed = status == TrackStatus::Tentative && n_updates <= 1;
     let pd = if unconfirmed { cfg.confirm_pd } else { cfg.pd_target };
     let mut n = pulses_for(required_snr_sw1(pd, p.pfa), snr1, losses, p.max_pulses);
-    if !unconfirmed {
+    let unresolved = cfg.unresolved_hold
+        && trouble
+        && status == TrackStatus::Confirmed
+        && unresolved_from(cfg, tracker, geom, t_s, id, aim, tx);
+    if !unconfirmed && !unresolved {
         // Re-dwell with doubled energy, up to twice (docs/model.md §7.2).
         n = n.saturating_mul(1 << (misses % (MAX_REDWELLS + 1))).min(p.max_pulses);
     }
@@ -88,6 +100,7 @@ pub fn plan(
             let Some(pr) = geom.params(r) else { continue };
             if r != tx
                 && !over_budget.contains(&r)
+                && !busy_rx.contains(&r)
                 && predict_pair(p, tx_faces, pr, f, aim, cfg.assumed_rcs_m2).is_some()
             {
                 receivers.push(r);
@@ -99,7 +112,7 @@ pub fn plan(
         (_, true) => DwellKind::Mimo,
         _ => DwellKind::Track,
     };
-    Some(DwellRequest {
+    let req = DwellRequest {
         kind,
         earliest_s: t_s,
         aim_ecef: aim,
@@ -108,5 +121,37 @@ pub fn plan(
         receivers,
         window_half_m: half,
         tag: vec![id],
+    };
+    Some((req, unresolved))
+}
+
+/// Whether another live track's predicted position at `t_s` lies in the same resolution cell as
+/// `aim` (track `id`'s) seen from radar `tx`: ranges within `unresolved_range_cells` range cells
+/// and directions within `unresolved_beam_fraction` of the narrower beamwidth.
+pub fn unresolved_from(
+    cfg: &ResourceConfig,
+    tracker: &MultiTargetTracker,
+    geom: &ShipGeometry,
+    t_s: f64,
+    id: u64,
+    aim: mimo_core::DVec3,
+    tx: RadarId,
+) -> bool {
+    let (Some(p), Some(face)) = (geom.params(tx), geom.faces_at(tx, t_s).into_iter().next()) else {
+        return false;
+    };
+    let site = face.origin_ecef;
+    let d0 = aim - site;
+    let r0 = d0.length();
+    if r0 <= 0.0 {
+        return false;
+    }
+    let dr_max = cfg.unresolved_range_cells * p.range_cell_m();
+    let da_max = cfg.unresolved_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
+    tracker.tracks().iter().filter(|o| o.id != id && o.status != TrackStatus::Deleted).any(|o| {
+        let Some(q) = tracker.predict(o.id, t_s) else { return false };
+        let d1 = q.pos - site;
+        let r1 = d1.length();
+        r1 > 0.0 && (r1 - r0).abs() <= dr_max && (d1 / r1 - d0 / r0).length() <= da_max
     })
 }
