@@ -594,7 +594,7 @@ fn completeness_end_to_end_scenario_1() {
 /// (docs/model.md §7.3), just above the challenge's 0.98: the losses are the default tracker's
 /// (initiation of the tight formation at long range in the first minute and the fighters' turns
 /// at 60–80 s, 200 s and 240–260 s), not the engine's — every TA dwell starts within 0.25 s of
-/// when it was asked for. [`completeness_challenge_scenario_7`] states the challenge.
+/// when it was asked for. The test guards the challenge level.
 #[test]
 fn completeness_end_to_end_scenario_7() {
     let (c, stop) = completeness_end_to_end(7);
