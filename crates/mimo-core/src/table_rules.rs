@@ -3,8 +3,11 @@
 //! typed reader and the metrics engine's own Parquet reader — check the same rules with these
 //! functions, so a table that breaks one is refused the same way wherever it is read.
 //!
-//! * tracks: times non-decreasing within each track (the updates of one dwell, and a deletion,
-//!   share a time);
+//! * tracks: no row of a track earlier than the track's latest earlier row by more than
+//!   [`TRACK_OUT_OF_SEQUENCE_S`]. A test article hears of a dwell when it ends, while its
+//!   measurements are stamped at the dwell's middle, so a short dwell that ends first can put a
+//!   track at a later time than a longer dwell processed next (an out-of-sequence update, a few
+//!   milliseconds back); a table whose times run backwards beyond that is refused;
 //! * truth: one row per (run, `target`, `t_s`), and times increasing within each target;
 //! * dwells: `dwell_id` unique within a run, and start times non-decreasing per (run, `radar`)
 //!   (a radar executes one dwell at a time, docs/model.md §7);
@@ -25,6 +28,46 @@ pub struct Violation {
     pub row: usize,
     /// What is wrong, in words (names the earlier row it conflicts with).
     pub why: String,
+}
+
+/// How far back in time (s) a track's row may lie behind the latest earlier row of the same
+/// track: half the longest dwell a test article may report out of sequence. A 16-pulse dwell at
+/// the default 300 Hz lasts 53 ms; 1 s allows any dwell up to 2 s long.
+pub const TRACK_OUT_OF_SEQUENCE_S: f64 = 1.0;
+
+/// Track times: no row more than `tolerance_s` before the latest earlier time of its key (the
+/// running maximum, so a table read backwards is caught however small its steps are).
+pub fn times_nearly_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
+    keys: impl IntoIterator<Item = K>,
+    t_s: &[f64],
+    tolerance_s: f64,
+    what: &str,
+) -> Result<(), Violation> {
+    let mut latest: HashMap<K, (f64, usize)> = HashMap::new();
+    for (row, (key, &t)) in keys.into_iter().zip(t_s).enumerate() {
+        match latest.entry(key) {
+            Entry::Vacant(v) => {
+                v.insert((t, row));
+            }
+            Entry::Occupied(mut o) => {
+                let (max, max_row) = *o.get();
+                if t < max - tolerance_s {
+                    return Err(Violation {
+                        column: "t_s",
+                        row,
+                        why: format!(
+                            "{t} is more than {tolerance_s} s before {max} at row {max_row} for {what} {} (times must not run backwards within each {what})",
+                            o.key()
+                        ),
+                    });
+                }
+                if t > max {
+                    o.insert((t, row));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Times within each key: strictly increasing (`strict`, no repeated time) or non-decreasing.
@@ -125,6 +168,12 @@ mod tests {
         let e = times_ordered_per_key(keys.iter().cloned(), &[5.0, 0.0, 1.0, 2.0], false, "track").expect_err("back");
         assert_eq!(e.row, 2);
         assert!(e.why.contains("is before 5"), "{}", e.why);
+        // Tracks: an out-of-sequence update a few ms back passes; a table read backwards does not,
+        // even in steps smaller than the tolerance (the running maximum is the reference).
+        let one = || (0..4).map(|_| Key2(0u32, 36u64));
+        assert!(times_nearly_ordered_per_key(one(), &[844.0, 844.0601, 844.0588, 845.0], 1.0, "track").is_ok());
+        let e = times_nearly_ordered_per_key(one(), &[3.0, 2.5, 2.0, 1.5], 1.0, "track").expect_err("reversed");
+        assert_eq!((e.column, e.row), ("t_s", 3));
         let e = unique([Key2(0u32, 7u64), Key2(1, 7), Key2(0, 7)], "dwell_id").expect_err("dup");
         assert_eq!((e.column, e.row), ("dwell_id", 2));
         assert!(unique([Key2(0u32, 7u64), Key2(1, 7)], "dwell_id").is_ok());

@@ -4,7 +4,9 @@
 
 use crate::MetricsError;
 use crate::load::{f64s, u32s, u64s};
-use mimo_core::table_rules::{Key2, Violation, times_ordered_per_key};
+use mimo_core::table_rules::{
+    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, times_nearly_ordered_per_key, times_ordered_per_key,
+};
 use polars::prelude::DataFrame;
 use std::path::Path;
 
@@ -17,11 +19,11 @@ fn strs(df: &DataFrame, name: &str) -> Result<Vec<String>, MetricsError> {
     Ok(c.str().map_err(crate::error::internal("column"))?.no_null_iter().map(str::to_string).collect())
 }
 
-/// Tracks: one row per (run, track_id, t_s), times increasing within each track.
+/// Tracks: no row more than `TRACK_OUT_OF_SEQUENCE_S` before its track's latest earlier row.
 pub(crate) fn check_tracks(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
     let (run, id, t) = (u32s(df, "run")?, u64s(df, "track_id")?, f64s(df, "t_s")?);
-    times_ordered_per_key(run.iter().zip(&id).map(|(r, i)| Key2(*r, *i)), &t, false, "track")
-        .map_err(to_err("tracks", path))
+    let keys = run.iter().zip(&id).map(|(r, i)| Key2(*r, *i));
+    times_nearly_ordered_per_key(keys, &t, TRACK_OUT_OF_SEQUENCE_S, "track").map_err(to_err("tracks", path))
 }
 
 /// Truth: one row per (run, target, t_s), times increasing within each target.

@@ -5,7 +5,9 @@
 
 use crate::StoreError;
 use mimo_core::records::*;
-use mimo_core::table_rules::{Key2, Violation, runs_match, times_ordered_per_key, unique};
+use mimo_core::table_rules::{
+    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, runs_match, times_nearly_ordered_per_key, times_ordered_per_key, unique,
+};
 use std::path::Path;
 
 /// The rules of one table's rows (the rows of one file).
@@ -67,7 +69,8 @@ impl RowInvariants for MeasurementRow {
 impl RowInvariants for TrackRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.track_id)), &t, false, "track")
+        let keys = rows.iter().map(|r| Key2(r.run, r.track_id));
+        times_nearly_ordered_per_key(keys, &t, TRACK_OUT_OF_SEQUENCE_S, "track")
     }
     fn run_of(row: &Self) -> u32 {
         row.run
