@@ -14,6 +14,8 @@
 //!   stale staging, clean-up on interrupt); [`lineage`]: `parent` links of `mimo track` outputs.
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
 
+#![warn(missing_docs)]
+
 pub mod columns;
 pub mod invariants;
 pub mod lineage;
@@ -36,33 +38,110 @@ use std::path::{Path, PathBuf};
 /// Errors of the storage layer. Each names the file (and column) concerned.
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
+    /// An I/O operation other than writing an output failed (opening, reading or listing a file
+    /// or directory, taking the output lock): a fault of the system.
     #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        /// The file or directory the operation was on.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
     /// Writing an output failed (disk full, permissions): a fault of the system, not the input.
     #[error("{}: write failed: {why}", path.display())]
-    Write { path: PathBuf, why: String },
+    Write {
+        /// The file being written.
+        path: PathBuf,
+        /// What failed (the underlying I/O or Parquet writer error).
+        why: String,
+    },
+    /// A file that should hold a table cannot be read as Parquet (corrupt, truncated, not
+    /// Parquet), raised when opening it or decoding its record batches.
     #[error("{}: not a readable Parquet file ({why})", path.display())]
-    Parquet { path: PathBuf, why: String },
+    Parquet {
+        /// The file read.
+        path: PathBuf,
+        /// The Parquet reader's error.
+        why: String,
+    },
+    /// A column of a table file is missing, has the wrong Arrow type, holds nulls where none are
+    /// allowed, or holds a NaN or ∞ (docs/design.md §3).
     #[error("{}: column '{column}' {why}", file.display())]
-    BadColumn { file: PathBuf, column: String, why: String },
+    BadColumn {
+        /// The file read.
+        file: PathBuf,
+        /// The column's name.
+        column: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// A Parquet file holds another table than the one asked for, was not written by mimo (no
+    /// `mimo.table` metadata), or has another schema version.
     #[error("{}: {why}", file.display())]
-    BadTable { file: PathBuf, why: String },
+    BadTable {
+        /// The file read.
+        file: PathBuf,
+        /// What is wrong with it.
+        why: String,
+    },
     /// A row breaks a table rule (docs/design.md §7): duplicate ids, times out of order, a run
     /// other than the file's.
     #[error("{}: column '{column}' row {row}: {why}", file.display())]
-    BadRow { file: PathBuf, column: &'static str, row: usize, why: String },
+    BadRow {
+        /// The file read.
+        file: PathBuf,
+        /// The column whose value breaks the rule.
+        column: &'static str,
+        /// The offending row's index in the file, from 0.
+        row: usize,
+        /// The rule broken.
+        why: String,
+    },
+    /// A run directory's `manifest.json` is missing, is not valid JSON of the manifest's layout,
+    /// has another schema version, lists runs or files that break the rules of
+    /// docs/design.md §2 and §7, or has a `parent` link that cannot be followed or no longer
+    /// matches its check.
     #[error("{}: field '{field}': {why}", file.display())]
-    BadManifest { file: PathBuf, field: String, why: String },
+    BadManifest {
+        /// The manifest file.
+        file: PathBuf,
+        /// The offending key (`(file)` when the file itself is missing).
+        field: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// The output already exists and `--force` was not given.
     #[error("{}: already exists (use --force to replace it)", path.display())]
-    Exists { path: PathBuf },
+    Exists {
+        /// The existing output.
+        path: PathBuf,
+    },
+    /// A run directory, a table's directory or a table file does not exist (or a table
+    /// directory holds no `run-*.parquet` file).
     #[error("{}: no such run directory or table", path.display())]
-    Missing { path: PathBuf },
+    Missing {
+        /// The path looked for.
+        path: PathBuf,
+    },
     /// The output is not one `--force` may replace, or overlaps the input.
     #[error("{}: {why}", path.display())]
-    Refused { path: PathBuf, why: String },
+    Refused {
+        /// The output path refused.
+        path: PathBuf,
+        /// Why it is refused.
+        why: String,
+    },
     /// Another process is writing the same output.
     #[error("{}: {why}", path.display())]
-    Busy { path: PathBuf, why: String },
+    Busy {
+        /// The output path.
+        path: PathBuf,
+        /// Which lock is held, or that the lock file keeps changing.
+        why: String,
+    },
+    /// Rows could not be turned into an Arrow record batch (columns of the wrong type or length
+    /// for the schema, nulls in a non-nullable column, an unknown table): a fault of mimo, not
+    /// the input. Holds the message.
     #[error("arrow: {0}")]
     Arrow(String),
 }

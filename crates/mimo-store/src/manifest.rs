@@ -17,6 +17,7 @@ pub const MANIFEST_FILE: &str = "manifest.json";
 pub struct TableFile {
     /// Path relative to the run directory, e.g. `truth/run-0000.parquet`.
     pub file: String,
+    /// Number of rows in the file.
     pub rows: u64,
 }
 
@@ -24,14 +25,19 @@ pub struct TableFile {
 /// repeated from the manifest alone.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ScenarioInfo {
+    /// The scenario's short name, e.g. `scenario-7`.
     pub name: String,
+    /// The full resolved scenario (`mimo_scenario::Scenario`: duration, fidelity, ships with their
+    /// radars, targets), as JSON.
     pub resolved: serde_json::Value,
 }
 
 /// The tracker (test article) used, with its configuration.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrackerInfo {
+    /// The test article's name (`default`, `imm`, `cued`, `none`, …).
     pub name: String,
+    /// Its full configuration, as JSON.
     pub config: serde_json::Value,
 }
 
@@ -39,7 +45,9 @@ pub struct TrackerInfo {
 /// parent must still hold the same scenario and seed, and the same `manifest.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ParentCheck {
+    /// The parent's scenario name ([`ScenarioInfo::name`]).
     pub scenario: String,
+    /// The parent's master seed ([`Manifest::seed`]).
     pub seed: u64,
     /// FNV-1a (64-bit) of the parent's `manifest.json`, hex.
     pub manifest_fnv1a64: String,
@@ -52,15 +60,22 @@ pub const MAX_RUNS: u32 = 100_000;
 /// The run manifest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Manifest {
+    /// Version of the mimo that wrote the run.
     pub mimo_version: String,
+    /// Table layout version ([`crate::schema::SCHEMA_VERSION`]); a reader refuses another.
     pub schema_version: u32,
+    /// The scenario, fully resolved.
     pub scenario: ScenarioInfo,
+    /// Master seed; every random stream is keyed by it (docs/design.md §7).
     pub seed: u64,
     /// Number of Monte Carlo runs (files `run-0000` … in each table).
     pub runs: u32,
+    /// Simulated time per run, s.
     pub duration_s: f64,
     /// Every modelling switch in force.
     pub fidelity: serde_json::Value,
+    /// The test article and its configuration; `None` (null) when none was recorded (a study
+    /// cell none of whose runs reported one).
     pub tracker: Option<TrackerInfo>,
     /// How the dwell schedule was produced (e.g. closed loop with a TA, or a fixed schedule).
     pub schedule: String,

@@ -34,8 +34,11 @@ pub fn to_batch<R: TableRow>(rows: &[R]) -> Result<RecordBatch, StoreError> {
 
 /// A record batch being read, with the file it came from for error messages.
 pub struct Batch<'a> {
+    /// The record batch read.
     pub batch: &'a RecordBatch,
+    /// The file it was read from, named in errors.
     pub file: &'a Path,
+    /// The table the batch was checked against.
     pub spec: &'static TableSpec,
 }
 
@@ -83,6 +86,8 @@ impl<'a> Batch<'a> {
         Ok((0..arr.len()).map(f).collect())
     }
 
+    /// The values of a non-nullable float64 column. Errors ([`StoreError::BadColumn`]) when it is
+    /// not float64, holds a null or a NaN or ∞.
     pub fn f64(&self, name: &str) -> Result<Vec<f64>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<Float64Array>().ok_or_else(|| self.bad(name, "is not float64"))?;
@@ -93,54 +98,72 @@ impl<'a> Batch<'a> {
         Ok(v)
     }
 
+    /// The values of a non-nullable uint32 column. Errors ([`StoreError::BadColumn`]) when it is not
+    /// uint32 or holds a null.
     pub fn u32(&self, name: &str) -> Result<Vec<u32>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<UInt32Array>().ok_or_else(|| self.bad(name, "is not uint32"))?;
         self.nonnull(name, a, |i| a.value(i))
     }
 
+    /// The values of a non-nullable uint64 column. Errors ([`StoreError::BadColumn`]) when it is not
+    /// uint64 or holds a null.
     pub fn u64(&self, name: &str) -> Result<Vec<u64>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<UInt64Array>().ok_or_else(|| self.bad(name, "is not uint64"))?;
         self.nonnull(name, a, |i| a.value(i))
     }
 
+    /// The values of a nullable uint64 column, `None` for a null. Errors ([`StoreError::BadColumn`])
+    /// when it is not uint64.
     pub fn opt_u64(&self, name: &str) -> Result<Vec<Option<u64>>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<UInt64Array>().ok_or_else(|| self.bad(name, "is not uint64"))?;
         Ok((0..a.len()).map(|i| if a.is_null(i) { None } else { Some(a.value(i)) }).collect())
     }
 
+    /// The values of a non-nullable int64 column. Errors ([`StoreError::BadColumn`]) when it is not
+    /// int64 or holds a null.
     pub fn i64(&self, name: &str) -> Result<Vec<i64>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<Int64Array>().ok_or_else(|| self.bad(name, "is not int64"))?;
         self.nonnull(name, a, |i| a.value(i))
     }
 
+    /// The values of a non-nullable uint8 column. Errors ([`StoreError::BadColumn`]) when it is not
+    /// uint8 or holds a null.
     pub fn u8(&self, name: &str) -> Result<Vec<u8>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<UInt8Array>().ok_or_else(|| self.bad(name, "is not uint8"))?;
         self.nonnull(name, a, |i| a.value(i))
     }
 
+    /// The values of a non-nullable boolean column. Errors ([`StoreError::BadColumn`]) when it is not
+    /// boolean or holds a null.
     pub fn bool(&self, name: &str) -> Result<Vec<bool>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<BooleanArray>().ok_or_else(|| self.bad(name, "is not bool"))?;
         self.nonnull(name, a, |i| a.value(i))
     }
 
+    /// The values of a non-nullable utf8 column. Errors ([`StoreError::BadColumn`]) when it is not
+    /// utf8 or holds a null.
     pub fn str(&self, name: &str) -> Result<Vec<String>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<StringArray>().ok_or_else(|| self.bad(name, "is not utf8"))?;
         self.nonnull(name, a, |i| a.value(i).to_string())
     }
 
+    /// The values of a nullable utf8 column, `None` for a null. Errors ([`StoreError::BadColumn`])
+    /// when it is not utf8.
     pub fn opt_str(&self, name: &str) -> Result<Vec<Option<String>>, StoreError> {
         let a = self.col(name);
         let a = a.as_any().downcast_ref::<StringArray>().ok_or_else(|| self.bad(name, "is not utf8"))?;
         Ok((0..a.len()).map(|i| if a.is_null(i) { None } else { Some(a.value(i).to_string()) }).collect())
     }
 
+    /// A utf8 column of radar ids (`R1`…), parsed. Errors ([`StoreError::BadColumn`]) on a null or
+    /// a value that is not a radar id, naming the row.
     pub fn radar(&self, name: &str) -> Result<Vec<RadarId>, StoreError> {
         self.str(name)?
             .iter()
@@ -151,6 +174,8 @@ impl<'a> Batch<'a> {
             .collect()
     }
 
+    /// A utf8 column of categories parsed by `parse`; `what` lists the accepted values for the
+    /// error ([`StoreError::BadColumn`], naming the row) raised on a null or any other value.
     pub fn parsed<T>(&self, name: &str, parse: fn(&str) -> Option<T>, what: &str) -> Result<Vec<T>, StoreError> {
         self.str(name)?
             .iter()
@@ -159,6 +184,9 @@ impl<'a> Batch<'a> {
             .collect()
     }
 
+    /// A non-nullable `fixed_size_list<float64, 21>` column: per row, the upper triangle of the
+    /// 6×6 covariance, row-major. Errors ([`StoreError::BadColumn`]) when it has another type,
+    /// holds a null or a NaN or ∞.
     pub fn cov21(&self, name: &str) -> Result<Vec<[f64; 21]>, StoreError> {
         let a = self.col(name);
         let a = a

@@ -20,12 +20,21 @@ pub const META_SCHEMA_VERSION: &str = "mimo.schema_version";
 /// Column types used by the tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ColType {
+    /// Unsigned 8-bit integer (Arrow `UInt8`, `uint8` in `schemas/`): face indices.
     U8,
+    /// Unsigned 32-bit integer (Arrow `UInt32`, `uint32`): `run`, counts, indices such as `waveform`.
     U32,
+    /// Unsigned 64-bit integer (Arrow `UInt64`, `uint64`): dwell, group, measurement and track ids; seeds.
     U64,
+    /// Signed 64-bit integer (Arrow `Int64`, `int64`): range cell indices.
     I64,
+    /// 64-bit float (Arrow `Float64`, `float64`): times, positions, powers and other physical
+    /// quantities; always finite in a valid file.
     F64,
+    /// Boolean (Arrow `Boolean`, `bool`): flags such as `merged`.
     Bool,
+    /// UTF-8 string (Arrow `Utf8`, `utf8`): ids (`radar`, `target`) and categories (`kind`,
+    /// `role`, `status`).
     Utf8,
     /// Fixed-size list of 21 f64: the upper triangle of a 6×6 covariance, row-major.
     Cov21,
@@ -64,11 +73,15 @@ impl ColType {
 /// One column.
 #[derive(Debug, Clone, Copy)]
 pub struct ColumnSpec {
+    /// Column name; it ends in its unit (`_s`, `_m`, `_mps`, …; docs/design.md §3).
     pub name: &'static str,
+    /// Column type.
     pub ty: ColType,
+    /// Whether the column may hold nulls (an undefined or absent value).
     pub nullable: bool,
     /// SI unit, or "" for dimensionless / categorical.
     pub unit: &'static str,
+    /// Meaning of the column, written to the field metadata and to `schemas/`.
     pub description: &'static str,
 }
 
@@ -83,8 +96,11 @@ pub(crate) const fn opt(name: &'static str, ty: ColType, unit: &'static str, des
 /// One table.
 #[derive(Debug, Clone, Copy)]
 pub struct TableSpec {
+    /// Table name: the directory of its files in a run directory and the `mimo.table` metadata.
     pub name: &'static str,
+    /// What the table holds: what one of its rows is.
     pub description: &'static str,
+    /// The columns, in file order.
     pub columns: &'static [ColumnSpec],
 }
 
@@ -129,6 +145,7 @@ use ColType::*;
 
 const RUN: ColumnSpec = col("run", U32, "", "Monte Carlo run index");
 
+/// `truth`: one row per target per truth sample (docs/design.md §3).
 pub const TRUTH: TableSpec = TableSpec {
     name: "truth",
     description: "One row per target per truth sample (default 10 Hz).",
@@ -149,6 +166,7 @@ pub const TRUTH: TableSpec = TableSpec {
     ],
 };
 
+/// `dwells`: one row per radar's part in one dwell (docs/design.md §3).
 pub const DWELLS: TableSpec = TableSpec {
     name: "dwells",
     description: "One row per radar's part in one dwell; the radars of one MIMO dwell share group_id.",
@@ -176,6 +194,8 @@ pub const DWELLS: TableSpec = TableSpec {
     ],
 };
 
+/// `voltages`: complex voltages per receive channel, range cell and dwell; written only with
+/// `--record voltages` (docs/design.md §3).
 pub const VOLTAGES: TableSpec = TableSpec {
     name: "voltages",
     description: "Complex voltages per receive channel per range cell per dwell (only with --record voltages); noise is CN(0,1).",
@@ -195,6 +215,7 @@ pub const VOLTAGES: TableSpec = TableSpec {
     ],
 };
 
+/// `primitives`: one row per threshold crossing after ML monopulse (docs/design.md §3).
 pub const PRIMITIVES: TableSpec = TableSpec {
     name: "primitives",
     description: "One row per threshold crossing (local maximum) after ML monopulse DOA.",
@@ -221,6 +242,7 @@ pub const PRIMITIVES: TableSpec = TableSpec {
     ],
 };
 
+/// `measurements`: one row per clustered, centroided detection (docs/design.md §3).
 pub const MEASUREMENTS: TableSpec = TableSpec {
     name: "measurements",
     description: "One row per clustered, centroided detection handed to trackers.",
@@ -245,6 +267,7 @@ pub const MEASUREMENTS: TableSpec = TableSpec {
     ],
 };
 
+/// `tracks`: track state at each update, plus one row when a track ends (docs/design.md §3).
 pub const TRACKS: TableSpec = TableSpec {
     name: "tracks",
     description: "Track state at each update, plus one row when the track ends (status deleted).",
