@@ -7,29 +7,8 @@
 use mimo_scenario::load_str;
 use proptest::prelude::*;
 
-const BASE: &str = r#"
-name = "inline"
-duration_s = 100.0
-
-[aircraft_types.jet]
-rcs_m2 = 5.0
-min_speed_mps = 100.0
-max_speed_mps = 300.0
-max_accel_g = 3.0
-
-[[ships]]
-id = "R1"
-lat_deg = 36.0
-lon_deg = -70.0
-heading_deg = 0.0
-
-[[aircraft]]
-id = "X"
-type = "jet"
-start = { lat_deg = 36.5, lon_deg = -70.0, alt_m = 5000.0 }
-heading_deg = 180.0
-speed_mps = 200.0
-"#;
+/// The smallest valid scenario (one ship, one jet), shared by the parser tests.
+const BASE: &str = include_str!("data/minimal.toml");
 
 fn check_error(text: &str) {
     if let Err(e) = load_str(text, "fuzz.toml", None) {
