@@ -43,31 +43,7 @@ pub fn times_nearly_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
     tolerance_s: f64,
     what: &str,
 ) -> Result<(), Violation> {
-    let mut latest: HashMap<K, (f64, usize)> = HashMap::new();
-    for (row, (key, &t)) in keys.into_iter().zip(t_s).enumerate() {
-        match latest.entry(key) {
-            Entry::Vacant(v) => {
-                v.insert((t, row));
-            }
-            Entry::Occupied(mut o) => {
-                let (max, max_row) = *o.get();
-                if t < max - tolerance_s {
-                    return Err(Violation {
-                        column: "t_s",
-                        row,
-                        why: format!(
-                            "{t} is more than {tolerance_s} s before {max} at row {max_row} for {what} {} (times must not run backwards within each {what})",
-                            o.key()
-                        ),
-                    });
-                }
-                if t > max {
-                    o.insert((t, row));
-                }
-            }
-        }
-    }
-    Ok(())
+    check_times(keys, t_s, tolerance_s, false, what)
 }
 
 /// Times within each key: strictly increasing (`strict`, no repeated time) or non-decreasing.
@@ -78,25 +54,49 @@ pub fn times_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
     strict: bool,
     what: &str,
 ) -> Result<(), Violation> {
-    let mut last: HashMap<K, (f64, usize)> = HashMap::new();
+    check_times(keys, t_s, 0.0, strict, what)
+}
+
+/// The one time rule: each row against the latest time of its key so far (for a table in order
+/// that is the previous row of the key); a row more than `tolerance_s` before it, or (`strict`)
+/// at it, breaks the rule.
+fn check_times<K: Hash + Eq + std::fmt::Display>(
+    keys: impl IntoIterator<Item = K>,
+    t_s: &[f64],
+    tolerance_s: f64,
+    strict: bool,
+    what: &str,
+) -> Result<(), Violation> {
+    let mut latest: HashMap<K, (f64, usize)> = HashMap::new();
     for (row, (key, &t)) in keys.into_iter().zip(t_s).enumerate() {
-        match last.entry(key) {
+        match latest.entry(key) {
             Entry::Vacant(v) => {
                 v.insert((t, row));
             }
             Entry::Occupied(mut o) => {
-                let (prev, prev_row) = *o.get();
-                if t < prev || (strict && t == prev) {
-                    let rel = if t < prev { "is before" } else { "repeats" };
-                    let rule =
-                        if strict { "times must increase within each" } else { "times must not decrease within each" };
-                    return Err(Violation {
-                        column: "t_s",
-                        row,
-                        why: format!("{t} {rel} {prev} at row {prev_row} for {what} {} ({rule} {what})", o.key()),
-                    });
+                let (max, max_row) = *o.get();
+                let back = t < max - tolerance_s;
+                if back || (strict && t == max) {
+                    let why = match (back, tolerance_s > 0.0, strict) {
+                        (true, true, _) => format!(
+                            "{t} is more than {tolerance_s} s before {max} at row {max_row} for {what} {} (times must not run backwards within each {what})",
+                            o.key()
+                        ),
+                        (true, false, s) => format!(
+                            "{t} is before {max} at row {max_row} for {what} {} (times must {} within each {what})",
+                            o.key(),
+                            if s { "increase" } else { "not decrease" }
+                        ),
+                        (false, ..) => format!(
+                            "{t} repeats {max} at row {max_row} for {what} {} (times must increase within each {what})",
+                            o.key()
+                        ),
+                    };
+                    return Err(Violation { column: "t_s", row, why });
                 }
-                o.insert((t, row));
+                if t > max {
+                    o.insert((t, row));
+                }
             }
         }
     }

@@ -287,39 +287,38 @@ impl Trajectories {
         if t_s >= t_last {
             return (pos[last] + vel[last] * (t_s - t_last), vel[last]);
         }
-        let k = ((t_s / STEP_S).floor() as usize).min(last - 1);
-        let s = (t_s - k as f64 * STEP_S) / STEP_S;
-        let (p0, p1) = (pos[k], pos[k + 1]);
-        let (m0, m1) = (vel[k] * STEP_S, vel[k + 1] * STEP_S);
-        let s2 = s * s;
-        let s3 = s2 * s;
-        let p =
-            p0 * (2.0 * s3 - 3.0 * s2 + 1.0) + m0 * (s3 - 2.0 * s2 + s) + p1 * (3.0 * s2 - 2.0 * s3) + m1 * (s3 - s2);
-        let v = (p0 * (6.0 * s2 - 6.0 * s)
-            + m0 * (3.0 * s2 - 4.0 * s + 1.0)
-            + p1 * (6.0 * s - 6.0 * s2)
-            + m1 * (3.0 * s2 - 2.0 * s))
+        let h = self.segment(i, t_s);
+        let s2 = h.s * h.s;
+        let v = (h.p0 * (6.0 * s2 - 6.0 * h.s)
+            + h.m0 * (3.0 * s2 - 4.0 * h.s + 1.0)
+            + h.p1 * (6.0 * h.s - 6.0 * s2)
+            + h.m1 * (3.0 * s2 - 2.0 * h.s))
             / STEP_S;
-        (p, v)
+        (h.position(), v)
     }
 
-    /// ECEF position of target `i` at `t_s` (m). Panics if `i >= self.len()`.
+    /// ECEF position of target `i` at `t_s` (m). Panics if `i >= self.len()`. The position half of
+    /// [`Self::pos_vel_at`] (the same expression, so the same value): the engine asks for every
+    /// target's position at every dwell and needs no velocity.
     pub fn position_at(&self, i: usize, t_s: f64) -> DVec3 {
-        // The position half of `pos_vel_at` (the same expression, so the same value), without the
-        // velocity: the engine asks for every target's position at every dwell.
-        let pos = &self.pos[i];
-        let last = pos.len() - 1;
+        let last = self.pos[i].len() - 1;
         if t_s <= 0.0 || t_s >= last as f64 * STEP_S {
             return self.pos_vel_at(i, t_s).0;
         }
-        let vel = &self.vel[i];
-        let k = ((t_s / STEP_S).floor() as usize).min(last - 1);
-        let s = (t_s - k as f64 * STEP_S) / STEP_S;
-        let (p0, p1) = (pos[k], pos[k + 1]);
-        let (m0, m1) = (vel[k] * STEP_S, vel[k + 1] * STEP_S);
-        let s2 = s * s;
-        let s3 = s2 * s;
-        p0 * (2.0 * s3 - 3.0 * s2 + 1.0) + m0 * (s3 - 2.0 * s2 + s) + p1 * (3.0 * s2 - 2.0 * s3) + m1 * (s3 - s2)
+        self.segment(i, t_s).position()
+    }
+
+    /// The cubic Hermite segment of target `i` holding `t_s`, for `0 < t_s < t_last`.
+    fn segment(&self, i: usize, t_s: f64) -> Hermite {
+        let (pos, vel) = (&self.pos[i], &self.vel[i]);
+        let k = ((t_s / STEP_S).floor() as usize).min(pos.len() - 2);
+        Hermite {
+            s: (t_s - k as f64 * STEP_S) / STEP_S,
+            p0: pos[k],
+            p1: pos[k + 1],
+            m0: vel[k] * STEP_S,
+            m1: vel[k + 1] * STEP_S,
+        }
     }
 
     /// Mean RCS of target `i` (m²). Panics if `i >= self.len()`.
@@ -364,5 +363,26 @@ impl Trajectories {
             }
         }
         rows
+    }
+}
+
+/// One cubic Hermite segment between two truth samples: end points, end tangents (velocity ×
+/// step) and the normalised time `s ∈ [0, 1)` within it.
+struct Hermite {
+    s: f64,
+    p0: DVec3,
+    p1: DVec3,
+    m0: DVec3,
+    m1: DVec3,
+}
+
+impl Hermite {
+    fn position(&self) -> DVec3 {
+        let (s, s2) = (self.s, self.s * self.s);
+        let s3 = s2 * s;
+        self.p0 * (2.0 * s3 - 3.0 * s2 + 1.0)
+            + self.m0 * (s3 - 2.0 * s2 + s)
+            + self.p1 * (3.0 * s2 - 2.0 * s3)
+            + self.m1 * (s3 - s2)
     }
 }

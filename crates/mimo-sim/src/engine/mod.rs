@@ -389,9 +389,15 @@ impl<'a> Engine<'a> {
     }
 
     fn alloc_group(&mut self, g: Group) -> u64 {
+        let gid = self.take_ids(&g);
+        self.groups.insert(gid, g);
+        gid
+    }
+
+    /// Dwell ids for the parts of `g`: the group id and the ones after it.
+    fn take_ids(&mut self, g: &Group) -> u64 {
         let gid = self.next_dwell_id;
         self.next_dwell_id += g.parts.len() as u64;
-        self.groups.insert(gid, g);
         gid
     }
 
@@ -433,8 +439,7 @@ impl<'a> Engine<'a> {
             tag: Vec::new(),
         };
         // A search group starts at once: it takes its id without passing through `groups`.
-        let gid = self.next_dwell_id;
-        self.next_dwell_id += group.parts.len() as u64;
+        let gid = self.take_ids(&group);
         self.run_group(gid, group)
     }
 
