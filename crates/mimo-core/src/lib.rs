@@ -12,6 +12,7 @@
 //! * [`ids`]: radar and target identifiers (`R1`…`R4`, `F-1`…`F-4`, `A`, `B`, `C`).
 //! * [`assign`]: an exact rectangular assignment solver (shortest augmenting path, Jonker–Volgenant
 //!   style) shared by the tracker's GNN and the metrics engine's truth–track pairing.
+//! * [`polarimetry`]: a target's polarimetric scattering statistics (docs/model.md §3.5).
 //! * [`table_rules`]: what a well-formed table keeps beyond its schema (unique ids, ordered times),
 //!   checked by every reader of the tables.
 //! * [`records`]: the plain row structs of the run tables (docs/design.md §3). Stages push these into
@@ -27,6 +28,7 @@ pub mod face;
 pub mod geo;
 pub mod ids;
 pub mod params;
+pub mod polarimetry;
 pub mod records;
 pub mod rng;
 pub mod sink;

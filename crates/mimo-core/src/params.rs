@@ -75,6 +75,13 @@ pub struct RadarParams {
     pub min_range_m: f64,
     /// Fixed per-dwell overhead added to the timeline (s).
     pub dwell_overhead_s: f64,
+    /// Linear polarization of the transmitted wave, as the angle of its electric field from the
+    /// face's horizontal (deg; 0 = H, 90 = V). Used only with `fidelity.polarization`
+    /// (docs/model.md §3.5).
+    pub tx_polarization_deg: f64,
+    /// Linear polarization the receiver is matched to (deg from horizontal; 0 = H, 90 = V). Used
+    /// only with `fidelity.polarization` (docs/model.md §3.5).
+    pub rx_polarization_deg: f64,
 }
 
 impl Default for RadarParams {
@@ -101,6 +108,8 @@ impl Default for RadarParams {
             instrumented_range_m: 450e3,
             min_range_m: 2e3,
             dwell_overhead_s: 1e-3,
+            tx_polarization_deg: 0.0,
+            rx_polarization_deg: 0.0,
         }
     }
 }
@@ -232,6 +241,13 @@ impl RadarParams {
         if !(self.dwell_overhead_s.is_finite() && self.dwell_overhead_s >= 0.0) {
             return Err(("dwell_overhead_s".into(), "a duration >= 0".into()));
         }
+        for (n, x) in
+            [("tx_polarization_deg", self.tx_polarization_deg), ("rx_polarization_deg", self.rx_polarization_deg)]
+        {
+            if !(x.is_finite() && x.abs() <= 360.0) {
+                return Err((n.into(), format!("an angle between -360 and 360 degrees, got {x}")));
+            }
+        }
         Ok(())
     }
 }
@@ -253,6 +269,10 @@ pub struct Fidelity {
     pub explicit_cells_each_side: u32,
     /// Truth sample rate (Hz) of the truth table.
     pub truth_rate_hz: f64,
+    /// Polarimetric scattering (docs/model.md §3.5): each target's echo is `h_rᵀ S h_t` for a
+    /// Gaussian 2×2 scattering matrix `S` and the radars' linear polarizations, in place of the
+    /// Swerling draw. Default off (every radar and target then behaves as co-polarized SW1/SW0/SW3).
+    pub polarization: bool,
 }
 
 impl Default for Fidelity {
@@ -264,6 +284,7 @@ impl Default for Fidelity {
             waveform_isolation_db: None,
             explicit_cells_each_side: 3,
             truth_rate_hz: 10.0,
+            polarization: false,
         }
     }
 }

@@ -129,6 +129,7 @@ fn main() {
             index: k as u32,
             pos_ecef: lead + DVec3::new(300.0 * k as f64, -200.0 * k as f64, 50.0 * (k % 2) as f64),
             rcs_m2: 2.0,
+            pol: None,
         })
         .collect();
     for (k, (lat, lon, alt)) in
@@ -139,6 +140,7 @@ fn main() {
             index: 4 + k as u32,
             pos_ecef: Geodetic::from_deg(lat, lon, alt).to_ecef(),
             rcs_m2: 30.0,
+            pol: None,
         });
     }
 
@@ -200,6 +202,7 @@ fn main() {
                 index: 10 + k as u32,
                 pos_ecef: lead + DVec3::new(-150.0 * k as f64, 100.0, 20.0),
                 rcs_m2: 2.0,
+                pol: None,
             });
         }
         row(&format!("  {n} targets"), time(Duration::from_millis(600), 1, |_, k| b.run(&tspec, &tg, k)));

@@ -143,6 +143,9 @@ pub struct Target<'a> {
     pub pos_ecef: DVec3,
     /// Mean RCS `σ̄` (m²).
     pub rcs_m2: f64,
+    /// Polarimetric statistics, used with `fidelity.polarization` (docs/model.md §3.5); `None`
+    /// takes the default model for `rcs_m2`.
+    pub pol: Option<mimo_core::polarimetry::Polarimetry>,
 }
 
 /// One dwell to evaluate.

@@ -10,6 +10,7 @@
 //! | [`equation`] | radar range equation, bistatic and monostatic | §3.1, §3.3 |
 //! | [`pattern`] | Gaussian (A) and uniform-aperture (B) Σ/Δ voltage patterns, monopulse curve and its inverse | §2.1–§2.3, §2.5 |
 //! | [`fluctuation`] | Swerling 0/1/3 voltage draws | §3.2 |
+//! | [`polarization`] | polarimetric scattering matrix, Jones vectors, the β rotation (option) | §3.5 |
 //! | [`range`] | `ρ = R_B/2`, cell grid, triangular response, straddle loss | §4.1 |
 //! | [`dwell`] | per-channel voltages: explicit cells near returns, §4.4 false-alarm shortcut, waveform leakage | §2.4, §2.7, §4.2, §4.4, §5.2, §5.3 |
 //! | [`detect`] | threshold, clusters, two-point range centroid, ML monopulse, variances, merged flag | §2.5–§2.7, §4.3, §4.5, §4.6 |
@@ -51,9 +52,10 @@
 //! * A bistatic channel's cell size is the receiver's `ΔR` (all waveforms share the bandwidth).
 //! * `n_pulses = 0` transmits nothing; targets with a non-finite position or a non-positive RCS and
 //!   empty or non-finite windows are skipped, never a panic.
-//! * Polarization (§3.2 option) is not modelled: all radars transmit and receive H, so the
-//!   effective scattering voltage is `s_HH`, whose default statistics are those of SW1. There is
-//!   no switch for it until radars carry polarization settings.
+//! * Polarization (§3.5) is an option (`fidelity.polarization`, off by default): each radar has a
+//!   transmit and a receive linear polarization and each target a Gaussian scattering matrix; the
+//!   matrix voltage replaces the Swerling draw and the pair's mean RCS replaces `σ̄`. Off, every
+//!   radar is co-polarized and the echo is the Swerling draw on `σ̄`.
 //! * Refraction (§1.8, off by default) bends the direction used for both patterns (so the measured
 //!   `û, v̂` are apparent directions); ranges stay geometric.
 #![warn(missing_docs)]
@@ -68,6 +70,7 @@ pub mod geometry;
 pub mod measure;
 pub mod monopulse;
 pub mod pattern;
+pub mod polarization;
 pub mod range;
 mod returns;
 

@@ -8,7 +8,9 @@ use crate::equation::snr1;
 use crate::fluctuation::draw_zeta;
 use crate::geometry::{bistatic, height_m, refracted_direction, visible_with_heights};
 use crate::pattern::{Antenna, Gains};
+use crate::polarization::{draw_scattering, effective_voltage, jones_in_target_basis, mean_rcs_m2};
 use mimo_core::face::FaceFrame;
+use mimo_core::polarimetry::Polarimetry;
 use num_complex::Complex64;
 
 /// How one radar face sees one target.
@@ -133,13 +135,31 @@ pub(crate) fn all_returns(d: &Dwell, targets: &[Target]) -> Vec<Vec<Vec<Return>>
                 if !(tg.rcs_m2 > 0.0 && tg.rcs_m2.is_finite()) {
                     continue;
                 }
+                // With polarization (§3.5) the pair sees the mean RCS of its polarizations, and the
+                // echo is the scattering-matrix voltage normalized to unit mean power.
+                let polar = fid.polarization.then(|| {
+                    let pm = tg.pol.unwrap_or_else(|| Polarimetry::default_for(tg.rcs_m2));
+                    let f = jones_in_target_basis(tx.params.tx_polarization_deg, pm.rotation_deg);
+                    let g = jones_in_target_basis(rx.params.rx_polarization_deg, pm.rotation_deg);
+                    let mono = tx.radar == rx.radar;
+                    (pm, f, g, mono, mean_rcs_m2(&pm, mono, g, f))
+                });
+                let rcs_m2 = polar.map_or(tg.rcs_m2, |p| p.4);
+                if rcs_m2.is_nan() || rcs_m2 <= 0.0 {
+                    continue;
+                }
                 let peak =
-                    f64::from(tx.n_pulses) * snr1(tx.params, rx.params, w_tx, w_rx, tg.rcs_m2, lt.range_m, lr.range_m);
+                    f64::from(tx.n_pulses) * snr1(tx.params, rx.params, w_tx, w_rx, rcs_m2, lt.range_m, lr.range_m);
                 if (peak * pattern).is_nan() || peak * pattern < SNR_FLOOR {
                     continue;
                 }
                 let mut s = stream(d, &[KEY_RCS, tx.radar.0 as u64, rx.radar.0 as u64, u64::from(tg.index)]);
-                let zeta = draw_zeta(fid.swerling, &mut s);
+                let zeta = match polar {
+                    Some((pm, f, g, mono, mean)) => {
+                        effective_voltage(&draw_scattering(&pm, mono, &mut s), g, f) / mean.sqrt()
+                    }
+                    None => draw_zeta(fid.swerling, &mut s),
+                };
                 let carrier = Complex64::from_polar(1.0, -std::f64::consts::TAU * (geo.r_b_m / lambda).fract());
                 let a = zeta * carrier * (peak.sqrt() * gt);
                 let (eta_a, eta_e) = if gr.sum != 0.0 { (gr.az / gr.sum, gr.el / gr.sum) } else { (0.0, 0.0) };

@@ -206,7 +206,7 @@ fn detection_probability_follows_the_swerling_1_curve() {
                 record_voltages: false,
                 simulate_all_cells: false,
             };
-            let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: rcs }];
+            let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: rcs, pol: None }];
             let out = evaluate(&d, &tg);
             if trial == 0 {
                 let ret = &out.channels[0].returns[0];
@@ -386,7 +386,7 @@ fn single_target_measurements_are_consistent() {
             record_voltages: false,
             simulate_all_cells: false,
         };
-        let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: rcs }];
+        let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: rcs, pol: None }];
         let out = evaluate(&d, &tg);
         let meas = measurements_from_primitives(&out.primitives, 0);
         let Some(ret) = out.channels[0].returns.first() else { continue };
@@ -426,9 +426,16 @@ fn unresolved_pair_raises_the_merged_flag() {
     for (case, pair) in [(0usize, false), (1, true)] {
         let (mut merged, mut det) = (0u64, 0u64);
         for trial in 0..trials {
-            let mut tg = vec![Target { id: "A", index: 0, pos_ecef: ship.point(0, r, -0.2 * th, 0.0), rcs_m2: rcs }];
+            let mut tg =
+                vec![Target { id: "A", index: 0, pos_ecef: ship.point(0, r, -0.2 * th, 0.0), rcs_m2: rcs, pol: None }];
             if pair {
-                tg.push(Target { id: "B", index: 1, pos_ecef: ship.point(0, r + 3.0, 0.2 * th, 0.0), rcs_m2: rcs });
+                tg.push(Target {
+                    id: "B",
+                    index: 1,
+                    pos_ecef: ship.point(0, r + 3.0, 0.2 * th, 0.0),
+                    rcs_m2: rcs,
+                    pol: None,
+                });
             } else {
                 tg[0].pos_ecef = ship.point(0, r, 0.0, 0.0);
             }
@@ -490,7 +497,7 @@ fn peak_cell_power_is_signal_plus_noise() {
                 record_voltages: false,
                 simulate_all_cells: false,
             };
-            let tg = [Target { id: "T", index: 0, pos_ecef: ship.point(0, r, 0.0, 0.0), rcs_m2: rcs }];
+            let tg = [Target { id: "T", index: 0, pos_ecef: ship.point(0, r, 0.0, 0.0), rcs_m2: rcs, pol: None }];
             let ch = simulate(&d, &tg).remove(0);
             let c = ch.cells.iter().find(|c| c.k == k).expect("peak cell simulated");
             sum += c.sum.norm_sqr();
@@ -516,4 +523,64 @@ fn range_sigma_floor_and_shape() {
     assert_eq!(range_sigma_m(1e9, 0.1, dr), 1.0);
     assert!(range_sigma_m(20.0, 0.3, dr) > range_sigma_m(40.0, 0.3, dr));
     assert!(range_sigma_m(f64::NAN, f64::NAN, dr).is_finite());
+}
+
+/// Polarization (docs/model.md §3.5) end to end: a VV radar detects a target whose σ_vv gives
+/// 13 dB with the SW1 probability of 13 dB (its σ_hh, four times smaller, does not count), and an
+/// H-transmit, V-receive radar detects the same target with the SW1 probability of σ_hv's SNR.
+#[test]
+fn polarization_sets_the_detected_power() {
+    let base = RadarParams::default();
+    let fid = mimo_core::params::Fidelity { polarization: true, ..fidelity() };
+    let ship = Ship::new(0, 36.0, -70.0, &base);
+    let dr = base.range_cell_m();
+    let k = 3000i64;
+    let r = k as f64 * dr;
+    let (bu, bv) = (0.1, -0.05);
+    let w = (1.0f64 - bu * bu - bv * bv).sqrt();
+    let pos = ship.point(0, r, bu, bv);
+    let trials = 4000u64;
+    let rcs_13 = rcs_for_snr(&base, 10f64.powf(1.3), r, w);
+    let rcs_16 = rcs_for_snr(&base, 10f64.powf(1.6), r, w);
+    let pol = mimo_core::polarimetry::Polarimetry {
+        hh_m2: 0.25 * rcs_13,
+        vv_m2: rcs_13,
+        hv_m2: rcs_16,
+        hh_vv_correlation: 0.5,
+        rotation_deg: 0.0,
+    };
+    for (case, (tx_deg, rx_deg, snr_db)) in [(90.0, 90.0, 13.0), (0.0, 90.0, 16.0)].into_iter().enumerate() {
+        let p = RadarParams { tx_polarization_deg: tx_deg, rx_polarization_deg: rx_deg, ..base.clone() };
+        let snr = 10f64.powf(snr_db / 10.0);
+        let mut hits = 0u64;
+        for trial in 0..trials {
+            let txs = [ship.tx(&p, 0, bu, bv, 1)];
+            let rxs = [ship.rx(&p, trial, 0, bu, bv, (r - 1000.0, r + 1000.0))];
+            let keys = [trial, 77 + case as u64];
+            let d = Dwell {
+                run: 0,
+                t_s: 0.0,
+                seed: SEED,
+                keys: &keys,
+                transmitters: &txs,
+                receivers: &rxs,
+                fidelity: &fid,
+                record_voltages: false,
+                simulate_all_cells: false,
+            };
+            // The target's nominal σ̄ is irrelevant with polarization on.
+            let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: 1.0, pol: Some(pol) }];
+            let out = evaluate(&d, &tg);
+            if trial == 0 {
+                let ret = &out.channels[0].returns[0];
+                assert!((ret.peak_snr / snr - 1.0).abs() < 1e-9, "case {case}: mean SNR {}", ret.peak_snr);
+            }
+            hits += u64::from(out.primitives.iter().any(|x| (x.range_cell - k).abs() <= 1));
+        }
+        let pd = p.pfa.powf(1.0 / (1.0 + snr));
+        let est = hits as f64 / trials as f64;
+        let sd = (pd * (1.0 - pd) / trials as f64).sqrt();
+        eprintln!("polarization case {case}: P_D {est:.4} vs SW1 {pd:.4} at {snr_db} dB (sd {sd:.4})");
+        assert!(within(est, pd, sd, 4.0), "case {case}: P_D {est} vs {pd}");
+    }
 }

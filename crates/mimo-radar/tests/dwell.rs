@@ -106,7 +106,7 @@ fn orthogonal_waveforms_do_not_cross_talk_and_leakage_is_optional() {
     let rxs = [m.rx(0, 10, 30e3), m.rx(1, 11, 30e3), m.rx(2, 12, 30e3)];
     let r0 = bistatic(m.ships[0].faces[0].origin_ecef, m.ships[0].faces[0].origin_ecef, tgt_pos).r_t_m;
     let rcs = rcs_for_snr(&m.p, 1000.0, r0, 0.8);
-    let tg = [Target { id: "F-1", index: 0, pos_ecef: tgt_pos, rcs_m2: rcs }];
+    let tg = [Target { id: "F-1", index: 0, pos_ecef: tgt_pos, rcs_m2: rcs, pol: None }];
     let keys = [2u64];
     let ideal = fidelity();
     let out = evaluate(&dwell(&keys, &txs, &rxs, &ideal, false), &tg);
@@ -147,8 +147,8 @@ fn deterministic_and_voltages_on_demand() {
     let rxs = [m.rx(0, 10, 5e3), m.rx(2, 12, 5e3)];
     let r0 = (m.aim - m.ships[0].faces[0].origin_ecef).length();
     let tg = [
-        Target { id: "A", index: 4, pos_ecef: m.aim, rcs_m2: rcs_for_snr(&m.p, 100.0, r0, 0.8) },
-        Target { id: "B", index: 5, pos_ecef: m.aim + DVec3::new(0.0, 50.0, 0.0), rcs_m2: 5.0 },
+        Target { id: "A", index: 4, pos_ecef: m.aim, rcs_m2: rcs_for_snr(&m.p, 100.0, r0, 0.8), pol: None },
+        Target { id: "B", index: 5, pos_ecef: m.aim + DVec3::new(0.0, 50.0, 0.0), rcs_m2: 5.0, pol: None },
     ];
     let keys = [9u64, 1];
     let mut d = dwell(&keys, &txs, &rxs, &fid, false);
@@ -188,10 +188,10 @@ fn cost_follows_targets() {
     let rxs = [ship.rx(&p, 1, 2, bu, bv, (p.min_range_m, p.instrumented_range_m))];
     let th = p.beamwidth_u();
     let tg = [
-        Target { id: "in", index: 0, pos_ecef: ship.point(2, 120e3, bu + 0.2 * th, bv), rcs_m2: 2.0 },
-        Target { id: "near", index: 1, pos_ecef: ship.point(2, 200e3, bu, bv - 0.5 * th), rcs_m2: 30.0 },
-        Target { id: "off", index: 2, pos_ecef: ship.point(2, 100e3, bu + 3.0 * th, bv), rcs_m2: 30.0 },
-        Target { id: "behind", index: 3, pos_ecef: ship.point(0, 100e3, 0.0, 0.0), rcs_m2: 30.0 },
+        Target { id: "in", index: 0, pos_ecef: ship.point(2, 120e3, bu + 0.2 * th, bv), rcs_m2: 2.0, pol: None },
+        Target { id: "near", index: 1, pos_ecef: ship.point(2, 200e3, bu, bv - 0.5 * th), rcs_m2: 30.0, pol: None },
+        Target { id: "off", index: 2, pos_ecef: ship.point(2, 100e3, bu + 3.0 * th, bv), rcs_m2: 30.0, pol: None },
+        Target { id: "behind", index: 3, pos_ecef: ship.point(0, 100e3, 0.0, 0.0), rcs_m2: 30.0, pol: None },
     ];
     let mut cells_total = 0usize;
     let mut fa_total = 0u64;
@@ -219,7 +219,7 @@ fn cost_follows_targets() {
     let txs = [ship.tx(&p, 2, s.u, s.v, 1)];
     let rxs = [ship.rx(&p, 1, 2, s.u, s.v, (p.min_range_m, p.instrumented_range_m))];
     let keys = [1u64];
-    let tg = [Target { id: "low", index: 4, pos_ecef: low, rcs_m2: 1000.0 }];
+    let tg = [Target { id: "low", index: 4, pos_ecef: low, rcs_m2: 1000.0, pol: None }];
     assert!(simulate(&dwell(&keys, &txs, &rxs, &fid, false), &tg)[0].returns.is_empty());
     let visible_one = [Target { pos_ecef: ship.faces[2].from_ruv(50e3, s.u, s.v + 0.3 * th), ..tg[0] }];
     assert_eq!(simulate(&dwell(&keys, &txs, &rxs, &fid, false), &visible_one)[0].returns.len(), 1);
@@ -234,7 +234,7 @@ fn bistatic_detection_measures_rho_and_receiver_direction() {
     let txs = [m.tx(0, m.aim, 8)];
     let rxs = [m.rx(1, 21, 3e3)];
     let rcs = 30.0;
-    let tg = [Target { id: "A", index: 0, pos_ecef: m.aim, rcs_m2: rcs }];
+    let tg = [Target { id: "A", index: 0, pos_ecef: m.aim, rcs_m2: rcs, pol: None }];
     let mut s = Stream::new(SEED, &[domain::TEST, 8]);
     let mut n = 0;
     for trial in 0..200u64 {
@@ -275,6 +275,7 @@ fn measurements_reform_identically_from_recorded_primitives() {
             index: k as u32,
             pos_ecef: m.aim + DVec3::new(40.0 * k as f64, -70.0 * k as f64, 10.0),
             rcs_m2: 2.0,
+            pol: None,
         })
         .collect();
     let mut prims = Vec::new();
@@ -306,10 +307,10 @@ fn bad_inputs_do_not_panic() {
     let ship = Ship::new(0, 36.0, -70.0, &p);
     let good = ship.point(0, 100e3, 0.0, 0.0);
     let tg = [
-        Target { id: "nan", index: 0, pos_ecef: DVec3::new(f64::NAN, 0.0, 0.0), rcs_m2: 2.0 },
-        Target { id: "zero", index: 1, pos_ecef: good, rcs_m2: 0.0 },
-        Target { id: "nanrcs", index: 2, pos_ecef: good, rcs_m2: f64::NAN },
-        Target { id: "at-site", index: 3, pos_ecef: ship.faces[0].origin_ecef, rcs_m2: 2.0 },
+        Target { id: "nan", index: 0, pos_ecef: DVec3::new(f64::NAN, 0.0, 0.0), rcs_m2: 2.0, pol: None },
+        Target { id: "zero", index: 1, pos_ecef: good, rcs_m2: 0.0, pol: None },
+        Target { id: "nanrcs", index: 2, pos_ecef: good, rcs_m2: f64::NAN, pol: None },
+        Target { id: "at-site", index: 3, pos_ecef: ship.faces[0].origin_ecef, rcs_m2: 2.0, pol: None },
     ];
     let keys = [1u64];
     for (lo, hi) in [(f64::NAN, 1e5), (2e5, 1e5), (0.0, f64::INFINITY), (-1e6, 1e5)] {
@@ -348,7 +349,7 @@ fn uniform_aperture_model_estimates_angles() {
     let du = 0.4 * ant.theta_u();
     let g = ant.sum_gain(du, 0.0);
     let rcs = rcs_for_snr(&p, 10f64.powf(2.5), r, 1.0) / g.powi(4);
-    let tg = [Target { id: "T", index: 0, pos_ecef: ship.point(0, r, du, 0.0), rcs_m2: rcs }];
+    let tg = [Target { id: "T", index: 0, pos_ecef: ship.point(0, r, du, 0.0), rcs_m2: rcs, pol: None }];
     let (mut err, mut var, mut n) = (0.0, 0.0, 0.0);
     for trial in 0..2000u64 {
         let txs = [ship.tx(&p, 0, 0.0, 0.0, 1)];

@@ -482,11 +482,14 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
             return Err(sel_ctx.err(&format!("targets[{i}]"), format!("each target once, `{id}` repeats")));
         }
         let ty = type_of(&d.kind, &sel_ctx)?;
+        let rcs_m2 = d.rcs_override.unwrap_or(ty.rcs_m2);
         targets.push(Target {
             id: id.clone(),
             kind: d.kind.clone(),
-            rcs_m2: d.rcs_override.unwrap_or(ty.rcs_m2),
+            rcs_m2,
             envelope: ty.envelope(),
+            // A target's own mean RCS scales its type's whole scattering matrix.
+            polarimetry: ty.polarimetry.map(|p| p.scaled(rcs_m2 / ty.rcs_m2)),
         });
     }
     let formations = formations.iter().filter_map(|f| prune_formation(f, &keep)).collect();

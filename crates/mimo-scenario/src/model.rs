@@ -8,6 +8,7 @@
 use mimo_core::geo::Geodetic;
 use mimo_core::ids::RadarId;
 use mimo_core::params::{Fidelity, RadarParams};
+use mimo_core::polarimetry::Polarimetry;
 use serde::{Deserialize, Serialize};
 
 /// Default scenario duration (s), as in the seed paper.
@@ -78,6 +79,10 @@ pub struct Target {
     pub rcs_m2: f64,
     /// What the trajectory must stay within (checked when trajectories are built).
     pub envelope: Envelope,
+    /// Polarimetric statistics used with `fidelity.polarization` (docs/model.md §3.5), from the
+    /// aircraft type and scaled with `rcs_m2`; `None` is the default model for `rcs_m2`.
+    #[serde(default)]
+    pub polarimetry: Option<Polarimetry>,
 }
 
 /// Speed and acceleration limits of an aircraft type.
@@ -105,6 +110,10 @@ pub struct AircraftType {
     pub max_speed_mps: f64,
     /// Maximum kinematic acceleration relative to the earth, gravity excluded (g0 = 9.80665 m/s²).
     pub max_accel_g: f64,
+    /// Polarimetric statistics (`[aircraft_types.NAME.polarimetry]`, docs/model.md §3.5), used
+    /// only with `fidelity.polarization`; absent, the default model for `rcs_m2`.
+    #[serde(default)]
+    pub polarimetry: Option<Polarimetry>,
 }
 
 impl AircraftType {

@@ -107,7 +107,10 @@ impl Stress {
         self.check()?;
         if let Some(db) = self.rcs_offset_db {
             let k = 10f64.powf(db / 10.0);
-            s.targets.iter_mut().for_each(|t| t.rcs_m2 *= k);
+            s.targets.iter_mut().for_each(|t| {
+                t.rcs_m2 *= k;
+                t.polarimetry = t.polarimetry.map(|p| p.scaled(k));
+            });
         }
         if let Some(pfa) = self.pfa {
             s.ships.iter_mut().for_each(|sh| sh.radar.pfa = pfa);

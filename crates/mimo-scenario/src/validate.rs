@@ -10,7 +10,7 @@ use crate::model::{
     Aircraft, AircraftType, Envelope, Formation, Group, LatLonAlt, Manoeuvre, Offset, Scenario, Ship, Split, Target,
 };
 use crate::trajectory::centroid;
-use mimo_core::params::Fidelity;
+use mimo_core::params::{Fidelity, Swerling};
 use std::collections::HashSet;
 
 /// Longest scenario accepted (s): one day (trajectories are stored at 20 Hz).
@@ -38,6 +38,11 @@ pub(crate) fn validate_fidelity(f: &Fidelity, ctx: &Ctx) -> Result<(), ScenarioE
     }
     check(f.explicit_cells_each_side <= 1000, ctx, "explicit_cells_each_side", || {
         format!("at most 1000 cells, got {}", f.explicit_cells_each_side)
+    })?;
+    // The polarimetric model's scattering matrix is Gaussian: every channel fluctuates as SW1
+    // (docs/model.md §3.5), so another Swerling case with it would be silently ignored.
+    check(!f.polarization || f.swerling == Swerling::Sw1, ctx, "polarization", || {
+        format!("swerling = \"sw1\" with polarization on (its scattering matrix is Gaussian), got {:?}", f.swerling)
     })
 }
 
@@ -80,6 +85,9 @@ pub(crate) fn validate_ship(s: &Ship, index: usize, ctx: &Ctx) -> Result<(), Sce
 
 pub(crate) fn validate_type(t: &AircraftType, ctx: &Ctx) -> Result<(), ScenarioError> {
     validate_rcs(t.rcs_m2, ctx, "rcs_m2")?;
+    if let Some(p) = &t.polarimetry {
+        p.validate().map_err(|(field, expected)| ctx.sub("polarimetry").err(&field, expected))?;
+    }
     validate_envelope(&t.envelope(), ctx)
 }
 

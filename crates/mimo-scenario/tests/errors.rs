@@ -280,3 +280,31 @@ fn text_without_a_directory_can_only_include_builtins() {
     assert_eq!(s.target_ids(), ["B"]);
     assert_eq!(s.ships.len(), 4);
 }
+
+/// Polarimetry (docs/model.md §3.5): a type's matrix loads and scales with a target's own RCS;
+/// bad statistics and polarization without SW1 are refused, naming the field.
+#[test]
+fn polarimetry_loads_scales_and_is_checked() {
+    let pol = "\n[aircraft_types.jet.polarimetry]\nhh_m2 = 5.0\nvv_m2 = 10.0\nhv_m2 = 0.5\nhh_vv_correlation = 0.3\nrotation_deg = 20.0\n";
+    let with = BASE.replace("max_accel_g = 3.0\n", &format!("max_accel_g = 3.0\n{pol}"));
+    let s = load(&with).expect("valid");
+    let p = s.targets[0].polarimetry.expect("polarimetry");
+    assert_eq!((p.hh_m2, p.vv_m2, p.hv_m2, p.rotation_deg), (5.0, 10.0, 0.5, 20.0));
+    // The aircraft's own 2.5 m² halves the type's 5 m²: the whole matrix halves.
+    let own = with.replace("speed_mps = 200.0", "speed_mps = 200.0\nrcs_m2 = 2.5");
+    let p = load(&own).expect("valid").targets[0].polarimetry.expect("polarimetry");
+    assert_eq!((p.hh_m2, p.vv_m2, p.hv_m2), (2.5, 5.0, 0.25));
+    invalid(
+        &with.replace("hh_vv_correlation = 0.3", "hh_vv_correlation = 1.3"),
+        "aircraft_types.jet.polarimetry.hh_vv_correlation",
+        "between 0 and 1",
+    );
+    invalid(&with.replace("vv_m2 = 10.0", "vv_m2 = -1.0"), "aircraft_types.jet.polarimetry.vv_m2", "RCS");
+    invalid(&format!("{BASE}\n[fidelity]\npolarization = true\nswerling = \"sw0\"\n"), "fidelity.polarization", "sw1");
+    assert!(load(&format!("{BASE}\n[fidelity]\npolarization = true\n")).is_ok());
+    invalid(
+        &BASE.replace("heading_deg = 0.0\n", "heading_deg = 0.0\nradar = { tx_polarization_deg = 1e9 }\n"),
+        "ships[0].radar.tx_polarization_deg",
+        "angle",
+    );
+}

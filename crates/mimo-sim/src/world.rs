@@ -85,6 +85,7 @@ impl World {
                 index: i as u32,
                 pos_ecef: self.trajectories.position_at(i, t_s),
                 rcs_m2: self.trajectories.rcs_m2(i),
+                pol: t.polarimetry,
             });
         }
     }
