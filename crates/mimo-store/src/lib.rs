@@ -7,8 +7,8 @@
 //! * [`rows`]: row records ⇄ Arrow record batches.
 //! * Parquet I/O ([`write_table`], [`read_table`], [`read_table_dir`]): files are written to a
 //!   temporary name and renamed, carry the table name and schema version in their key-value
-//!   metadata, and are byte-identical for identical rows (no timestamps, single row group
-//!   layout fixed by the writer properties).
+//!   metadata, and are byte-identical for identical rows (no timestamps, row groups of
+//!   [`ROW_GROUP_ROWS`] rows, layout fixed by the writer properties).
 //! * [`rundir`]: the run directory of docs/design.md §2 — staging, atomic publication, and
 //!   [`manifest::Manifest`]; [`output`]: who may write an output path (`--force`, the lock,
 //!   stale staging, clean-up on interrupt); [`lineage`]: `parent` links of `mimo track` outputs.
@@ -209,7 +209,7 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
 }
 
 /// Rows per Parquet row group (and most rows a table writer holds before writing them).
-pub const ROW_GROUP_ROWS: usize = 1 << 20;
+pub const ROW_GROUP_ROWS: usize = 1 << 16;
 
 /// Write rows as one Parquet file, atomically (temporary name, then rename).
 pub fn write_table<R: TableRow>(path: &Path, rows: &[R]) -> Result<u64, StoreError> {

@@ -57,6 +57,10 @@ impl<R: TableRow> TableWriter<R> {
         while self.held.len() >= CHUNK_ROWS {
             self.encode(CHUNK_ROWS)?;
         }
+        // A large batch of rows (a run's truth) leaves no large buffer behind.
+        if self.held.capacity() > 2 * CHUNK_ROWS {
+            self.held.shrink_to(CHUNK_ROWS);
+        }
         Ok(())
     }
 
