@@ -2,10 +2,10 @@
 
 use crate::CliError;
 use crate::ta_args::TaArgs;
-use mimo_core::records::RunTables;
 use mimo_scenario::Scenario;
 use mimo_sim::{EngineConfig, RunStats, SearchConfig, TaInfo, World};
 use mimo_store::manifest::{Manifest, ScenarioInfo, TableFile, TrackerInfo};
+use mimo_store::run_sink::ParquetRunSink;
 use mimo_store::rundir::RunDirWriter;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -166,18 +166,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let ta_info: Mutex<Option<TaInfo>> = Mutex::new(None);
     let t_sim = Instant::now();
     let make_ta = |_run: u32| ta.build(&world);
-    let make_sink = |_run: u32| -> Result<RunTables, CliError> { Ok(RunTables::default()) };
-    let done = |run: u32, t: RunTables, s: RunStats, info: TaInfo| -> Result<(), CliError> {
-        let mut written = vec![
-            ("truth", writer.write_run_table("truth", run, &t.truth)?),
-            ("dwells", writer.write_run_table("dwells", run, &t.dwells)?),
-            ("primitives", writer.write_run_table("primitives", run, &t.primitives)?),
-            ("measurements", writer.write_run_table("measurements", run, &t.measurements)?),
-            ("tracks", writer.write_run_table("tracks", run, &t.tracks)?),
-        ];
-        if record_voltages {
-            written.push(("voltages", writer.write_run_table("voltages", run, &t.voltages)?));
-        }
+    // Each run's tables are written as its rows come (memory flat in duration and --runs).
+    let make_sink =
+        |run: u32| -> Result<ParquetRunSink, CliError> { Ok(ParquetRunSink::create(&writer, run, record_voltages)?) };
+    let done = |run: u32, sink: ParquetRunSink, s: RunStats, info: TaInfo| -> Result<(), CliError> {
+        let written = sink.finish()?;
         let mut f = files.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
         for (name, tf) in written {
             f.entry(name.to_string()).or_default().push(tf);

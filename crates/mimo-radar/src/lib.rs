@@ -15,6 +15,7 @@
 //! | [`dwell`] | per-channel voltages: explicit cells near returns, §4.4 false-alarm shortcut, waveform leakage | §2.4, §2.7, §4.2, §4.4, §5.2, §5.3 |
 //! | [`detect`] | threshold, clusters, two-point range centroid, ML monopulse, variances, merged flag | §2.5–§2.7, §4.3, §4.5, §4.6 |
 //! | [`measure`] | primitives → measurements (the only implementation, used online and offline) | §4.5 |
+//! | [`quiet`] | a monostatic dwell that no target reaches and whose false-alarm draw is zero, recognised without building its vectors | §4.4, §4.7 |
 //! | [`energy`] | predicted SNR, required SNR, pointing/straddle loss, pulses per dwell, dwell time and energy | §7.2, §7.3 |
 //!
 //! ## Flow of one dwell
@@ -71,6 +72,7 @@ pub mod measure;
 pub mod monopulse;
 pub mod pattern;
 pub mod polarization;
+pub mod quiet;
 pub mod range;
 mod returns;
 

@@ -7,11 +7,14 @@
 //! * [`rows`]: row records ⇄ Arrow record batches.
 //! * Parquet I/O ([`write_table`], [`read_table`], [`read_table_dir`]): files are written to a
 //!   temporary name and renamed, carry the table name and schema version in their key-value
-//!   metadata, and are byte-identical for identical rows (no timestamps, single row group
-//!   layout fixed by the writer properties).
+//!   metadata, and are byte-identical for identical rows (no timestamps, row groups of
+//!   [`ROW_GROUP_ROWS`] rows, layout fixed by the writer properties).
 //! * [`rundir`]: the run directory of docs/design.md §2 — staging, atomic publication, and
 //!   [`manifest::Manifest`]; [`output`]: who may write an output path (`--force`, the lock,
 //!   stale staging, clean-up on interrupt); [`lineage`]: `parent` links of `mimo track` outputs.
+//! * [`table_writer`]: a table file written as its rows come; [`run_sink::ParquetRunSink`]: a
+//!   run's tables written that way, the engine's sink for `mimo simulate` (memory flat in the
+//!   run's length).
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
 
 #![warn(missing_docs)]
@@ -22,9 +25,11 @@ pub mod lineage;
 pub mod manifest;
 pub mod output;
 pub mod rows;
+pub mod run_sink;
 pub mod rundir;
 pub mod schema;
 pub mod score_schema;
+pub mod table_writer;
 
 use arrow::array::RecordBatch;
 use parquet::arrow::ArrowWriter;
@@ -167,31 +172,44 @@ const DELTA_COLUMNS: &[&str] = &["dwell_id", "group_id", "meas_id", "primitive_i
 /// the byte-stream split, so that the compressor sees their slowly varying high bytes together.
 const SPLIT_COLUMNS: &[&str] = &["t_s", "aim_x_m", "aim_y_m", "aim_z_m"];
 
-/// Writer properties: fixed so that identical rows give identical bytes.
+/// Writer properties for a table of `schema`: fixed so that identical rows give identical bytes.
 ///
 /// The physical encoding only (docs/design.md §3: the columns and their logical types are the
-/// contract): zstd pages, dictionary encoding for the other columns (strings such as `radar` or
-/// `kind` become a few bits per row), delta encoding for ids and the byte-stream split for
-/// distinct floats. Every Parquet reader (polars, pyarrow, DuckDB, arrow-rs) reads them.
-fn writer_props() -> WriterProperties {
+/// contract): zstd pages; dictionary encoding for the string columns only (`radar`, `kind`, …
+/// become a few bits per row and stay utf8 for every reader); delta encoding for ids, the
+/// byte-stream split for distinct floats, and plain values for every other number — interning
+/// each value of a column into a dictionary costs more than zstd spends on the plain values,
+/// which it compresses as well (docs/DECISIONS.md, "Table encoding"). Every Parquet reader
+/// (polars, pyarrow, DuckDB, arrow-rs) reads them.
+pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
     let mut b = WriterProperties::builder()
         .set_compression(Compression::ZSTD(parquet::basic::ZstdLevel::default()))
         .set_created_by(format!("mimo {}", env!("CARGO_PKG_VERSION")))
-        .set_max_row_group_row_count(Some(1 << 20));
-    for name in DELTA_COLUMNS {
-        let path = parquet::schema::types::ColumnPath::from(*name);
-        b = b
-            .set_column_dictionary_enabled(path.clone(), false)
-            .set_column_encoding(path, parquet::basic::Encoding::DELTA_BINARY_PACKED);
-    }
-    for name in SPLIT_COLUMNS {
-        let path = parquet::schema::types::ColumnPath::from(*name);
-        b = b
-            .set_column_dictionary_enabled(path.clone(), false)
-            .set_column_encoding(path, parquet::basic::Encoding::BYTE_STREAM_SPLIT);
+        .set_max_row_group_row_count(Some(ROW_GROUP_ROWS));
+    for field in schema.fields() {
+        let name = field.name().as_str();
+        let path = parquet::schema::types::ColumnPath::from(name);
+        let encoding = if DELTA_COLUMNS.contains(&name) {
+            Some(parquet::basic::Encoding::DELTA_BINARY_PACKED)
+        } else if SPLIT_COLUMNS.contains(&name) {
+            Some(parquet::basic::Encoding::BYTE_STREAM_SPLIT)
+        } else {
+            None
+        };
+        let strings = matches!(field.data_type(), arrow::datatypes::DataType::Utf8);
+        b = b.set_column_dictionary_enabled(path.clone(), false);
+        if strings {
+            b = b.set_column_statistics_enabled(path.clone(), parquet::file::properties::EnabledStatistics::None);
+        }
+        if let Some(e) = encoding {
+            b = b.set_column_encoding(path, e);
+        }
     }
     b.build()
 }
+
+/// Rows per Parquet row group (and most rows a table writer holds before writing them).
+pub const ROW_GROUP_ROWS: usize = 1 << 16;
 
 /// Write rows as one Parquet file, atomically (temporary name, then rename).
 pub fn write_table<R: TableRow>(path: &Path, rows: &[R]) -> Result<u64, StoreError> {
@@ -214,8 +232,8 @@ pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), S
     let tmp = path.with_file_name(format!(".{name}.tmp"));
     let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
     let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
-    let mut w =
-        ArrowWriter::try_new(file, batch.schema(), Some(writer_props())).map_err(|e| write_err(e.to_string()))?;
+    let mut w = ArrowWriter::try_new(file, batch.schema(), Some(writer_props(&batch.schema())))
+        .map_err(|e| write_err(e.to_string()))?;
     w.write(batch).map_err(|e| write_err(e.to_string()))?;
     w.close().map_err(|e| write_err(e.to_string()))?;
     std::fs::rename(&tmp, path).map_err(|e| write_err(e.to_string()))?;
@@ -264,6 +282,7 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
             });
         }
     }
+    check_chunk_ranges(builder.metadata(), path)?;
     let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
     let table_spec =
         schema::table(spec.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", spec.name)))?;
@@ -275,6 +294,23 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
     }
     invariants::check(path, &out)?;
     Ok(out)
+}
+
+/// Refuse a footer whose column chunks lie at negative offsets or lengths (a damaged file): the
+/// Parquet reader asserts on them instead of returning an error.
+fn check_chunk_ranges(md: &parquet::file::metadata::ParquetMetaData, path: &Path) -> Result<(), StoreError> {
+    for rg in md.row_groups() {
+        for c in rg.columns() {
+            let start = c.dictionary_page_offset().unwrap_or(c.data_page_offset());
+            if start < 0 || c.compressed_size() < 0 || c.data_page_offset() < 0 {
+                return Err(StoreError::Parquet {
+                    path: path.to_path_buf(),
+                    why: format!("column chunk '{}' has a negative offset or length", c.column_path()),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The files of one table in a run directory, in run order (`TABLE/run-0000.parquet`, …).

@@ -235,6 +235,22 @@ fn bools<R>(rows: &[R], f: impl Fn(&R) -> bool) -> ArrayRef {
 fn strs<R>(rows: &[R], f: impl Fn(&R) -> String) -> ArrayRef {
     Arc::new(StringArray::from_iter_values(rows.iter().map(f)))
 }
+/// A column of fixed labels (no string made per row).
+fn labels<R>(rows: &[R], f: impl Fn(&R) -> &'static str) -> ArrayRef {
+    Arc::new(StringArray::from_iter_values(rows.iter().map(f)))
+}
+/// A column of radar ids, each id's text made once.
+fn radars<R>(rows: &[R], f: impl Fn(&R) -> RadarId) -> ArrayRef {
+    let mut names: Vec<Option<String>> = Vec::new();
+    for r in rows {
+        let i = f(r).index();
+        if names.len() <= i {
+            names.resize(i + 1, None);
+        }
+        names[i].get_or_insert_with(|| f(r).to_string());
+    }
+    Arc::new(StringArray::from_iter_values(rows.iter().map(|r| names[f(r).index()].as_deref().unwrap_or_default())))
+}
 fn opt_strs<R>(rows: &[R], f: impl Fn(&R) -> Option<&str>) -> ArrayRef {
     Arc::new(StringArray::from_iter(rows.iter().map(f)))
 }
@@ -290,10 +306,10 @@ impl TableRow for DwellRow {
             u32s(rows, |r| r.run),
             u64s(rows, |r| r.dwell_id),
             u64s(rows, |r| r.group_id),
-            strs(rows, |r| r.radar.to_string()),
-            strs(rows, |r| r.role.as_str().to_string()),
-            strs(rows, |r| r.kind.as_str().to_string()),
-            strs(rows, |r| r.requested_by.as_str().to_string()),
+            radars(rows, |r| r.radar),
+            labels(rows, |r| r.role.as_str()),
+            labels(rows, |r| r.kind.as_str()),
+            labels(rows, |r| r.requested_by.as_str()),
             f64s(rows, |r| r.t_s),
             f64s(rows, |r| r.duration_s),
             f64s(rows, |r| r.pulse_width_s),
@@ -351,8 +367,8 @@ impl TableRow for VoltageRow {
         vec![
             u32s(rows, |r| r.run),
             u64s(rows, |r| r.dwell_id),
-            strs(rows, |r| r.rx.to_string()),
-            strs(rows, |r| r.tx.to_string()),
+            radars(rows, |r| r.rx),
+            radars(rows, |r| r.tx),
             i64s(rows, |r| r.range_cell),
             f64s(rows, |r| r.range_m),
             f64s(rows, |r| r.sum_i),
@@ -394,8 +410,8 @@ impl TableRow for PrimitiveRow {
             u32s(rows, |r| r.run),
             u64s(rows, |r| r.dwell_id),
             f64s(rows, |r| r.t_s),
-            strs(rows, |r| r.rx.to_string()),
-            strs(rows, |r| r.tx.to_string()),
+            radars(rows, |r| r.rx),
+            radars(rows, |r| r.tx),
             u8s(rows, |r| r.rx_face),
             i64s(rows, |r| r.range_cell),
             f64s(rows, |r| r.range_m),
@@ -454,8 +470,8 @@ impl TableRow for MeasurementRow {
             u64s(rows, |r| r.meas_id),
             u64s(rows, |r| r.dwell_id),
             f64s(rows, |r| r.t_s),
-            strs(rows, |r| r.rx.to_string()),
-            strs(rows, |r| r.tx.to_string()),
+            radars(rows, |r| r.rx),
+            radars(rows, |r| r.tx),
             u8s(rows, |r| r.rx_face),
             f64s(rows, |r| r.range_m),
             f64s(rows, |r| r.u),

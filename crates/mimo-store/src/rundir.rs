@@ -11,6 +11,7 @@
 use crate::manifest::{MANIFEST_FILE, Manifest, TableFile};
 use crate::output::{self, OutputLock};
 use crate::rows::TableRow;
+use crate::table_writer::TableWriter;
 use crate::{StoreError, io_err, run_file_name};
 use std::path::{Path, PathBuf};
 
@@ -71,15 +72,29 @@ impl RunDirWriter {
         &self.staging
     }
 
-    /// Write run `run`'s file of a table; returns the manifest entry.
-    pub fn write_run_table<R: TableRow>(&self, table: &str, run: u32, rows: &[R]) -> Result<TableFile, StoreError> {
-        let rel = format!("{table}/{}", run_file_name(run));
+    /// The path of run `run`'s file of a table relative to the run directory, its table
+    /// directory created in the staging directory.
+    fn run_table_path(&self, table: &str, run: u32) -> Result<String, StoreError> {
         // Not `create_dir_all`: a staging directory removed on interrupt is not re-created.
         let dir = self.staging.join(table);
         match std::fs::create_dir(&dir) {
             Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(io_err(&dir)(e)),
             _ => {}
         }
+        Ok(format!("{table}/{}", run_file_name(run)))
+    }
+
+    /// Start run `run`'s file of a table, to be written as its rows come
+    /// ([`TableWriter::finish`], then [`TableFile`] with the path returned here).
+    pub fn open_run_table<R: TableRow>(&self, table: &str, run: u32) -> Result<(String, TableWriter<R>), StoreError> {
+        let rel = self.run_table_path(table, run)?;
+        let w = TableWriter::create(&self.staging.join(&rel))?;
+        Ok((rel, w))
+    }
+
+    /// Write run `run`'s file of a table; returns the manifest entry.
+    pub fn write_run_table<R: TableRow>(&self, table: &str, run: u32, rows: &[R]) -> Result<TableFile, StoreError> {
+        let rel = self.run_table_path(table, run)?;
         let batch = crate::rows::to_batch(rows)?;
         crate::write_batch_into(&self.staging.join(&rel), &batch)?;
         Ok(TableFile { file: rel, rows: rows.len() as u64 })

@@ -332,3 +332,56 @@ fn run_dir_is_atomic_and_never_overwritten_without_force() {
     w.finish(&manifest()).expect("finish");
     assert!(Manifest::read(&out).expect("manifest").tables.is_empty());
 }
+
+/// Many dwell rows: ids counting up, times increasing, a few radars, kinds and beams.
+fn many_dwells(n: u64) -> Vec<DwellRow> {
+    let base = dwells();
+    (0..n)
+        .map(|i| {
+            let mut r = base[(i % 2) as usize].clone();
+            r.dwell_id = i;
+            r.group_id = i - i % 2;
+            r.radar = RadarId((i % 4) as u8);
+            r.kind = if i % 7 == 0 { DwellKind::Track } else { DwellKind::Search };
+            r.t_s = i as f64 * 1e-3;
+            r.beam_u = ((i % 97) as f64 - 48.0) * 0.01;
+            r.aim_x_m = 1.0e6 + (i as f64).sqrt();
+            r
+        })
+        .collect()
+}
+
+#[test]
+fn rows_streamed_through_the_run_sink_are_the_rows_written_at_once() {
+    use mimo_core::sink::RunSink;
+    use mimo_store::run_sink::ParquetRunSink;
+    use mimo_store::table_writer::CHUNK_ROWS;
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Several chunks and a remainder, pushed one by one and in uneven slices.
+    let rows = many_dwells(3 * CHUNK_ROWS as u64 + 17);
+    let once = dir.path().join("once.parquet");
+    write_table(&once, &rows).expect("write");
+    let out = dir.path().join("run");
+    let w = RunDirWriter::create(&out, false).expect("create");
+    let mut sink = ParquetRunSink::create(&w, 0, false).expect("sink");
+    sink.truth(truth()).expect("truth");
+    for r in &rows {
+        sink.dwell(r.clone()).expect("dwell");
+    }
+    for chunk in primitives().chunks(1) {
+        sink.primitives(chunk.to_vec()).expect("primitives");
+    }
+    let files = sink.finish().expect("finish");
+    let by_name: std::collections::BTreeMap<_, _> = files.into_iter().collect();
+    assert_eq!(by_name["dwells"].rows, rows.len() as u64);
+    assert_eq!(by_name["primitives"].rows, primitives().len() as u64);
+    assert_eq!(by_name["measurements"].rows, 0);
+    let streamed = w.staging().join(&by_name["dwells"].file);
+    assert_eq!(std::fs::read(&streamed).expect("read"), std::fs::read(&once).expect("read"), "same bytes");
+    assert_eq!(read_table::<DwellRow>(&streamed).expect("read"), rows);
+    let prims = w.staging().join(&by_name["primitives"].file);
+    assert_eq!(read_table::<PrimitiveRow>(&prims).expect("read"), primitives());
+    // An empty table is a readable file with no rows.
+    let meas = w.staging().join(&by_name["measurements"].file);
+    assert!(read_table::<MeasurementRow>(&meas).expect("read").is_empty());
+}

@@ -19,7 +19,7 @@ use mimo_sim::engine::{Engine, first_meas_id};
 use mimo_sim::messages::{DwellReport, PartReport, Reply};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// What a re-run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -100,40 +100,25 @@ pub fn replay(
     sink: &mut dyn RunSink,
 ) -> Result<ReplayStats, ReplayError> {
     let fault = |ta: &dyn TestArticle, fault: TaFault| ReplayError::Ta { name: ta.name().to_string(), fault };
-    // Groups from the dwells table, parts in dwell_id order.
+    // The dwells table in dwell_id order; every row must name a face its radar has.
     let mut rows: Vec<&DwellRow> = dwells.iter().filter(|d| d.run == run).collect();
     rows.sort_by_key(|d| d.dwell_id);
-    let mut groups: BTreeMap<u64, GroupRec> = BTreeMap::new();
-    let mut group_of: BTreeMap<u64, u64> = BTreeMap::new();
-    for d in rows {
-        group_of.insert(d.dwell_id, d.group_id);
-        let t_mid = d.t_s + 0.5 * d.duration_s;
-        let frame =
-            world.scenario.ships.get(d.radar.index()).and_then(|s| s.faces_at(t_mid).get(d.face as usize).copied());
-        let Some(frame) = frame else {
+    for d in &rows {
+        let n_faces = world.scenario.ships.get(d.radar.index()).map_or(0, |s| s.radar.face_azimuths_deg.len());
+        if usize::from(d.face) >= n_faces {
             return Err(ReplayError::UnknownFace { dwell_id: d.dwell_id, radar: d.radar.to_string(), face: d.face });
-        };
-        let g = groups.entry(d.group_id).or_insert_with(|| GroupRec {
-            kind: d.kind,
-            requested_by: d.requested_by,
-            t0_s: d.t_s,
-            duration_s: d.duration_s,
-            aim: mimo_core::DVec3::new(d.aim_x_m, d.aim_y_m, d.aim_z_m),
-            parts: Vec::new(),
-        });
-        g.parts.push(PartReport {
-            radar: d.radar,
-            dwell_id: d.dwell_id,
-            transmits: d.role.transmits(),
-            receives: matches!(d.role, Role::Rx | Role::Txrx),
-            face: d.face,
-            beam_u: d.beam_u,
-            beam_v: d.beam_v,
-            n_pulses: d.n_pulses,
-            site_ecef: frame.origin_ecef,
-            face_from_ecef: PartReport::rows_of(&frame),
-        });
+        }
     }
+    // The group of every dwell a primitive or measurement names (only those: a run has ~10⁵–10⁶
+    // dwells, nearly all without a detection).
+    let named: BTreeSet<u64> = primitives
+        .iter()
+        .filter(|p| p.run == run)
+        .map(|p| p.dwell_id)
+        .chain(measurements.iter().filter(|m| m.run == run).map(|m| m.dwell_id))
+        .collect();
+    let group_of: BTreeMap<u64, u64> =
+        rows.iter().filter(|d| named.contains(&d.dwell_id)).map(|d| (d.dwell_id, d.group_id)).collect();
 
     // Measurements (and, when subscribed, primitives) per group.
     let mut meas_by_group: BTreeMap<u64, Vec<MeasurementRow>> = BTreeMap::new();
@@ -181,6 +166,38 @@ pub fn replay(
     let reply = ta.on_start(&start).map_err(|f| fault(ta, f))?;
     take(reply, &mut stats, sink)?;
     let sub = ta.subscription();
+
+    // The groups the test article hears of, parts in dwell_id order.
+    let n_meas = |gid: u64| meas_by_group.get(&gid).map_or(0, Vec::len);
+    let mut groups: BTreeMap<u64, GroupRec> = BTreeMap::new();
+    for d in rows.iter().filter(|d| sub.wants(d.requested_by, n_meas(d.group_id))) {
+        let t_mid = d.t_s + 0.5 * d.duration_s;
+        let frame =
+            world.scenario.ships.get(d.radar.index()).and_then(|s| s.faces_at(t_mid).get(d.face as usize).copied());
+        let Some(frame) = frame else {
+            return Err(ReplayError::UnknownFace { dwell_id: d.dwell_id, radar: d.radar.to_string(), face: d.face });
+        };
+        let g = groups.entry(d.group_id).or_insert_with(|| GroupRec {
+            kind: d.kind,
+            requested_by: d.requested_by,
+            t0_s: d.t_s,
+            duration_s: d.duration_s,
+            aim: mimo_core::DVec3::new(d.aim_x_m, d.aim_y_m, d.aim_z_m),
+            parts: Vec::new(),
+        });
+        g.parts.push(PartReport {
+            radar: d.radar,
+            dwell_id: d.dwell_id,
+            transmits: d.role.transmits(),
+            receives: matches!(d.role, Role::Rx | Role::Txrx),
+            face: d.face,
+            beam_u: d.beam_u,
+            beam_v: d.beam_v,
+            n_pulses: d.n_pulses,
+            site_ecef: frame.origin_ecef,
+            face_from_ecef: PartReport::rows_of(&frame),
+        });
+    }
 
     // Delivery order of the engine: end time, then group id.
     let mut order: Vec<(SimTime, u64)> =

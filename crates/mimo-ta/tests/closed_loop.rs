@@ -677,3 +677,43 @@ fn replay_from_measurements_reproduces_the_closed_loop_tracks_and_from_primitive
     assert!(p.measurements == recorded, "measurements re-formed from primitives = recorded ones");
     assert!(p.tracks == tables.tracks);
 }
+
+#[test]
+fn replay_refuses_a_face_the_radar_lacks_and_a_measurement_of_no_dwell() {
+    use mimo_ta::replay::ReplayError;
+    let dur = 30.0;
+    let world = standard(7, dur);
+    let cfg = config(5, dur);
+    let (tables, _) = run(&world, &cfg, default_ta(&world).as_mut());
+    assert!(!tables.measurements.is_empty());
+    let replay_of = |dwells: &[DwellRow]| {
+        let mut out = RunTables::default();
+        replay(
+            &world,
+            &cfg,
+            default_ta(&world).as_mut(),
+            0,
+            dwells,
+            &tables.primitives,
+            &tables.measurements,
+            ReplayFrom::Measurements,
+            &mut out,
+        )
+    };
+    // A search dwell (no test article hears of it) on face 9 of a four-face radar.
+    let mut bad = tables.dwells.clone();
+    let i = bad.iter().position(|d| d.kind == DwellKind::Search && d.dwell_id > 100).expect("a search dwell");
+    bad[i].face = 9;
+    let id = bad[i].dwell_id;
+    match replay_of(&bad) {
+        Err(ReplayError::UnknownFace { dwell_id, face: 9, .. }) => assert_eq!(dwell_id, id),
+        other => panic!("expected an unknown face, got {:?}", other.map(|s| s.dwells)),
+    }
+    // The dwell of a measurement (and of its primitive, looked up first) removed.
+    let gone = tables.measurements[0].dwell_id;
+    let fewer: Vec<DwellRow> = tables.dwells.iter().filter(|d| d.dwell_id != gone).cloned().collect();
+    match replay_of(&fewer) {
+        Err(ReplayError::UnknownDwell { table: "primitives", dwell_id }) => assert_eq!(dwell_id, gone),
+        other => panic!("expected an unknown dwell, got {:?}", other.map(|s| s.dwells)),
+    }
+}

@@ -2,13 +2,13 @@
 //! and, when the test article wants it, its report (docs/design.md §5, docs/model.md §4–§5).
 
 use super::group::Group;
+use super::quiet::{dwell_row, search_aim};
 use crate::messages::{DwellReport, PartReport};
 use crate::world::World;
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, VoltageRow};
 use mimo_radar::dwell::RangeWindow;
-use mimo_radar::energy::dwell_energy_j;
 
 /// Measurement ids of a dwell group start at `group_id << 12`, so they depend only on the group
 /// (offline re-forming of measurements from primitives reproduces them without replaying the
@@ -34,14 +34,6 @@ pub(crate) struct RunKeys {
     pub seed: u64,
     pub run: u32,
     pub record_voltages: bool,
-}
-
-/// The aim of a search beam: its direction at half the instrumented range.
-fn search_aim(world: &World, g: &Group, frame: &FaceFrame) -> DVec3 {
-    let p = &g.parts[0];
-    let w = (1.0 - p.beam_u * p.beam_u - p.beam_v * p.beam_v).max(0.0).sqrt();
-    let d = frame.face_from_ecef.transpose() * DVec3::new(p.beam_u, p.beam_v, w);
-    frame.origin_ecef + d * (0.5 * world.params(p.radar).instrumented_range_m)
 }
 
 /// Execute group `gid` that starts at `t0_s`.
@@ -112,37 +104,7 @@ pub(crate) fn execute<'w>(
     };
     let out = mimo_radar::evaluate(&dwell, targets);
     let measurements = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
-    let dwells = g
-        .parts
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let params = world.params(p.radar);
-            let tx = p.role.transmits();
-            DwellRow {
-                run: keys.run,
-                dwell_id: gid + i as u64,
-                group_id: gid,
-                radar: p.radar,
-                role: p.role,
-                kind: g.kind,
-                requested_by: g.requested_by,
-                t_s: t0_s,
-                duration_s: g.duration_s,
-                pulse_width_s: params.pulse_width_s,
-                n_pulses: p.n_pulses,
-                peak_power_w: if tx { params.peak_power_w } else { 0.0 },
-                energy_j: if tx { dwell_energy_j(params, p.n_pulses) } else { 0.0 },
-                waveform: p.waveform,
-                face: p.face,
-                beam_u: p.beam_u,
-                beam_v: p.beam_v,
-                aim_x_m: aim.x,
-                aim_y_m: aim.y,
-                aim_z_m: aim.z,
-            }
-        })
-        .collect();
+    let dwells = (0..g.parts.len()).map(|i| dwell_row(world, keys.run, gid, g, i, t0_s, aim)).collect();
     Executed { dwells, primitives: out.primitives, measurements, voltages: out.voltages, frames, aim }
 }
 

@@ -36,6 +36,7 @@
 mod execute;
 mod group;
 mod plan;
+mod quiet;
 mod timeline;
 
 pub use execute::first_meas_id;
@@ -480,6 +481,19 @@ impl<'a> Engine<'a> {
             self.timelines[p.radar.index()].begin(gid, end);
         }
         let keys = RunKeys { seed: self.cfg.seed, run: self.run, record_voltages: self.cfg.record_voltages };
+        // A quiet search dwell the test article does not want to hear of: its row only.
+        if g.requested_by == Requester::Radar
+            && !self.subscription.wants(g.requested_by, 0)
+            && let Some(row) = quiet::quiet_search_row(self.world, &keys, gid, &g, t0, &mut self.targets)
+        {
+            self.stats.dwells += 1;
+            self.stats.search_dwells += 1;
+            self.sink.dwell(row)?;
+            for p in &g.parts {
+                self.push(end, Ev::Decide(p.radar.0));
+            }
+            return Ok(());
+        }
         let ex = execute(self.world, &keys, gid, &g, t0, &mut self.targets);
         self.stats.dwells += 1;
         match g.requested_by {

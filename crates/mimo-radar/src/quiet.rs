@@ -1,0 +1,75 @@
+//! Quiet dwells: a monostatic dwell that no target reaches and whose §4.4 false-alarm draw is
+//! zero produces nothing (docs/model.md §4.4, §4.7).
+//!
+//! Nearly every background-search dwell is such a dwell. [`is_quiet`] decides it without
+//! building the dwell's looks, returns, channels or cells (no heap allocation): it applies the
+//! same gates as the full model ([`crate::dwell::evaluate`]) in the same arithmetic — behind the
+//! face, the pattern floor, the two-way pattern floor, the SNR floor — and then draws the
+//! false-alarm count `K ~ Binomial(M, P_FA)` from the very stream the full model would use. When
+//! it answers `true`, [`crate::dwell::evaluate`] would have returned no primitive and no voltage,
+//! and the draws it would have made are the ones made here; when it is unsure (a target passes
+//! the cheap gates, refraction or polarization (§3.5, whose pair RCS is not σ̄) is on, the dwell
+//! is not a plain monostatic one) it answers `false`
+//! and the caller evaluates the dwell in full, which then draws the same streams afresh. Either
+//! way the recorded rows are the ones the full model gives, bit for bit.
+//!
+//! The horizon gate (§1.7) is not applied here (it needs geodetic heights): a target above both
+//! floors but below the horizon makes the dwell "unsure", which is only slower.
+
+use crate::dwell::{Dwell, KEY_FALSE_ALARM, PATTERN_FLOOR, SNR_FLOOR, Target, stream};
+use crate::equation::snr1;
+use crate::pattern::Antenna;
+use crate::range::cell_window;
+
+/// Could target `tg` give a return in the monostatic dwell `d` (one transmitter, one receiver,
+/// same face and beam)? `false` only when the full model's gates certainly drop it.
+fn may_return(d: &Dwell, ant: &Antenna, tg: &Target) -> bool {
+    let tx = &d.transmitters[0];
+    let s = tx.frame.to_sine(tg.pos_ecef);
+    // Behind the face (or at its centre): no look (crate::returns, `looks`).
+    if !(s.w > 0.0 && s.range_m > 0.0) {
+        return false;
+    }
+    let g = ant.gains(s.u - tx.beam_u, s.v - tx.beam_v);
+    let p_max = (g.sum * g.sum).max(g.az * g.az).max(g.el * g.el);
+    if p_max < PATTERN_FLOOR {
+        return false;
+    }
+    // The two-way pattern of the monostatic channel: transmit Σ² times the receive maximum.
+    let pattern = g.sum * g.sum * p_max;
+    if pattern < PATTERN_FLOOR {
+        return false;
+    }
+    if !(tg.rcs_m2 > 0.0 && tg.rcs_m2.is_finite()) {
+        return false;
+    }
+    let w_b = (1.0 - tx.beam_u * tx.beam_u - tx.beam_v * tx.beam_v).max(0.0).sqrt();
+    let peak = f64::from(tx.n_pulses) * snr1(tx.params, tx.params, w_b, w_b, tg.rcs_m2, s.range_m, s.range_m);
+    !((peak * pattern).is_nan() || peak * pattern < SNR_FLOOR)
+}
+
+/// Whether the dwell certainly produces no primitive and no voltage: a plain monostatic dwell
+/// (one radar transmitting and receiving on the same face and beam, the §4.4 shortcut on, no
+/// refraction, no polarization) that no target reaches and whose false-alarm draw is zero. `false` means "evaluate
+/// it" (see the module docs).
+pub fn is_quiet(d: &Dwell, targets: &[Target]) -> bool {
+    let ([tx], [rx]) = (d.transmitters, d.receivers) else { return false };
+    let monostatic = tx.radar == rx.radar
+        && std::ptr::eq(tx.params, rx.params)
+        && tx.frame == rx.frame
+        && tx.beam_u == rx.beam_u
+        && tx.beam_v == rx.beam_v;
+    if !monostatic || d.simulate_all_cells || d.fidelity.refraction || d.fidelity.polarization {
+        return false;
+    }
+    let ant = Antenna::new(tx.params, d.fidelity.pattern);
+    if targets.iter().any(|tg| may_return(d, &ant, tg)) {
+        return false;
+    }
+    // No return, no leakage (one transmitter): every cell of the window is a shortcut cell.
+    let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
+    let Some((k_min, k_max)) = cell_window(lo, hi, rx.params.range_cell_m()) else { return true };
+    let m = (k_max - k_min + 1).max(0) as u64;
+    let mut fa = stream(d, &[KEY_FALSE_ALARM, tx.radar.0 as u64, rx.radar.0 as u64]);
+    fa.binomial(m, rx.params.pfa) == 0
+}

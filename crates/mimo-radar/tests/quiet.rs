@@ -1,0 +1,89 @@
+//! Quiet dwells (`mimo_radar::quiet::is_quiet`): a dwell declared quiet is one the full model
+//! evaluates to nothing, and a dwell the full model evaluates to no return and no false alarm is
+//! declared quiet unless a target was dropped by the horizon alone (the one gate `is_quiet`
+//! leaves to the full model).
+
+mod common;
+
+use common::{SEED, Ship, rcs_for_snr};
+use mimo_core::params::{Fidelity, PatternModel, RadarParams};
+use mimo_core::rng::{Stream, domain};
+use mimo_radar::dwell::{Dwell, Target, evaluate};
+use mimo_radar::geometry::visible;
+use mimo_radar::quiet::is_quiet;
+
+#[test]
+fn quiet_means_the_full_model_gives_nothing() {
+    let mut quiet = 0;
+    let mut loud = 0;
+    let mut horizon_only = 0;
+    for case in 0..1200u64 {
+        let mut s = Stream::new(SEED, &[domain::TEST, case]);
+        // Every third case a high false-alarm rate, so that the draw decides often.
+        let mut p = RadarParams::default();
+        if case % 3 == 0 {
+            p.pfa = 1e-4;
+        }
+        let fid = Fidelity {
+            pattern: if case % 2 == 0 { PatternModel::Gaussian } else { PatternModel::UniformAperture },
+            ..Fidelity::default()
+        };
+        let ship = Ship::new(0, 36.0, -70.0, &p);
+        let face = (case % 4) as usize;
+        let (bu, bv) = (0.6 * s.uniform() - 0.3, 0.3 * s.uniform() - 0.05);
+        let (th_u, th_v) = (p.beamwidth_u(), p.beamwidth_v());
+        let ids: Vec<String> = (0..4).map(|i| format!("T{i}")).collect();
+        // Targets around the beam: a few beamwidths off (sidelobes, pattern floor), some behind.
+        let targets: Vec<Target> = (0..4)
+            .map(|i| {
+                let (du, dv) = ((s.uniform() - 0.5) * 12.0 * th_u, (s.uniform() - 0.5) * 12.0 * th_v);
+                let r = 20e3 + s.uniform() * 380e3;
+                let f = if s.uniform() < 0.1 { (face + 2) % 4 } else { face };
+                let snr = 10f64.powf(s.uniform() * 3.0 - 1.0);
+                Target {
+                    id: &ids[i],
+                    index: i as u32,
+                    pos_ecef: ship.point(f, r, bu + du, bv + dv),
+                    rcs_m2: rcs_for_snr(&p, snr, r, 1.0),
+                    pol: None,
+                }
+            })
+            .collect();
+        let txs = [ship.tx(&p, face, bu, bv, 2)];
+        let rxs = [ship.rx(&p, case, face, bu, bv, (p.min_range_m, p.instrumented_range_m))];
+        let keys = [5, case];
+        let d = Dwell {
+            run: 5,
+            t_s: 1.0,
+            seed: SEED,
+            keys: &keys,
+            transmitters: &txs,
+            receivers: &rxs,
+            fidelity: &fid,
+            record_voltages: true,
+            simulate_all_cells: false,
+        };
+        let out = evaluate(&d, &targets);
+        let ch = &out.channels[0];
+        let nothing = ch.returns.is_empty() && ch.false_alarms == 0;
+        if is_quiet(&d, &targets) {
+            quiet += 1;
+            assert!(
+                nothing,
+                "case {case}: declared quiet, but {} returns, {} false alarms",
+                ch.returns.len(),
+                ch.false_alarms
+            );
+            assert!(out.primitives.is_empty() && out.voltages.is_empty(), "case {case}");
+        } else if nothing {
+            // Only a target below the horizon may make a dwell with nothing in it "unsure".
+            let site = ship.site.to_ecef();
+            assert!(targets.iter().any(|t| !visible(site, t.pos_ecef)), "case {case}: nothing, yet not quiet");
+            horizon_only += 1;
+        } else {
+            loud += 1;
+        }
+    }
+    // Both answers occur often, so the checks above bite.
+    assert!(quiet > 200 && loud > 200, "quiet {quiet}, loud {loud}, horizon only {horizon_only}");
+}

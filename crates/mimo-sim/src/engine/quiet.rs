@@ -1,0 +1,111 @@
+//! Background-search dwells at the cost of their false-alarm draw (docs/model.md §4.4, §4.7).
+//!
+//! A search dwell that no target reaches and whose false-alarm count is zero produces one dwell
+//! row and nothing else. [`quiet_search_row`] recognises it with
+//! [`mimo_radar::quiet::is_quiet`] (same gates, same random stream as the full model) and
+//! returns that row without building the dwell's vectors; any other dwell goes through
+//! [`super::execute::execute`], so the recorded tables are byte-identical either way.
+
+use super::execute::RunKeys;
+use super::group::{Group, Part};
+use crate::world::World;
+use mimo_core::DVec3;
+use mimo_core::face::FaceFrame;
+use mimo_core::records::DwellRow;
+use mimo_radar::dwell::RangeWindow;
+use mimo_radar::energy::dwell_energy_j;
+
+/// The aim of a search beam: its direction at half the instrumented range.
+pub(super) fn search_aim(world: &World, g: &Group, frame: &FaceFrame) -> DVec3 {
+    let p = &g.parts[0];
+    let w = (1.0 - p.beam_u * p.beam_u - p.beam_v * p.beam_v).max(0.0).sqrt();
+    let d = frame.face_from_ecef.transpose() * DVec3::new(p.beam_u, p.beam_v, w);
+    frame.origin_ecef + d * (0.5 * world.params(p.radar).instrumented_range_m)
+}
+
+/// The dwells-table row of part `i` of group `gid`, started at `t0_s` and aimed at `aim`.
+pub(super) fn dwell_row(world: &World, run: u32, gid: u64, g: &Group, i: usize, t0_s: f64, aim: DVec3) -> DwellRow {
+    let p: &Part = &g.parts[i];
+    let params = world.params(p.radar);
+    let tx = p.role.transmits();
+    DwellRow {
+        run,
+        dwell_id: gid + i as u64,
+        group_id: gid,
+        radar: p.radar,
+        role: p.role,
+        kind: g.kind,
+        requested_by: g.requested_by,
+        t_s: t0_s,
+        duration_s: g.duration_s,
+        pulse_width_s: params.pulse_width_s,
+        n_pulses: p.n_pulses,
+        peak_power_w: if tx { params.peak_power_w } else { 0.0 },
+        energy_j: if tx { dwell_energy_j(params, p.n_pulses) } else { 0.0 },
+        waveform: p.waveform,
+        face: p.face,
+        beam_u: p.beam_u,
+        beam_v: p.beam_v,
+        aim_x_m: aim.x,
+        aim_y_m: aim.y,
+        aim_z_m: aim.z,
+    }
+}
+
+/// The one row of search group `gid` (started at `t0_s`) when the dwell is quiet; `None` when it
+/// must be evaluated in full (a target may be in the beam, a false alarm was drawn, or the group
+/// is not a one-radar search dwell).
+pub(super) fn quiet_search_row<'w>(
+    world: &'w World,
+    keys: &RunKeys,
+    gid: u64,
+    g: &Group,
+    t0_s: f64,
+    targets: &mut Vec<mimo_radar::Target<'w>>,
+) -> Option<DwellRow> {
+    let [p] = g.parts.as_slice() else { return None };
+    if g.aim.is_some() || g.window_half_m.is_some() || !p.role.transmits() || !p.receives() {
+        return None;
+    }
+    let t_mid = t0_s + 0.5 * g.duration_s;
+    let frame = world.face_at(p.radar, p.face, t_mid)?;
+    let params = world.params(p.radar);
+    // The same transmitter, receiver and stream keys as `execute` builds for this group.
+    let tx = mimo_radar::Transmitter {
+        radar: p.radar,
+        params,
+        frame,
+        beam_u: p.beam_u,
+        beam_v: p.beam_v,
+        n_pulses: p.n_pulses,
+        waveform: p.waveform,
+    };
+    let rx = mimo_radar::Receiver {
+        radar: p.radar,
+        dwell_id: gid,
+        params,
+        face: p.face,
+        frame,
+        beam_u: p.beam_u,
+        beam_v: p.beam_v,
+        window: RangeWindow::Fixed { rho_min_m: params.min_range_m, rho_max_m: params.instrumented_range_m },
+        predicted_snr: g.predicted_snr,
+    };
+    world.radar_targets_into(t_mid, targets);
+    let stream_keys = [u64::from(keys.run), gid];
+    let dwell = mimo_radar::Dwell {
+        run: keys.run,
+        t_s: t_mid,
+        seed: keys.seed,
+        keys: &stream_keys,
+        transmitters: std::slice::from_ref(&tx),
+        receivers: std::slice::from_ref(&rx),
+        fidelity: &world.scenario.fidelity,
+        record_voltages: keys.record_voltages,
+        simulate_all_cells: false,
+    };
+    if !mimo_radar::quiet::is_quiet(&dwell, targets) {
+        return None;
+    }
+    Some(dwell_row(world, keys.run, gid, g, 0, t0_s, search_aim(world, g, &frame)))
+}

@@ -1,0 +1,95 @@
+//! One table file written as its rows arrive (docs/design.md §8): rows are held until
+//! [`CHUNK_ROWS`] have come, then encoded into the open Parquet file, so a writer holds at most a
+//! chunk of rows plus the encoded pages of the row group being filled ([`crate::ROW_GROUP_ROWS`]
+//! rows at most) — flat in the run's length.
+//!
+//! The file is written under a temporary name (`.NAME.tmp`) in a directory that must exist (a
+//! staging directory removed on interrupt is never re-created) and renamed by [`TableWriter::finish`].
+//! Chunks are a whole number of the Parquet writer's mini-batches (1024 rows), so the bytes are the
+//! ones a single write of all the rows gives.
+
+use crate::rows::{TableRow, to_batch};
+use crate::{StoreError, writer_props};
+use parquet::arrow::ArrowWriter;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+
+/// Rows a writer holds before encoding them (a multiple of the Parquet writer's 1024-row
+/// mini-batch).
+pub const CHUNK_ROWS: usize = 8 * 1024;
+
+/// A table file being written, row by row.
+pub struct TableWriter<R: TableRow> {
+    path: PathBuf,
+    tmp: PathBuf,
+    writer: ArrowWriter<File>,
+    held: Vec<R>,
+    rows: u64,
+}
+
+impl<R: TableRow> TableWriter<R> {
+    /// Start writing table `R` at `path` (its directory must exist).
+    pub fn create(path: &Path) -> Result<TableWriter<R>, StoreError> {
+        let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+        let tmp = path.with_file_name(format!(".{name}.tmp"));
+        let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
+        let schema = std::sync::Arc::new(R::SPEC.arrow_schema());
+        let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
+        let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema)))
+            .map_err(|e| write_err(e.to_string()))?;
+        Ok(TableWriter { path: path.to_path_buf(), tmp, writer, held: Vec::with_capacity(CHUNK_ROWS), rows: 0 })
+    }
+
+    fn write_err(&self, why: String) -> StoreError {
+        StoreError::Write { path: self.path.clone(), why }
+    }
+
+    /// Encode the first `n` held rows.
+    fn encode(&mut self, n: usize) -> Result<(), StoreError> {
+        let batch = to_batch(&self.held[..n])?;
+        self.writer.write(&batch).map_err(|e| self.write_err(e.to_string()))?;
+        self.held.drain(..n);
+        Ok(())
+    }
+
+    /// Encode every whole chunk held.
+    fn drain_chunks(&mut self) -> Result<(), StoreError> {
+        while self.held.len() >= CHUNK_ROWS {
+            self.encode(CHUNK_ROWS)?;
+        }
+        // A large batch of rows (a run's truth) leaves no large buffer behind.
+        if self.held.capacity() > 2 * CHUNK_ROWS {
+            self.held.shrink_to(CHUNK_ROWS);
+        }
+        Ok(())
+    }
+
+    /// Add one row.
+    pub fn push(&mut self, row: R) -> Result<(), StoreError> {
+        self.held.push(row);
+        self.rows += 1;
+        self.drain_chunks()
+    }
+
+    /// Add rows, in order.
+    pub fn extend(&mut self, rows: Vec<R>) -> Result<(), StoreError> {
+        self.rows += rows.len() as u64;
+        self.held.extend(rows);
+        self.drain_chunks()
+    }
+
+    /// Rows written so far.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// Encode what is held, close the file and give it its name; returns the number of rows.
+    pub fn finish(mut self) -> Result<u64, StoreError> {
+        if !self.held.is_empty() {
+            self.encode(self.held.len())?;
+        }
+        self.writer.finish().map_err(|e| self.write_err(e.to_string()))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| self.write_err(e.to_string()))?;
+        Ok(self.rows)
+    }
+}
