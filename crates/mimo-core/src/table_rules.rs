@@ -104,12 +104,19 @@ fn check_times<K: Hash + Eq + std::fmt::Display>(
 }
 
 /// Keys that must be unique (e.g. `(run, dwell_id)`): the first repeat.
-pub fn unique<K: Hash + Eq + std::fmt::Display>(
+///
+/// Tables are written in key order, so keys that strictly increase are accepted after one
+/// comparison per row; only otherwise are they hashed, to find the first repeat and its row.
+pub fn unique<K: Hash + Eq + Ord + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     column: &'static str,
 ) -> Result<(), Violation> {
-    let mut seen: HashMap<K, usize> = HashMap::new();
-    for (row, key) in keys.into_iter().enumerate() {
+    let keys: Vec<K> = keys.into_iter().collect();
+    if keys.windows(2).all(|w| w[0] < w[1]) {
+        return Ok(());
+    }
+    let mut seen: HashMap<&K, usize> = HashMap::with_capacity(keys.len());
+    for (row, key) in keys.iter().enumerate() {
         match seen.entry(key) {
             Entry::Vacant(v) => {
                 v.insert(row);
@@ -144,7 +151,7 @@ pub fn run_of_file_name(name: &str) -> Option<u32> {
 }
 
 /// A key of two parts shown as `a/b` in messages (run and id).
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Key2<A, B>(pub A, pub B);
 
 impl<A: std::fmt::Display, B: std::fmt::Display> std::fmt::Display for Key2<A, B> {

@@ -165,22 +165,28 @@ impl<'a> Batch<'a> {
     /// A utf8 column of radar ids (`R1`…), parsed. Errors ([`StoreError::BadColumn`]) on a null or
     /// a value that is not a radar id, naming the row.
     pub fn radar(&self, name: &str) -> Result<Vec<RadarId>, StoreError> {
-        self.str(name)?
-            .iter()
-            .enumerate()
-            .map(|(i, s)| {
-                RadarId::parse(s).ok_or_else(|| self.bad(name, format!("row {i}: '{s}' is not a radar id like R1")))
-            })
-            .collect()
+        self.parse_each(name, RadarId::parse, "a radar id like R1")
     }
 
     /// A utf8 column of categories parsed by `parse`; `what` lists the accepted values for the
     /// error ([`StoreError::BadColumn`], naming the row) raised on a null or any other value.
     pub fn parsed<T>(&self, name: &str, parse: fn(&str) -> Option<T>, what: &str) -> Result<Vec<T>, StoreError> {
-        self.str(name)?
-            .iter()
-            .enumerate()
-            .map(|(i, s)| parse(s).ok_or_else(|| self.bad(name, format!("row {i}: '{s}' is not one of {what}"))))
+        self.parse_each(name, parse, &format!("one of {what}"))
+    }
+
+    /// Parse every value of a non-nullable utf8 column in place (no string is copied); `what`
+    /// completes "row i: 'x' is not …".
+    fn parse_each<T>(&self, name: &str, parse: impl Fn(&str) -> Option<T>, what: &str) -> Result<Vec<T>, StoreError> {
+        let a = self.col(name);
+        let a = a.as_any().downcast_ref::<StringArray>().ok_or_else(|| self.bad(name, "is not utf8"))?;
+        if a.null_count() > 0 {
+            return Err(self.bad(name, "has null values"));
+        }
+        (0..a.len())
+            .map(|i| {
+                let s = a.value(i);
+                parse(s).ok_or_else(|| self.bad(name, format!("row {i}: '{s}' is not {what}")))
+            })
             .collect()
     }
 

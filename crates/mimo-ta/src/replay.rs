@@ -12,14 +12,14 @@
 //! recorded measurements exactly. Truth never reaches the test article: `target_hint` is
 //! cleared before delivery.
 
-use mimo_core::records::{DwellKind, DwellRow, MeasurementRow, PrimitiveRow, Requester, Role, TrackRow};
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Role, TrackRow};
 use mimo_core::sink::{RunSink, SinkError};
 use mimo_core::time::SimTime;
 use mimo_sim::engine::{Engine, first_meas_id};
 use mimo_sim::messages::{DwellReport, PartReport, Reply};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, HashMap};
 
 /// What a re-run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,16 +75,6 @@ pub struct ReplayStats {
     pub ignored_requests: u64,
 }
 
-/// A dwell group of a recording.
-struct GroupRec {
-    kind: DwellKind,
-    requested_by: Requester,
-    t0_s: f64,
-    duration_s: f64,
-    aim: mimo_core::DVec3,
-    parts: Vec<PartReport>,
-}
-
 /// Re-run test article `ta` over one run's dwells and primitives or measurements. Track rows
 /// (and, from primitives, the re-formed measurements) go to `sink`.
 #[allow(clippy::too_many_arguments)] // the recording's tables, the test article and the sink
@@ -100,7 +90,9 @@ pub fn replay(
     sink: &mut dyn RunSink,
 ) -> Result<ReplayStats, ReplayError> {
     let fault = |ta: &dyn TestArticle, fault: TaFault| ReplayError::Ta { name: ta.name().to_string(), fault };
-    // The dwells table in dwell_id order; every row must name a face its radar has.
+    // The run's dwell parts in dwell_id order: dwell_id → group_id by binary search. Every part
+    // must name a face its ship has (checked here, cheaply, for every part; frames are computed
+    // only for the groups delivered).
     let mut rows: Vec<&DwellRow> = dwells.iter().filter(|d| d.run == run).collect();
     rows.sort_by_key(|d| d.dwell_id);
     for d in &rows {
@@ -109,31 +101,20 @@ pub fn replay(
             return Err(ReplayError::UnknownFace { dwell_id: d.dwell_id, radar: d.radar.to_string(), face: d.face });
         }
     }
-    // The group of every dwell a primitive or measurement names (only those: a run has ~10⁵–10⁶
-    // dwells, nearly all without a detection).
-    let named: BTreeSet<u64> = primitives
-        .iter()
-        .filter(|p| p.run == run)
-        .map(|p| p.dwell_id)
-        .chain(measurements.iter().filter(|m| m.run == run).map(|m| m.dwell_id))
-        .collect();
-    let group_of: BTreeMap<u64, u64> =
-        rows.iter().filter(|d| named.contains(&d.dwell_id)).map(|d| (d.dwell_id, d.group_id)).collect();
+    let group_of = |dwell_id: u64| rows.binary_search_by_key(&dwell_id, |d| d.dwell_id).ok().map(|i| rows[i].group_id);
 
     // Measurements (and, when subscribed, primitives) per group.
-    let mut meas_by_group: BTreeMap<u64, Vec<MeasurementRow>> = BTreeMap::new();
+    let mut meas_by_group: HashMap<u64, Vec<MeasurementRow>> = HashMap::new();
     let mut prims_by_group: BTreeMap<u64, Vec<PrimitiveRow>> = BTreeMap::new();
     for p in primitives.iter().filter(|p| p.run == run) {
-        let gid = *group_of
-            .get(&p.dwell_id)
-            .ok_or(ReplayError::UnknownDwell { table: "primitives", dwell_id: p.dwell_id })?;
+        let gid =
+            group_of(p.dwell_id).ok_or(ReplayError::UnknownDwell { table: "primitives", dwell_id: p.dwell_id })?;
         prims_by_group.entry(gid).or_default().push(p.clone());
     }
     match from {
         ReplayFrom::Measurements => {
             for m in measurements.iter().filter(|m| m.run == run) {
-                let gid = *group_of
-                    .get(&m.dwell_id)
+                let gid = group_of(m.dwell_id)
                     .ok_or(ReplayError::UnknownDwell { table: "measurements", dwell_id: m.dwell_id })?;
                 meas_by_group.entry(gid).or_default().push(m.clone());
             }
@@ -167,48 +148,54 @@ pub fn replay(
     take(reply, &mut stats, sink)?;
     let sub = ta.subscription();
 
-    // The groups the test article hears of, parts in dwell_id order.
-    let n_meas = |gid: u64| meas_by_group.get(&gid).map_or(0, Vec::len);
-    let mut groups: BTreeMap<u64, GroupRec> = BTreeMap::new();
-    for d in rows.iter().filter(|d| sub.wants(d.requested_by, n_meas(d.group_id))) {
-        let t_mid = d.t_s + 0.5 * d.duration_s;
-        let frame =
-            world.scenario.ships.get(d.radar.index()).and_then(|s| s.faces_at(t_mid).get(d.face as usize).copied());
-        let Some(frame) = frame else {
-            return Err(ReplayError::UnknownFace { dwell_id: d.dwell_id, radar: d.radar.to_string(), face: d.face });
-        };
-        let g = groups.entry(d.group_id).or_insert_with(|| GroupRec {
-            kind: d.kind,
-            requested_by: d.requested_by,
-            t0_s: d.t_s,
-            duration_s: d.duration_s,
-            aim: mimo_core::DVec3::new(d.aim_x_m, d.aim_y_m, d.aim_z_m),
-            parts: Vec::new(),
-        });
-        g.parts.push(PartReport {
-            radar: d.radar,
-            dwell_id: d.dwell_id,
-            transmits: d.role.transmits(),
-            receives: matches!(d.role, Role::Rx | Role::Txrx),
-            face: d.face,
-            beam_u: d.beam_u,
-            beam_v: d.beam_v,
-            n_pulses: d.n_pulses,
-            site_ecef: frame.origin_ecef,
-            face_from_ecef: PartReport::rows_of(&frame),
-        });
-    }
-
-    // Delivery order of the engine: end time, then group id.
-    let mut order: Vec<(SimTime, u64)> =
-        groups.iter().map(|(&gid, g)| (SimTime::from_secs(g.t0_s).plus_secs(g.duration_s), gid)).collect();
-    order.sort();
-    for (end, gid) in order {
-        let g = &groups[&gid];
-        let mut ms = meas_by_group.remove(&gid).unwrap_or_default();
-        if !sub.wants(g.requested_by, ms.len()) {
-            continue;
+    // Groups as runs of parts: part indices ordered by (group_id, dwell_id), so each group's parts
+    // are contiguous and in dwell_id order. A group's kind, requester, start, duration and aim are
+    // its first part's. Only the groups the subscription wants are kept.
+    let mut by_group: Vec<u32> = (0..rows.len() as u32).collect();
+    by_group.sort_by_key(|&i| (rows[i as usize].group_id, rows[i as usize].dwell_id));
+    let mut wanted: Vec<(SimTime, u64, std::ops::Range<usize>)> = Vec::new();
+    let mut k = 0;
+    while k < by_group.len() {
+        let first = rows[by_group[k] as usize];
+        let mut end = k + 1;
+        while end < by_group.len() && rows[by_group[end] as usize].group_id == first.group_id {
+            end += 1;
         }
+        let n_meas = meas_by_group.get(&first.group_id).map_or(0, Vec::len);
+        if sub.wants(first.requested_by, n_meas) {
+            let t_end = SimTime::from_secs(first.t_s).plus_secs(first.duration_s);
+            wanted.push((t_end, first.group_id, k..end));
+        }
+        k = end;
+    }
+    // Delivery order of the engine: end time, then group id.
+    wanted.sort_by_key(|w| (w.0, w.1));
+    for (end, gid, parts) in wanted {
+        let g = rows[by_group[parts.start] as usize];
+        let t_mid = g.t_s + 0.5 * g.duration_s;
+        let mut reports = Vec::with_capacity(parts.len());
+        for &i in &by_group[parts] {
+            let d = rows[i as usize];
+            // The engine's own (interpolated) face frames, so reports match the closed loop's.
+            let frame = world.face_at(d.radar, d.face, t_mid).ok_or_else(|| ReplayError::UnknownFace {
+                dwell_id: d.dwell_id,
+                radar: d.radar.to_string(),
+                face: d.face,
+            })?;
+            reports.push(PartReport {
+                radar: d.radar,
+                dwell_id: d.dwell_id,
+                transmits: d.role.transmits(),
+                receives: matches!(d.role, Role::Rx | Role::Txrx),
+                face: d.face,
+                beam_u: d.beam_u,
+                beam_v: d.beam_v,
+                n_pulses: d.n_pulses,
+                site_ecef: frame.origin_ecef,
+                face_from_ecef: PartReport::rows_of(&frame),
+            });
+        }
+        let mut ms = meas_by_group.remove(&gid).unwrap_or_default();
         ms.iter_mut().for_each(|m| m.target_hint = None);
         let mut ps = if sub.primitives { prims_by_group.remove(&gid).unwrap_or_default() } else { Vec::new() };
         ps.iter_mut().for_each(|p| p.target_hint = None);
@@ -219,12 +206,12 @@ pub fn replay(
             group_id: gid,
             kind: g.kind,
             requested_by: g.requested_by,
-            t_s: g.t0_s + 0.5 * g.duration_s,
+            t_s: t_mid,
             duration_s: g.duration_s,
             end_s: end.as_secs(),
-            aim_ecef: g.aim,
+            aim_ecef: mimo_core::DVec3::new(g.aim_x_m, g.aim_y_m, g.aim_z_m),
             tag: Vec::new(),
-            parts: g.parts.clone(),
+            parts: reports,
             measurements: ms,
             primitives: ps,
         };
