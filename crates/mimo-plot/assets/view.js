@@ -421,6 +421,11 @@
     document.getElementById('speed').addEventListener('change', function (e) { S.speed = Number(e.target.value); });
     document.getElementById('mode').addEventListener('change', function (e) { S.mode = e.target.value; draw(); });
     document.getElementById('vex').addEventListener('change', function (e) { S.vex = Number(e.target.value); draw(); });
+    // The scene has no mode bar (CONFIG): this button stands for its "reset camera".
+    document.getElementById('recenter').addEventListener('click', function () {
+      S.box = null;
+      Plotly.relayout(gd, { 'scene.camera': sceneLayout().scene.camera }).then(draw);
+    });
     var btn = document.getElementById('play'), last = null;
     // Play: every 40 ms, once the last render is done, time moves on by speed × the wall time
     // since the previous step (a timer, not animation frames, which headless browsers may hold).
