@@ -39,7 +39,12 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 function done(result) {
   process.stdout.write(JSON.stringify(result) + '\n');
   send('Browser.close').catch(() => {});
-  setTimeout(() => { chrome.kill(); rmSync(profile, { recursive: true, force: true }); process.exit(0); }, 500);
+  const clean = () => {
+    try { rmSync(profile, { recursive: true, force: true }); } catch (e) { /* Chromium may still be writing it */ }
+    process.exit(0);
+  };
+  chrome.on('exit', clean);
+  setTimeout(() => { chrome.kill(); setTimeout(clean, 1000); }, 2000);
 }
 (async () => {
   const targets = await send('Target.getTargets');
