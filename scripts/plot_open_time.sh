@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Open time of the run viewer (`mimo plot`, docs/design.md) in headless Debian Chromium with
-# the network off: a 1000-s scenario-7 run is simulated and scored (once, kept in runs/plot-s7),
+# the network off, driven over the DevTools protocol by scripts/plot_open_time.mjs (node): a 1000-s scenario-7 run is simulated and scored (once, kept in runs/plot-s7),
 # its page written, then opened N times from a file URL on the real clock. The page's own marks
 # (performance.now(), ms since navigation; see crates/mimo-plot/assets/view.js) are printed:
-# plotly.js parsed, data parsed, scene drawn, metrics panel drawn, first render (both drawn and
-# the first WebGL frame painted), and the mean time of a 1-s slider step from the self-test.
+# plotly.js parsed, data parsed, scene drawn, metrics panel drawn, first render (the scene's first
+# WebGL frame painted; pages before issue 11's third round: both panels drawn), all drawn (both
+# panels painted), and the mean and worst time of a 1-s slider step from the self-test.
 #
 #   scripts/plot_open_time.sh [N]           (default 3; uses target/debug/mimo)
 #   PAGE=old.html scripts/plot_open_time.sh  measure an existing page instead
@@ -30,23 +31,17 @@ fi
 printf 'page %s: %s bytes\n' "$page" "$(stat -c %s "$page")"
 url="file://$(realpath "$page")#selftest"
 for i in $(seq 1 "$n"); do
-  profile=$(mktemp -d)
-  dom=$("$chromium" --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader \
-    --disable-quic --no-first-run --disable-background-networking --disable-component-update --disable-sync \
-    --disable-extensions "--host-resolver-rules=MAP * ~NOTFOUND" --window-size=1400,1000 --timeout=30000 \
-    --user-data-dir="$profile" --dump-dom "$url" 2>/dev/null || true)
-  rm -rf "$profile"
-  printf '%s\n' "$dom" | python3 -c '
-import html, json, os, re, sys
-dom = sys.stdin.read()
-m = re.search(r"data-marks=\"([^\"]*)\"", dom)
-if not m:
-    print("open %s: no first render within 30 s" % sys.argv[1]); sys.exit(0)
-k = {a: round(x) for a, x in json.loads(html.unescape(m.group(1))).items()}
-v = re.search(r"MIMO-SELFTEST (\{[^<]*)", dom)
-v = json.loads(html.unescape(v.group(1))) if v else {}
-print("open %s: first render %5d ms | plotly %5d  data %5d  scene %5d  metrics %5d | slider step %s ms | self-test ok %s | load %.1f" % (
+  node scripts/plot_open_time.mjs "$chromium" "$url" 90000 | python3 -c '
+import json, os, sys
+r = json.loads(sys.stdin.read())
+k, v = r.get("marks") or {}, r.get("verdict") or {}
+if "first_render_ms" not in k:
+    print("open %s: no first render within 90 s" % sys.argv[1]); sys.exit(0)
+k = {a: round(x) for a, x in k.items()}
+rnd = lambda x: round(x) if x else "n/a"
+print("open %s: first render %5d ms | plotly %5d  data %5d  scene %5d  metrics %5d  all drawn %5d | slider step mean %s worst %s ms | self-test ok %s | load %.1f" % (
     sys.argv[1], k["first_render_ms"], k["plotly_loaded_ms"], k["data_parsed_ms"], k.get("scene_ms", -1), k.get("metrics_ms", -1),
-    round(v["step_render_ms"]) if v.get("step_render_ms") else "n/a", v.get("ok", "n/a"), os.getloadavg()[0]))
+    k.get("all_drawn_ms", k["first_render_ms"]), rnd(v.get("step_render_ms")), rnd(v.get("step_worst_ms")),
+    v.get("ok", "n/a"), os.getloadavg()[0]))
 ' "$i"
 done

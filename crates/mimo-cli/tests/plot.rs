@@ -119,6 +119,8 @@ fn page_works_offline_in_headless_chromium() {
         "metrics_click_moves_time",
         "play_then_pause",
         "slider_moves_state",
+        "earth_not_uploaded_on_slider_steps",
+        "framing_holds_ships_and_targets",
     ] {
         assert_eq!(v["checks"][check], true, "self-test check {check} failed: {v}");
     }

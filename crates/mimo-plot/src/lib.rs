@@ -14,7 +14,9 @@
 //! * [`source`] opens a run directory (following `parent` links, docs/design.md §2).
 //! * [`view`] builds the [`View`]: every position in a local ENU plot frame ([`frame`]), objects
 //!   as time-sorted columns ([`objects`]), the earth ([`globe`]), the linked metrics
-//!   ([`linked`]), covariance ellipsoid axes ([`ellipsoid`]).
+//!   ([`linked`]), covariance ellipsoid axes ([`ellipsoid`]), truth and track paths thinned within
+//!   a position tolerance ([`decimate`]), and boxes that frame what is in view at each time
+//!   ([`framing`]).
 //! * [`html`] renders the page with plotly.js (gl3d bundle) inlined; [`write_page`] writes it.
 //!
 //! Rendering uses plotly.js rather than hand-written WebGL; see docs/DECISIONS.md for the
@@ -25,8 +27,10 @@
 
 mod error;
 
+pub mod decimate;
 pub mod ellipsoid;
 pub mod frame;
+pub mod framing;
 pub mod globe;
 pub mod html;
 pub mod linked;

@@ -3,6 +3,7 @@
 //! the plot frame ([`crate::frame`]); every column set is sorted by time, so the page finds the
 //! rows of a time window by bisection.
 
+use crate::decimate::{keep_within, points};
 use crate::ellipsoid::{position_block, sigma_axes};
 use crate::frame::PlotFrame;
 use crate::linked::RunScore;
@@ -95,14 +96,16 @@ pub struct TruthPath {
 }
 
 /// Truth paths per target (in `targets` order), keeping the samples within `[t0, t1]` that fall
-/// on multiples of `step_s` (and each target's first and last sample in the window).
+/// on multiples of `step_s` (every sample when `step_s` ≤ 0; and each target's first and last
+/// sample in the window), then thinned so that every kept-or-not sample is within `tol_m` of
+/// the drawn path at its time ([`crate::decimate::keep_within`]).
 pub fn truth_paths(
     frame: &PlotFrame,
     rows: &[TruthRow],
     targets: &[String],
-    t0: f64,
-    t1: f64,
+    (t0, t1): (f64, f64),
     step_s: f64,
+    tol_m: f64,
 ) -> Vec<TruthPath> {
     let mut by: BTreeMap<&str, Vec<&TruthRow>> = BTreeMap::new();
     for r in rows.iter().filter(|r| r.t_s >= t0 && r.t_s <= t1) {
@@ -116,7 +119,7 @@ pub fn truth_paths(
             let last = v.len().saturating_sub(1);
             let mut out = TruthPath { id: id.clone(), t: Vec::new(), p: Vec::new(), v: Vec::new() };
             for (i, r) in v.iter().enumerate() {
-                let on_step = ((r.t_s / step_s).round() * step_s - r.t_s).abs() < 1e-6;
+                let on_step = step_s <= 0.0 || ((r.t_s / step_s).round() * step_s - r.t_s).abs() < 1e-6;
                 if on_step || i == 0 || i == last {
                     out.t.push(ms(r.t_s));
                     out.p.extend(frame.to_plot(DVec3::new(r.x_m, r.y_m, r.z_m)));
@@ -124,9 +127,20 @@ pub fn truth_paths(
                     out.v.extend([vel.x, vel.y, vel.z].map(|x| x.round() as i64));
                 }
             }
-            out
+            let keep = keep_within(&out.t, &points(&out.p), tol_m);
+            TruthPath {
+                id: out.id,
+                t: retain(&out.t, 1, &keep),
+                p: retain(&out.p, 3, &keep),
+                v: retain(&out.v, 3, &keep),
+            }
         })
         .collect()
+}
+
+/// The rows of a column of `width` values per row whose `keep` flag is set.
+fn retain<T: Copy>(col: &[T], width: usize, keep: &[bool]) -> Vec<T> {
+    col.chunks_exact(width).zip(keep).filter(|(_, k)| **k).flat_map(|(c, _)| c.iter().copied()).collect()
 }
 
 /// Track states, one per track row.
@@ -179,6 +193,43 @@ pub fn track_cols(
         c.tk.push(ms(k as f64 * score.interval_s));
     }
     c
+}
+
+/// Thin each track's states within `tol_m` ([`crate::decimate::keep_within`] on each run of
+/// one status, so every status change, each track's first and last state and every deletion
+/// stay). Returns the thinned columns and the number of states dropped.
+pub fn thin_tracks(c: TrackCols, tol_m: f64) -> (TrackCols, usize) {
+    let mut runs: BTreeMap<(u64, usize), Vec<usize>> = BTreeMap::new();
+    let mut run_of: HashMap<u64, (usize, u8)> = HashMap::new();
+    for (i, (&id, &st)) in c.id.iter().zip(&c.st).enumerate() {
+        let e = run_of.entry(id).or_insert((0, st));
+        if e.1 != st {
+            *e = (e.0 + 1, st);
+        }
+        runs.entry((id, e.0)).or_default().push(i);
+    }
+    let p = points(&c.p);
+    let mut keep = vec![false; c.t.len()];
+    for rows in runs.values() {
+        let t: Vec<f64> = rows.iter().map(|&i| c.t[i]).collect();
+        let q: Vec<[f64; 3]> = rows.iter().map(|&i| p[i]).collect();
+        for (&i, k) in rows.iter().zip(keep_within(&t, &q, tol_m)) {
+            keep[i] = k;
+        }
+    }
+    let dropped = keep.iter().filter(|k| !**k).count();
+    let out = TrackCols {
+        t: retain(&c.t, 1, &keep),
+        id: retain(&c.id, 1, &keep),
+        st: retain(&c.st, 1, &keep),
+        p: retain(&c.p, 3, &keep),
+        v: retain(&c.v, 3, &keep),
+        ax: retain(&c.ax, 9, &keep),
+        n: retain(&c.n, 1, &keep),
+        truth: retain(&c.truth, 1, &keep),
+        tk: retain(&c.tk, 1, &keep),
+    };
+    (out, dropped)
 }
 
 /// Measurements placed in space by the §5.4 conversion (docs/model.md).

@@ -1,8 +1,8 @@
 //! The view: everything the page shows, built from a run (docs/design.md §2–§3, §6).
 //!
-//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run near 9 MB:
-//! truth at 1 Hz (the tables hold 10 Hz; the path between samples is a straight chord),
-//! ship paths at 1 Hz, every track row, every measurement, and one beam point per dwell group
+//! What is drawn, and what is thinned to keep a 1000-s scenario-7 run small and quick to draw:
+//! truth and track paths thinned within a position tolerance ([`crate::decimate`]; the path
+//! between kept samples is a straight chord), ship paths at 1 Hz, every measurement, and one beam point per dwell group
 //! the test article requested. Background search dwells (over 90 % of all dwells) are not drawn
 //! as beams — they are the radars' own raster — but their detections are drawn as
 //! measurements. The earth is a graticule, not a filled mesh (a mesh costs seconds of WebGL set-up
@@ -10,6 +10,7 @@
 
 use crate::PlotError;
 use crate::frame::{FrameJson, PlotFrame};
+use crate::framing::{Framing, framing};
 use crate::globe::{Polylines, coastlines, globe_graticule, graticule};
 use crate::linked::{self, RunScore};
 use crate::objects::{self, BeamCols, MeasCols, RadarView, TrackCols, TruthPath};
@@ -28,15 +29,28 @@ pub struct ViewOptions {
     pub from_s: Option<f64>,
     /// Window end (s); the run's end when None.
     pub to_s: Option<f64>,
-    /// Truth samples kept every this many seconds.
+    /// Truth samples kept every this many seconds before thinning (every sample when ≤ 0).
     pub truth_step_s: f64,
     /// Ship positions sampled every this many seconds.
     pub ship_step_s: f64,
+    /// Position tolerance of the thinned truth and track paths (m; 0 keeps every sample):
+    /// every sample left out is within it of the drawn path at its time (crate::decimate).
+    pub tolerance_m: f64,
+    /// Step of the framing boxes (s, crate::framing).
+    pub framing_step_s: f64,
 }
 
 impl Default for ViewOptions {
     fn default() -> Self {
-        ViewOptions { run: 0, from_s: None, to_s: None, truth_step_s: 1.0, ship_step_s: 1.0 }
+        ViewOptions {
+            run: 0,
+            from_s: None,
+            to_s: None,
+            truth_step_s: 0.0,
+            ship_step_s: 1.0,
+            tolerance_m: 20.0,
+            framing_step_s: 10.0,
+        }
     }
 }
 
@@ -122,6 +136,8 @@ pub struct View {
     pub globe: Polylines,
     /// The region around the scenario.
     pub region: Region,
+    /// What the region view frames at each time.
+    pub framing: Framing,
 }
 
 /// Check and resolve the time window against the run's duration.
@@ -194,8 +210,9 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
     let targets: Vec<String> = src.scenario.targets.iter().map(|t| t.id.clone()).collect();
     let radars: Vec<RadarView> =
         ships.iter().map(|s| objects::radar_view(&frame, s, t0, t1, opts.ship_step_s)).collect();
-    let truth = objects::truth_paths(&frame, &tables.truth, &targets, t0, t1, opts.truth_step_s);
-    let tracks = objects::track_cols(&frame, &tables.tracks, &score, &targets, t0, t1);
+    let truth = objects::truth_paths(&frame, &tables.truth, &targets, (t0, t1), opts.truth_step_s, opts.tolerance_m);
+    let (tracks, tracks_thinned) =
+        objects::thin_tracks(objects::track_cols(&frame, &tables.tracks, &score, &targets, t0, t1), opts.tolerance_m);
 
     let kinds: HashMap<u64, DwellKind> = tables.dwells.iter().map(|d| (d.dwell_id, d.kind)).collect();
     let mut used_by: HashMap<u64, u64> = HashMap::new();
@@ -226,10 +243,20 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
     let truth_rows = tables.truth.iter().filter(|r| in_window(r.t_s)).count();
     let truth_kept: usize = truth.iter().map(|p| p.t.len()).sum();
     let search_parts = tables.dwells.iter().filter(|d| d.kind == DwellKind::Search && in_window(d.t_s)).count();
+    let step =
+        if opts.truth_step_s > 0.0 { format!(" sampled every {} s, then", opts.truth_step_s) } else { String::new() };
+    let tol = opts.tolerance_m;
     let mut dropped = vec![
         format!(
-            "truth thinned from {truth_rows} samples (10 Hz) to {truth_kept} (every {} s); paths are chords between them",
-            opts.truth_step_s
+            "truth thinned from {truth_rows} samples (10 Hz) to {truth_kept},{step} within {tol} m: every sample left out is within {tol} m of the drawn path (chords between kept samples) at its own time"
+        ),
+        format!(
+            "{tracks_thinned} of {} track states left out (not drawn, not clickable), within {tol} m: each left-out state is within {tol} m of the chord between the kept states of its track at its time; every track's first and last state, every status change and every deletion are kept",
+            tracks_thinned + tracks.t.len()
+        ),
+        format!(
+            "the region view frames the ships and targets of the current time (boxes every {} s, kept while what is in view stays inside), not the whole run; zoom out or use the globe view for the rest",
+            opts.framing_step_s
         ),
         format!(
             "{search_parts} background-search dwell parts are not drawn as beams (the radars' own raster); their detections are drawn as measurements"
@@ -247,6 +274,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         ));
     }
     let region = region(&frame, &truth, &radars);
+    let framing = framing(&frame, &radars, &truth, t0, t1, opts.framing_step_s.max(1.0));
     Ok(View {
         meta: Meta {
             scenario: src.scenario.name.clone(),
@@ -271,5 +299,6 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         coast: coastlines(&frame),
         globe: globe_graticule(&frame),
         region,
+        framing,
     })
 }

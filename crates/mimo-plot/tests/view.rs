@@ -202,6 +202,11 @@ fn at(v: &[i64], i: usize) -> [i64; 3] {
     [v[3 * i], v[3 * i + 1], v[3 * i + 2]]
 }
 
+/// Truth at 1 Hz and every track row (no thinning within a tolerance).
+fn every_row() -> ViewOptions {
+    ViewOptions { truth_step_s: 1.0, tolerance_m: 0.0, ..ViewOptions::default() }
+}
+
 fn frame(run: &Run) -> PlotFrame {
     PlotFrame::at(run.scenario.centre())
 }
@@ -209,7 +214,7 @@ fn frame(run: &Run) -> PlotFrame {
 #[test]
 fn coordinates_round_trip_to_the_tables() {
     let run = make_run(track_rows());
-    let view = view_of(&run, &ViewOptions::default()).expect("view");
+    let view = view_of(&run, &every_row()).expect("view");
     let f = frame(&run);
     let tol = 0.5 * 3f64.sqrt() + 1e-6; // whole metres per axis
     // Truth at 1 Hz: every kept sample is a table row, to the metre.
@@ -357,10 +362,37 @@ fn linked_metrics_follow_the_scoring_rules() {
 }
 
 #[test]
+fn straight_paths_are_thinned_to_their_ends_and_the_page_says_within_what() {
+    let run = make_run(track_rows());
+    let view = view_of(&run, &ViewOptions::default()).expect("view");
+    // F-1 flies straight and level at 250 m/s: of its 601 samples (10 Hz) the ends are kept.
+    let path = &view.truth[view.targets.iter().position(|t| t == "F-1").expect("F-1")];
+    assert_eq!(path.t, vec![0.0, 60.0]);
+    assert_eq!(path.v.len(), 6);
+    // Track 7: its tentative first state, the first and last confirmed ones.
+    assert_eq!(view.tracks.t, vec![10.0, 11.0, 49.0]);
+    assert_eq!(view.tracks.st, vec![0, 1, 1]);
+    assert_eq!(view.tracks.ax.len(), 27);
+    assert_eq!(view.tracks.n, vec![1, 2, 40]);
+    let said = view.meta.dropped.join("\n");
+    assert!(said.contains("within 20 m") && said.contains("37 of 40 track states"), "{said}");
+    // The framing boxes cover the window in 10-s steps and hold F-1.
+    assert_eq!(view.framing.lo.len(), 6);
+    for (k, (lo, hi)) in view.framing.lo.iter().zip(&view.framing.hi).enumerate() {
+        let p = [path.p[0] as f64, path.p[1] as f64, path.p[2] as f64];
+        let q = [path.p[3] as f64, path.p[4] as f64, path.p[5] as f64];
+        let w = (k as f64 * 10.0 + 5.0) / 60.0;
+        for a in 0..3 {
+            let x = p[a] + w * (q[a] - p[a]);
+            assert!(x >= lo[a] as f64 && x <= hi[a] as f64, "step {k}: F-1 outside the box");
+        }
+    }
+}
+
+#[test]
 fn a_window_keeps_only_its_objects() {
     let run = make_run(track_rows());
-    let view =
-        view_of(&run, &ViewOptions { from_s: Some(15.0), to_s: Some(25.0), ..ViewOptions::default() }).expect("view");
+    let view = view_of(&run, &ViewOptions { from_s: Some(15.0), to_s: Some(25.0), ..every_row() }).expect("view");
     assert!(view.tracks.t.iter().all(|&t| (15.0..=25.0).contains(&t)));
     assert_eq!(view.tracks.t.len(), 11);
     assert_eq!(view.meas.t, vec![20.0]);
