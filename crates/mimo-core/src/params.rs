@@ -29,6 +29,39 @@ pub enum Swerling {
     Sw3,
 }
 
+/// Rung of the fidelity ladder (docs/model.md §4.8): how a channel's detections are produced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FidelityLevel {
+    /// I/Q voltages per cell, threshold, clustering, centroiding and ML monopulse (§2–§4).
+    #[default]
+    Voltage,
+    /// Measurements drawn from the statistics the voltage level produces; no cells simulated.
+    Measurement,
+    /// The voltage level in channels with targets close to each other (or when voltages are
+    /// recorded), the measurement level elsewhere.
+    Auto,
+}
+
+impl FidelityLevel {
+    /// Every level, in ladder order.
+    pub const ALL: [FidelityLevel; 3] = [FidelityLevel::Voltage, FidelityLevel::Measurement, FidelityLevel::Auto];
+
+    /// The name used in scenario files, on the command line and in the manifest.
+    pub fn name(self) -> &'static str {
+        match self {
+            FidelityLevel::Voltage => "voltage",
+            FidelityLevel::Measurement => "measurement",
+            FidelityLevel::Auto => "auto",
+        }
+    }
+
+    /// Parse a name of [`FidelityLevel::name`].
+    pub fn parse(s: &str) -> Option<FidelityLevel> {
+        FidelityLevel::ALL.into_iter().find(|l| l.name() == s)
+    }
+}
+
 /// Parameters of one ship radar (docs/model.md §3.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -253,6 +286,8 @@ pub struct Fidelity {
     pub explicit_cells_each_side: u32,
     /// Truth sample rate (Hz) of the truth table.
     pub truth_rate_hz: f64,
+    /// Rung of the fidelity ladder (docs/model.md §4.8); default voltage.
+    pub level: FidelityLevel,
 }
 
 impl Default for Fidelity {
@@ -264,6 +299,7 @@ impl Default for Fidelity {
             waveform_isolation_db: None,
             explicit_cells_each_side: 3,
             truth_rate_hz: 10.0,
+            level: FidelityLevel::Voltage,
         }
     }
 }

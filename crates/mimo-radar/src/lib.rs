@@ -13,6 +13,8 @@
 //! | [`range`] | `ρ = R_B/2`, cell grid, triangular response, straddle loss | §4.1 |
 //! | [`dwell`] | per-channel voltages: explicit cells near returns, §4.4 false-alarm shortcut, waveform leakage | §2.4, §2.7, §4.2, §4.4, §5.2, §5.3 |
 //! | [`detect`] | threshold, clusters, two-point range centroid, ML monopulse, variances, merged flag | §2.5–§2.7, §4.3, §4.5, §4.6 |
+//! | [`ladder`] | which rung of the fidelity ladder evaluates a channel (`voltage`, `measurement`, `auto`) | §4.8 |
+//! | [`statistical`] | the measurement rung: detections drawn from the voltage level's statistics, no cells | §4.8 |
 //! | [`measure`] | primitives → measurements (the only implementation, used online and offline) | §4.5 |
 //! | [`energy`] | predicted SNR, required SNR, pointing/straddle loss, pulses per dwell, dwell time and energy | §7.2, §7.3 |
 //!
@@ -65,11 +67,13 @@ pub mod energy;
 pub mod equation;
 pub mod fluctuation;
 pub mod geometry;
+pub mod ladder;
 pub mod measure;
 pub mod monopulse;
 pub mod pattern;
 pub mod range;
 mod returns;
+pub mod statistical;
 
 pub use detect::{Cell, Source};
 pub use dwell::{Channel, Dwell, DwellOutput, RangeWindow, Receiver, Target, Transmitter, evaluate};
