@@ -1,10 +1,10 @@
 //! Which rung of the fidelity ladder evaluates a channel (docs/model.md §4.8).
 //!
-//! * `voltage`: every channel at the voltage level (cells, detection, ML monopulse).
+//! * `voltage`: every channel at the voltage level (cells, detection, ML monopulse). A dwell
+//!   with `simulate_all_cells` (the reference mode) is at the voltage level whatever the level.
 //! * `measurement`: every channel at the measurement level ([`crate::statistical`]).
 //! * `auto`: the voltage level where it matters, the measurement level elsewhere. A channel is
-//!   evaluated at the voltage level when voltages are recorded, when every cell is simulated
-//!   (reference mode), when waveform leakage is modelled, or when two of its returns are within
+//!   evaluated at the voltage level when voltages are recorded, when waveform leakage is modelled, or when two of its returns are within
 //!   [`AUTO_RANGE_CELLS`] range cells **and** [`AUTO_BEAMWIDTHS`] beamwidths (in `u` and in `v`) of
 //!   each other: there the voltages of close targets interfere (§2.7) and the detector's clusters
 //!   and local maxima, which the measurement level only approximates by its one-cell,
@@ -31,11 +31,15 @@ pub enum Rung {
 
 /// The rung of the channel `(j → i)` of a dwell whose returns in that channel are `rets`.
 pub fn channel_rung(d: &Dwell, i: usize, rets: &[Return]) -> Rung {
+    if d.simulate_all_cells {
+        // The reference mode simulates every cell: it is the voltage level by definition.
+        return Rung::Voltage;
+    }
     match d.fidelity.level {
         FidelityLevel::Voltage => Rung::Voltage,
         FidelityLevel::Measurement => Rung::Measurement,
         FidelityLevel::Auto => {
-            if d.record_voltages || d.simulate_all_cells || d.fidelity.waveform_isolation_db.is_some() {
+            if d.record_voltages || d.fidelity.waveform_isolation_db.is_some() {
                 return Rung::Voltage;
             }
             if rets.len() < 2 {

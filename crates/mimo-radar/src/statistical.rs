@@ -114,10 +114,11 @@ pub(crate) fn measure_channel(
     let mut ch =
         Channel { tx: j, rx: i, window, cells: Vec::new(), returns: rets.clone(), shortcut_cells: 0, false_alarms: 0 };
     let Some((kmin, kmax)) = window else { return (ch, Vec::new()) };
-    let ant = Antenna::new(rx.params, d.fidelity.pattern);
-    let groups = unresolved_groups(rets, dr, ant.theta_u(), ant.theta_v());
-    let mut segs = Vec::with_capacity(groups.len());
+    let mut segs = Vec::new();
     let mut out = Vec::new();
+    // Most channels (every empty search dwell) have no return: no antenna, no groups.
+    let ant = (!rets.is_empty()).then(|| Antenna::new(rx.params, d.fidelity.pattern));
+    let groups = ant.as_ref().map_or_else(Vec::new, |a| unresolved_groups(rets, dr, a.theta_u(), a.theta_v()));
     for g in &groups {
         let k_lo = g.iter().map(|&t| (rets[t].rho_m / dr).floor() as i64).min().unwrap_or(0);
         let k_hi = g.iter().map(|&t| (rets[t].rho_m / dr).floor() as i64 + 1).max().unwrap_or(0);
@@ -128,16 +129,18 @@ pub(crate) fn measure_channel(
         segs.push((a, b));
         let first = targets.get(rets[g[0]].target).map_or(0, |t| u64::from(t.index));
         let mut s = stream(d, &[KEY_STATISTICAL, tx.radar.0 as u64, rx.radar.0 as u64, first]);
-        if let Some(p) = group_primitive(d, i, j, rets, g, (a, b), (k_lo, k_hi), &ant, &mut s, targets) {
+        if let Some(ant) = &ant
+            && let Some(p) = group_primitive(d, i, j, rets, g, (a, b), (k_lo, k_hi), ant, &mut s, targets)
+        {
             out.push(p);
         }
     }
     // False alarms over the rest of the window (§4.4), detected as at the voltage level.
-    let segs = merge_intervals(segs);
-    if !d.simulate_all_cells {
-        let fa = false_alarm_cells(d, j, i, (kmin, kmax), &segs);
-        ch.shortcut_cells = fa.shortcut_cells;
-        ch.false_alarms = fa.false_alarms;
+    let segs = if segs.len() > 1 { merge_intervals(segs) } else { segs };
+    let fa = false_alarm_cells(d, j, i, (kmin, kmax), &segs);
+    ch.shortcut_cells = fa.shortcut_cells;
+    ch.false_alarms = fa.false_alarms;
+    if !fa.cells.is_empty() {
         ch.cells = fa.cells;
         ch.cells.sort_unstable_by_key(|c: &Cell| c.k);
         out.extend(detect_channel(d, &ch, targets));
