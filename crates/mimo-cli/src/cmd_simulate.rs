@@ -45,7 +45,7 @@ pub struct Args {
     pub record: Vec<String>,
     /// Rung of the fidelity ladder (docs/model.md §4.8): `voltage` (I/Q per cell, ML monopulse),
     /// `measurement` (drawn from the voltage level's statistics, no cells) or `auto` (voltage where
-    /// targets are close, measurement elsewhere) [default: the scenario's `[fidelity] level`].
+    /// targets are close, measurement elsewhere) [default: the scenario's `[fidelity] level`, auto].
     #[arg(long, value_name = "LEVEL")]
     pub fidelity: Option<String>,
     #[command(flatten)]

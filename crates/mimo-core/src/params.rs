@@ -34,12 +34,13 @@ pub enum Swerling {
 #[serde(rename_all = "snake_case")]
 pub enum FidelityLevel {
     /// I/Q voltages per cell, threshold, clustering, centroiding and ML monopulse (§2–§4).
-    #[default]
     Voltage,
     /// Measurements drawn from the statistics the voltage level produces; no cells simulated.
     Measurement,
-    /// The voltage level in channels with targets close to each other (or when voltages are
-    /// recorded), the measurement level elsewhere.
+    /// The default: the voltage level in channels with targets close to each other (or when
+    /// voltages are recorded), the measurement level elsewhere (docs/DECISIONS.md, "The fidelity
+    /// ladder": the fastest rung that holds every band).
+    #[default]
     Auto,
 }
 
@@ -286,7 +287,7 @@ pub struct Fidelity {
     pub explicit_cells_each_side: u32,
     /// Truth sample rate (Hz) of the truth table.
     pub truth_rate_hz: f64,
-    /// Rung of the fidelity ladder (docs/model.md §4.8); default voltage.
+    /// Rung of the fidelity ladder (docs/model.md §4.8); default auto.
     pub level: FidelityLevel,
 }
 
@@ -299,7 +300,7 @@ impl Default for Fidelity {
             waveform_isolation_db: None,
             explicit_cells_each_side: 3,
             truth_rate_hz: 10.0,
-            level: FidelityLevel::Voltage,
+            level: FidelityLevel::Auto,
         }
     }
 }

@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .collect();
     let title = format!(
-        "Fidelity ladder: scenario {}, {} × {} s, dev build, 1 thread",
+        "Fidelity ladder: scenario {}, {} × {} s, dev build, 1 thread (walls on a loaded machine)",
         v["scenario"], v["runs"], v["duration_s"]
     );
     draw_fidelity(&points, &title, Path::new(output))?;

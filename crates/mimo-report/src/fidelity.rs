@@ -38,7 +38,7 @@ pub(crate) fn draw_fidelity_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shi
         .margin_right(40)
         .x_label_area_size(55)
         .y_label_area_size(80)
-        .build_cartesian_2d((x0 - pad)..(x1 + pad), y_lo..1.0 + (1.0 - y_lo) * 0.08)
+        .build_cartesian_2d((x0 - pad)..(x1 + 2.5 * pad), y_lo..1.0 + (1.0 - y_lo) * 0.08)
         .map_err(e)?;
     chart
         .configure_mesh()
