@@ -27,7 +27,10 @@
 //!   └─ dwell::detect_channel → PrimitiveRow (ρ̂, û, v̂, S, T, merged, variances, target_hint)
 //!   └─ measure::measurements_from_primitives → MeasurementRow
 //! ```
-//! [`dwell::evaluate`] does the first two for all channels (and the voltage rows when asked).
+//! [`dwell::evaluate`] does the first two for all channels (and the voltage rows when asked), each
+//! channel at its rung of the fidelity ladder ([`ladder`], docs/model.md §4.8): the flow above is
+//! the `voltage` rung; at the `measurement` rung [`statistical`] draws the primitives from the
+//! statistics the voltage rung produces, without cells.
 //!
 //! ## Conventions and decisions
 //!
