@@ -43,6 +43,11 @@ pub struct Args {
     /// Extra tables to record: `voltages` (complex I/Q per range cell; large).
     #[arg(long, value_name = "TABLE")]
     pub record: Vec<String>,
+    /// Rung of the fidelity ladder (docs/model.md §4.8): `voltage` (I/Q per cell, ML monopulse),
+    /// `measurement` (drawn from the voltage level's statistics, no cells) or `auto` (voltage where
+    /// targets are close, measurement elsewhere) [default: the scenario's `[fidelity] level`, auto].
+    #[arg(long, value_name = "LEVEL")]
+    pub fidelity: Option<String>,
     #[command(flatten)]
     pub ta: TaArgs,
     /// Pulses per background search dwell in the low (0–2.5°) search band.
@@ -89,6 +94,13 @@ pub fn scenario_error(arg: &str, e: mimo_scenario::ScenarioError) -> CliError {
     }
 }
 
+/// Parse `--fidelity voltage|measurement|auto` (shared by the commands that take it).
+pub fn parse_fidelity_level(s: &str) -> Result<mimo_core::params::FidelityLevel, CliError> {
+    mimo_core::params::FidelityLevel::parse(s.trim()).ok_or_else(|| {
+        CliError::input(format!("--fidelity: unknown level '{s}', expected 'voltage', 'measurement' or 'auto'"))
+    })
+}
+
 /// Resolve `--scenario`: a number 1–7 or a path.
 pub fn load_scenario(arg: &str) -> Result<Scenario, CliError> {
     match arg.trim().parse::<u32>() {
@@ -129,6 +141,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         scenario.duration_s = d;
     }
     check_threads(a.threads)?;
+    if let Some(f) = &a.fidelity {
+        scenario.fidelity.level = parse_fidelity_level(f)?;
+    }
     let record_voltages = match a.record.as_slice() {
         [] => false,
         r if r.iter().all(|x| x == "voltages") => true,

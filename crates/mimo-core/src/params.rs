@@ -29,6 +29,40 @@ pub enum Swerling {
     Sw3,
 }
 
+/// Rung of the fidelity ladder (docs/model.md §4.8): how a channel's detections are produced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FidelityLevel {
+    /// I/Q voltages per cell, threshold, clustering, centroiding and ML monopulse (§2–§4).
+    Voltage,
+    /// Measurements drawn from the statistics the voltage level produces; no cells simulated.
+    Measurement,
+    /// The default: the voltage level in channels with targets close to each other (or when
+    /// voltages are recorded), the measurement level elsewhere (docs/DECISIONS.md, "The fidelity
+    /// ladder": the fastest rung that holds every band).
+    #[default]
+    Auto,
+}
+
+impl FidelityLevel {
+    /// Every level, in ladder order.
+    pub const ALL: [FidelityLevel; 3] = [FidelityLevel::Voltage, FidelityLevel::Measurement, FidelityLevel::Auto];
+
+    /// The name used in scenario files, on the command line and in the manifest.
+    pub fn name(self) -> &'static str {
+        match self {
+            FidelityLevel::Voltage => "voltage",
+            FidelityLevel::Measurement => "measurement",
+            FidelityLevel::Auto => "auto",
+        }
+    }
+
+    /// Parse a name of [`FidelityLevel::name`].
+    pub fn parse(s: &str) -> Option<FidelityLevel> {
+        FidelityLevel::ALL.into_iter().find(|l| l.name() == s)
+    }
+}
+
 /// Parameters of one ship radar (docs/model.md §3.3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -273,6 +307,8 @@ pub struct Fidelity {
     /// Gaussian 2×2 scattering matrix `S` and the radars' linear polarizations, in place of the
     /// Swerling draw. Default off (every radar and target then behaves as co-polarized SW1/SW0/SW3).
     pub polarization: bool,
+    /// Rung of the fidelity ladder (docs/model.md §4.8); default auto.
+    pub level: FidelityLevel,
 }
 
 impl Default for Fidelity {
@@ -285,6 +321,7 @@ impl Default for Fidelity {
             explicit_cells_each_side: 3,
             truth_rate_hz: 10.0,
             polarization: false,
+            level: FidelityLevel::Auto,
         }
     }
 }

@@ -11,7 +11,7 @@ use num_complex::Complex64;
 use std::collections::BTreeSet;
 
 /// Merge closed integers intervals (sorted output, disjoint, non-adjacent merged too).
-fn merge_intervals(mut iv: Vec<(i64, i64)>) -> Vec<(i64, i64)> {
+pub(crate) fn merge_intervals(mut iv: Vec<(i64, i64)>) -> Vec<(i64, i64)> {
     iv.sort_unstable();
     let mut out: Vec<(i64, i64)> = Vec::with_capacity(iv.len());
     for (a, b) in iv {
@@ -135,59 +135,83 @@ pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec
 
     // False alarms in the remaining noise-only cells (§4.4).
     if !d.simulate_all_cells {
-        let m = (kmax - kmin + 1 - explicit).max(0) as u64;
-        ch.shortcut_cells = m;
-        let mut fa = stream(d, &[KEY_FALSE_ALARM, tx.radar.0 as u64, rx.radar.0 as u64]);
-        let n_fa = fa.binomial(m, rx.params.pfa);
-        ch.false_alarms = n_fa;
-        if n_fa > 0 {
-            let gamma = rx.params.threshold();
-            // Floyd's algorithm: n_fa distinct uniform indices in [0, m).
-            let mut chosen: BTreeSet<u64> = BTreeSet::new();
-            for top in (m - n_fa)..m {
-                let t = fa.below(top + 1);
-                if !chosen.insert(t) {
-                    chosen.insert(top);
-                }
-            }
-            // Map to cell indices (ascending), skipping the explicit segments.
-            let fa_cells: Vec<i64> = chosen
-                .iter()
-                .map(|&p| {
-                    let mut k = kmin + p as i64;
-                    for &(a, b) in &segs {
-                        if k >= a {
-                            k += b - a + 1;
-                        } else {
-                            break;
-                        }
-                    }
-                    k
-                })
-                .collect();
-            let below = 1.0 - (-gamma).exp();
-            let mut taken: BTreeSet<i64> = fa_cells.iter().copied().collect();
-            let mut extra: Vec<Cell> = Vec::with_capacity(3 * fa_cells.len());
-            for &k in &fa_cells {
-                let amp = (gamma + fa.exp1()).sqrt();
-                let sum = Complex64::from_polar(amp, fa.phase());
-                extra.push(Cell { k, sum, az: cn(&mut fa), el: cn(&mut fa), source: None });
-            }
-            for &k in &fa_cells {
-                for n in [k - 1, k + 1] {
-                    if n < kmin || n > kmax || in_segments(&segs, n) || !taken.insert(n) {
-                        continue;
-                    }
-                    // Noise conditioned below threshold: |Σ|² ~ Exp(1) truncated to [0, γ).
-                    let p2 = -(1.0 - fa.uniform() * below).ln();
-                    let sum = Complex64::from_polar(p2.sqrt(), fa.phase());
-                    extra.push(Cell { k: n, sum, az: cn(&mut fa), el: cn(&mut fa), source: None });
-                }
-            }
-            cells.extend(extra);
+        let fa = false_alarm_cells(d, j, i, (kmin, kmax), &segs);
+        ch.shortcut_cells = fa.shortcut_cells;
+        ch.false_alarms = fa.false_alarms;
+        if !fa.cells.is_empty() {
+            cells.extend(fa.cells);
             cells.sort_unstable_by_key(|c| c.k);
         }
     }
     ch.cells = cells;
     ch
+}
+
+/// What the §4.4 shortcut drew in the noise-only cells of a channel's window.
+pub(crate) struct FalseAlarms {
+    /// Cells of the window outside `segs` (handled by the shortcut).
+    pub shortcut_cells: u64,
+    /// Threshold crossings drawn among them.
+    pub false_alarms: u64,
+    /// The crossing cells and their neighbours (noise conditioned below the threshold), unsorted.
+    pub cells: Vec<Cell>,
+}
+
+/// The §4.4 false-alarm shortcut over the cells of `[kmin, kmax]` outside the explicit segments
+/// `segs` (sorted, disjoint), on the channel `(j → i)`'s false-alarm stream.
+pub(crate) fn false_alarm_cells(d: &Dwell, j: usize, i: usize, window: (i64, i64), segs: &[(i64, i64)]) -> FalseAlarms {
+    let tx = &d.transmitters[j];
+    let rx = &d.receivers[i];
+    let (kmin, kmax) = window;
+    let explicit: i64 = segs.iter().map(|&(a, b)| b - a + 1).sum();
+    let m = (kmax - kmin + 1 - explicit).max(0) as u64;
+    let mut fa = stream(d, &[KEY_FALSE_ALARM, tx.radar.0 as u64, rx.radar.0 as u64]);
+    let n_fa = fa.binomial(m, rx.params.pfa);
+    let mut extra: Vec<Cell> = Vec::new();
+    if n_fa > 0 {
+        let gamma = rx.params.threshold();
+        // Floyd's algorithm: n_fa distinct uniform indices in [0, m).
+        let mut chosen: BTreeSet<u64> = BTreeSet::new();
+        for top in (m - n_fa)..m {
+            let t = fa.below(top + 1);
+            if !chosen.insert(t) {
+                chosen.insert(top);
+            }
+        }
+        // Map to cell indices (ascending), skipping the explicit segments.
+        let fa_cells: Vec<i64> = chosen
+            .iter()
+            .map(|&p| {
+                let mut k = kmin + p as i64;
+                for &(a, b) in segs {
+                    if k >= a {
+                        k += b - a + 1;
+                    } else {
+                        break;
+                    }
+                }
+                k
+            })
+            .collect();
+        let below = 1.0 - (-gamma).exp();
+        let mut taken: BTreeSet<i64> = fa_cells.iter().copied().collect();
+        extra.reserve(3 * fa_cells.len());
+        for &k in &fa_cells {
+            let amp = (gamma + fa.exp1()).sqrt();
+            let sum = Complex64::from_polar(amp, fa.phase());
+            extra.push(Cell { k, sum, az: cn(&mut fa), el: cn(&mut fa), source: None });
+        }
+        for &k in &fa_cells {
+            for n in [k - 1, k + 1] {
+                if n < kmin || n > kmax || in_segments(segs, n) || !taken.insert(n) {
+                    continue;
+                }
+                // Noise conditioned below threshold: |Σ|² ~ Exp(1) truncated to [0, γ).
+                let p2 = -(1.0 - fa.uniform() * below).ln();
+                let sum = Complex64::from_polar(p2.sqrt(), fa.phase());
+                extra.push(Cell { k: n, sum, az: cn(&mut fa), el: cn(&mut fa), source: None });
+            }
+        }
+    }
+    FalseAlarms { shortcut_cells: m, false_alarms: n_fa, cells: extra }
 }

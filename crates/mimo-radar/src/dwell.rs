@@ -31,8 +31,10 @@
 use crate::channel::simulate_channel;
 use crate::detect::{Cell, ChannelInfo, detect};
 use crate::geometry::Bistatic;
+use crate::ladder::{Rung, channel_rung};
 use crate::pattern::Antenna;
 use crate::returns::all_returns;
+use crate::statistical::measure_channel;
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
@@ -310,15 +312,32 @@ pub fn voltage_rows(d: &Dwell, ch: &Channel) -> Vec<VoltageRow> {
         .collect()
 }
 
-/// Evaluate a dwell: simulate every channel, detect, and (if asked) materialize voltages.
+/// Evaluate a dwell: every channel at its rung of the fidelity ladder (docs/model.md §4.8) —
+/// simulate and detect at the voltage level, or draw from its statistics at the measurement
+/// level — and (if asked) materialize voltages.
 pub fn evaluate(d: &Dwell, targets: &[Target]) -> DwellOutput {
-    let channels = simulate(d, targets);
+    let returns = all_returns(d, targets);
+    let mut channels = Vec::with_capacity(d.transmitters.len() * d.receivers.len());
     let mut primitives = Vec::new();
     let mut voltages = Vec::new();
-    for ch in &channels {
-        primitives.extend(detect_channel(d, ch, targets));
-        if d.record_voltages {
-            voltages.extend(voltage_rows(d, ch));
+    for j in 0..d.transmitters.len() {
+        for i in 0..d.receivers.len() {
+            let ch = match channel_rung(d, i, &returns[j][i]) {
+                Rung::Voltage => {
+                    let ch = simulate_channel(d, j, i, &returns);
+                    primitives.extend(detect_channel(d, &ch, targets));
+                    ch
+                }
+                Rung::Measurement => {
+                    let (ch, prims) = measure_channel(d, j, i, &returns, targets);
+                    primitives.extend(prims);
+                    ch
+                }
+            };
+            if d.record_voltages {
+                voltages.extend(voltage_rows(d, &ch));
+            }
+            channels.push(ch);
         }
     }
     DwellOutput { channels, primitives, voltages }

@@ -14,6 +14,8 @@
 //! | [`range`] | `ρ = R_B/2`, cell grid, triangular response, straddle loss | §4.1 |
 //! | [`dwell`] | per-channel voltages: explicit cells near returns, §4.4 false-alarm shortcut, waveform leakage | §2.4, §2.7, §4.2, §4.4, §5.2, §5.3 |
 //! | [`detect`] | threshold, clusters, two-point range centroid, ML monopulse, variances, merged flag | §2.5–§2.7, §4.3, §4.5, §4.6 |
+//! | [`ladder`] | which rung of the fidelity ladder evaluates a channel (`voltage`, `measurement`, `auto`) | §4.8 |
+//! | [`statistical`] | the measurement rung: detections drawn from the voltage level's statistics, no cells | §4.8 |
 //! | [`measure`] | primitives → measurements (the only implementation, used online and offline) | §4.5 |
 //! | [`quiet`] | a monostatic dwell that no target reaches and whose false-alarm draw is zero, recognised without building its vectors | §4.4, §4.7 |
 //! | [`energy`] | predicted SNR, required SNR, pointing/straddle loss, pulses per dwell, dwell time and energy | §7.2, §7.3 |
@@ -27,7 +29,10 @@
 //!   └─ dwell::detect_channel → PrimitiveRow (ρ̂, û, v̂, S, T, merged, variances, target_hint)
 //!   └─ measure::measurements_from_primitives → MeasurementRow
 //! ```
-//! [`dwell::evaluate`] does the first two for all channels (and the voltage rows when asked).
+//! [`dwell::evaluate`] does the first two for all channels (and the voltage rows when asked), each
+//! channel at its rung of the fidelity ladder ([`ladder`], docs/model.md §4.8): the flow above is
+//! the `voltage` rung; at the `measurement` rung [`statistical`] draws the primitives from the
+//! statistics the voltage rung produces, without cells.
 //!
 //! ## Conventions and decisions
 //!
@@ -68,6 +73,7 @@ pub mod energy;
 pub mod equation;
 pub mod fluctuation;
 pub mod geometry;
+pub mod ladder;
 pub mod measure;
 pub mod monopulse;
 pub mod pattern;
@@ -75,6 +81,7 @@ pub mod polarization;
 pub mod quiet;
 pub mod range;
 mod returns;
+pub mod statistical;
 
 pub use detect::{Cell, Source};
 pub use dwell::{Channel, Dwell, DwellOutput, RangeWindow, Receiver, Target, Transmitter, evaluate};

@@ -26,9 +26,11 @@
 #![warn(missing_docs)]
 
 mod draw;
+mod fidelity;
 pub mod study;
 
 pub use draw::{linear_fit, moving_average};
+pub use fidelity::FidelityPoint;
 
 use draw::{Area, BarChart, DrawResult, Line, PALETTE, Panel, Style, Swatch, TimeChart, darken, e, fmt_num, lighten};
 use mimo_metrics::Score;
@@ -80,6 +82,7 @@ enum Chart {
     Bar(BarChart),
     Geo(GeoChart),
     Study(study::StudyChart),
+    Fidelity(fidelity::FidelityChart),
 }
 
 fn draw_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> DrawResult {
@@ -88,6 +91,7 @@ fn draw_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Dra
         Chart::Bar(b) => draw::draw_bar_chart(root, b),
         Chart::Geo(g) => draw_geo(root, g),
         Chart::Study(s) => study::draw_study_chart(root, s),
+        Chart::Fidelity(f) => fidelity::draw_fidelity_chart(root, f),
     }?;
     root.present().map_err(e)
 }
@@ -404,6 +408,18 @@ pub fn draw_geometry(
     }
     let chart = Chart::Geo(GeoChart { title: title.to_string(), ships: ships.to_vec(), truth: truth.to_vec() });
     render(&chart, out_png, (1100, 1000))
+}
+
+/// Draw the fidelity-ladder chart (docs/model.md §4.8): one point per rung, simulated seconds per
+/// wall second against agreement with the voltage rung. PNG or SVG by the extension of `out`.
+pub fn draw_fidelity(points: &[FidelityPoint], title: &str, out: &Path) -> Result<(), ReportError> {
+    ensure_font()?;
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|err| ReportError::Io { path: dir.to_path_buf(), detail: err.to_string() })?;
+    }
+    let chart = Chart::Fidelity(fidelity::FidelityChart { title: title.to_string(), points: points.to_vec() });
+    render(&chart, out, (1000, 700))
 }
 
 fn draw_geo<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, g: &GeoChart) -> DrawResult {

@@ -253,6 +253,23 @@ fn geometry_map() {
 }
 
 #[test]
+fn fidelity_chart() {
+    let (_keep, out) = out_dir("fidelity");
+    let pt = |label: &str, x: f64, y: f64| mimo_report::FidelityPoint {
+        label: label.to_string(),
+        sim_s_per_wall_s: x,
+        agreement: y,
+    };
+    let points = vec![pt("voltage", 108.0, 1.0), pt("measurement", 126.7, 0.978), pt("auto", 105.0, 0.990)];
+    let path = out.join("fidelity.png");
+    mimo_report::draw_fidelity(&points, "Fidelity ladder", &path).expect("draw");
+    assert_eq!(png_size(&path), (1000, 700));
+    mimo_report::draw_fidelity(&points, "Fidelity ladder", &out.join("fidelity.svg")).expect("svg");
+    let svg = std::fs::read_to_string(out.join("fidelity.svg")).expect("svg");
+    assert!(svg.contains("measurement (126.7, 0.9780)"), "every rung is labelled with its figures");
+}
+
+#[test]
 fn trend_helpers() {
     let pts: Vec<(f64, Option<f64>)> = (0..10).map(|i| (i as f64, Some(2.0 + 3.0 * i as f64))).collect();
     let (a, b) = mimo_report::linear_fit(&pts).expect("fit");

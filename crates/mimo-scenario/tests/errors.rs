@@ -308,3 +308,18 @@ fn polarimetry_loads_scales_and_is_checked() {
         "angle",
     );
 }
+
+/// `[fidelity] level` reads each rung of the ladder (docs/model.md §4.8), defaults to `auto`, and
+/// an unknown rung is a one-line error naming the field.
+#[test]
+fn fidelity_level_reads_every_rung() {
+    use mimo_core::params::FidelityLevel;
+    assert_eq!(load(BASE).expect("valid").fidelity.level, FidelityLevel::Auto);
+    for level in FidelityLevel::ALL {
+        let s = load(&format!("{BASE}\n[fidelity]\nlevel = \"{}\"\n", level.name())).expect("valid");
+        assert_eq!(s.fidelity.level, level);
+        assert_eq!(FidelityLevel::parse(level.name()), Some(level));
+    }
+    let msg = err(&format!("{BASE}\n[fidelity]\nlevel = \"cells\"\n")).to_string();
+    assert!(msg.contains("level") || msg.contains("cells"), "{msg}");
+}

@@ -6,6 +6,7 @@
 //! scenarios = [1, 7, "my/scenario.toml"]   # standard numbers or files (relative to the plan)
 //! runs = 4                                  # Monte Carlo runs per cell
 //! duration_s = 600.0                        # optional: the scenarios' own by default
+//! fidelity = "auto"                         # optional: rung of the fidelity ladder for every cell
 //! seed = 20261122                           # optional
 //! sweep = "grid"                            # "grid" (every combination) or "each" (one axis at a time)
 //! tables = ["truth", "dwells", "measurements", "tracks"]   # optional: what each cell records
@@ -230,6 +231,8 @@ pub struct Plan {
     pub runs: u32,
     /// Duration override (s).
     pub duration_s: Option<f64>,
+    /// Fidelity-ladder override for every cell (docs/model.md §4.8); the scenarios' own by default.
+    pub fidelity: Option<mimo_core::params::FidelityLevel>,
     /// Master seed: run k of every cell uses it (common random numbers across methods).
     pub seed: u64,
     /// How the axes combine.
@@ -364,7 +367,19 @@ impl Plan {
         ctx.known(
             &t,
             "",
-            &["title", "scenarios", "runs", "duration_s", "seed", "sweep", "tables", "methods", "axes", "limits"],
+            &[
+                "title",
+                "scenarios",
+                "runs",
+                "duration_s",
+                "fidelity",
+                "seed",
+                "sweep",
+                "tables",
+                "methods",
+                "axes",
+                "limits",
+            ],
         )?;
         let title = match t.get("title") {
             Some(v) => ctx.string("title", v)?.to_string(),
@@ -407,6 +422,12 @@ impl Plan {
                 Some(d)
             }
             None => None,
+        };
+        let fidelity = match t.get("fidelity").map(|v| ctx.string("fidelity", v)).transpose()? {
+            None => None,
+            Some(l) => Some(mimo_core::params::FidelityLevel::parse(l).ok_or_else(|| {
+                ctx.err("fidelity", format!("expected \"voltage\", \"measurement\" or \"auto\", got \"{l}\""))
+            })?),
         };
         let seed = match t.get("seed") {
             Some(Toml::Integer(n)) if *n >= 0 => *n as u64,
@@ -502,6 +523,7 @@ impl Plan {
             scenarios,
             runs,
             duration_s,
+            fidelity,
             seed,
             sweep,
             methods,
@@ -546,6 +568,9 @@ search_pulses = [1, 2]
         assert_eq!(p.scenarios, vec![ScenarioRef::Standard(7), ScenarioRef::File(PathBuf::from("studies/mine.toml"))]);
         assert_eq!(p.runs, 2);
         assert_eq!(p.duration_s, Some(60.0));
+        assert_eq!(p.fidelity, None);
+        let with = parse(&GOOD.replacen("duration_s = 60", "duration_s = 60\nfidelity = \"measurement\"", 1));
+        assert_eq!(with.expect("plan").fidelity, Some(mimo_core::params::FidelityLevel::Measurement));
         assert_eq!(p.seed, mimo_sim::DEFAULT_SEED);
         assert_eq!(p.methods.len(), 3);
         let MethodTa::Builtin { config, .. } = &p.methods[1].ta else { panic!("builtin") };
@@ -578,6 +603,7 @@ search_pulses = [1, 2]
             ("scenarios = [7, \"mine.toml\"]", "scenarios = []", "scenarios"),
             ("ta_cmd = \"python3 'my ta.py'\"", "ta_cmd = \"python3 'unbalanced\"", "methods[2].ta_cmd"),
             ("duration_s = 60", "duration_s = -1", "duration_s"),
+            ("duration_s = 60", "duration_s = 60\nfidelity = \"cells\"", "fidelity"),
         ];
         for (from, to, key) in cases {
             let text = GOOD.replacen(from, to, 1);

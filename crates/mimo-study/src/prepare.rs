@@ -47,6 +47,9 @@ fn load(plan: &Plan, i: usize) -> Result<Scenario, PlanError> {
     if let Some(d) = plan.duration_s {
         s.duration_s = d;
     }
+    if let Some(level) = plan.fidelity {
+        s.fidelity.level = level;
+    }
     Ok(s)
 }
 
@@ -104,6 +107,11 @@ mod tests {
             assert!((b.rcs_m2 / a.rcs_m2 - 0.1).abs() < 1e-12);
         }
         assert_eq!(w0.scenario.duration_s, 200.0);
+        assert_eq!(w0.scenario.fidelity.level, mimo_core::params::FidelityLevel::Auto, "the scenario's own");
+        let text = "scenarios = [7]\nruns = 1\nfidelity = \"voltage\"\n[[methods]]\nname = \"a\"\nta = \"default\"\n";
+        let pv = Plan::parse(text, Path::new("p.toml")).expect("plan");
+        let wv = &prepare(&pv).expect("prepare").worlds[0];
+        assert_eq!(wv.scenario.fidelity.level, mimo_core::params::FidelityLevel::Voltage, "the plan's override");
         assert_eq!(search_of(&prep.cells[0]).bands[0].n_pulses, 1);
         assert_eq!(search_of(&prep.cells[1]).bands[0].n_pulses, 2);
     }

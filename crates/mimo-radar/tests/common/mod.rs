@@ -75,8 +75,10 @@ pub fn rcs_for_snr(p: &RadarParams, snr: f64, r: f64, w: f64) -> f64 {
     snr / snr1(p, p, w, w, 1.0, r, r)
 }
 
+/// The default switches at the voltage level: these tests check the voltage model itself (the
+/// other rungs are compared with it in tests/fidelity.rs).
 pub fn fidelity() -> Fidelity {
-    Fidelity::default()
+    Fidelity { level: mimo_core::params::FidelityLevel::Voltage, ..Fidelity::default() }
 }
 
 /// Two-sided band `mean ± z·sd`.
