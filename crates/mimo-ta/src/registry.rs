@@ -7,6 +7,7 @@ use crate::overrides::{ConfigError, merge, parse};
 use crate::passive::Passive;
 use mimo_sim::World;
 use mimo_sim::test_article::TestArticle;
+use mimo_track::initiation::MOfN;
 use mimo_track::{AssociationMethod, InitiationExclusion, TrackerConfig, TrackerKind};
 use serde_json::Value;
 
@@ -49,6 +50,11 @@ pub fn builtin(name: &str) -> Result<&'static Builtin, ConfigError> {
 
 fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -> DefaultTaConfig {
     let mut tracker = TrackerConfig { association_method, ..TrackerConfig::for_kind(kind) };
+    // The built-in test articles confirm on 2 of 2 looks (a false alarm costs one confirmation
+    // look, not two) and look at a confirmed track at least every 2 s (docs/model.md §6.4, §7.1;
+    // issue 13, third round).
+    tracker.confirmation = MOfN { m: 2, n: 2 };
+    tracker.revisit.t_max_s = 2.0;
     if association_method == AssociationMethod::Jpda {
         // JPDA updates every track near a return, so a duplicate started from a gate-missing
         // return would be kept alive: JPDA never initiates inside a track's resolution cell

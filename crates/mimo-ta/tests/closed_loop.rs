@@ -717,3 +717,26 @@ fn replay_refuses_a_face_the_radar_lacks_and_a_measurement_of_no_dwell() {
         other => panic!("expected an unknown dwell, got {:?}", other.map(|s| s.dwells)),
     }
 }
+
+/// Group looks (docs/model.md §7.2): in the first 40 s of scenario 7 the four fighters fly within
+/// a quarter beamwidth of each other, so with group looks on (the default) some test-article
+/// dwells serve several tracks at once; with them off, every dwell serves one track.
+#[test]
+fn group_looks_serve_the_tight_formation_with_one_dwell() {
+    let dur = 40.0;
+    let world = standard(7, dur);
+    let largest_group = |overrides: serde_json::Value| {
+        let cfg = registry::resolve_config("default", &overrides).expect("config");
+        let mut ta = Recorder::new(registry::build("default", &cfg, &world).expect("default TA"));
+        ta.keep_reports = true;
+        let (tables, stats) = run(&world, &config(3, dur), &mut ta);
+        check_stats(&tables, &stats);
+        let ta_reports: Vec<_> = ta.reports.iter().filter(|r| r.requested_by == Requester::Ta).collect();
+        assert!(ta_reports.len() > 50, "the default TA asked for dwells");
+        ta_reports.iter().map(|r| r.tag.len()).max().unwrap_or(0)
+    };
+    let on = largest_group(serde_json::json!({}));
+    let off = largest_group(serde_json::json!({ "resource_manager": { "group_looks": false } }));
+    assert!(on >= 2, "group looks on: the largest dwell served {on} track(s)");
+    assert_eq!(off, 1, "group looks off: one track per dwell");
+}

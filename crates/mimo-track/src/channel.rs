@@ -139,6 +139,8 @@ impl MultiTargetTracker {
                 claimed[*j] = true;
             }
         }
+        // Tracks given a merged measurement another track already has (`share_merged`).
+        let mut shared = vec![false; ids.len()];
         if self.config.share_merged {
             for (i, a) in assign.iter_mut().enumerate() {
                 if a.is_some() {
@@ -150,18 +152,39 @@ impl MultiTargetTracker {
                     .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
                 if let Some((j, _)) = best {
                     *a = Some(j);
+                    shared[i] = true;
                 }
             }
         }
+        // With the group update, the tracks GNN assigned go first and leave their correction of
+        // each merged measurement for the tracks sharing it (docs/model.md §6.5).
+        let group = self.config.share_merged && self.config.merged_group_update;
+        let order: Vec<usize> = if group {
+            (0..ids.len()).filter(|&i| !shared[i]).chain((0..ids.len()).filter(|&i| shared[i])).collect()
+        } else {
+            (0..ids.len()).collect()
+        };
+        let mut correction: Vec<Option<[f64; 6]>> = vec![None; n_m];
 
-        for (i, id) in ids.iter().enumerate() {
+        for i in order {
+            let id = &ids[i];
             let Some(j) = assign[i].filter(|&j| j < n_m) else { continue };
             let m = &list[j];
             let Some(track) = self.tracks.get(id) else { continue };
             let iterations =
                 if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
             let pred = caches[i].get(filter, track, m.t_s).clone();
-            match filter.update(&pred, &m.model, &m.z, &m.r, iterations) {
+            let outcome = filter.update(&pred, &m.model, &m.z, &m.r, iterations).map(|mut u| {
+                if group && m.merged {
+                    match (shared[i], correction[j]) {
+                        (true, Some(dx)) => crate::group::shift_modes(&mut u.state, &pred, &dx),
+                        (false, _) => correction[j] = Some(crate::group::correction(&u.state, &pred)),
+                        (true, None) => {}
+                    }
+                }
+                u
+            });
+            match outcome {
                 Ok(u) if u.state.is_finite() => {
                     let Some(track) = self.tracks.get_mut(id) else { continue };
                     track.state = u.state;

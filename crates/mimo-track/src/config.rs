@@ -214,6 +214,11 @@ pub struct TrackerConfig {
     /// Let a `merged` measurement also update gated tracks left without a measurement by GNN
     /// (docs/model.md §6.5). Default true.
     pub share_merged: bool,
+    /// With `share_merged`, move a track that shares a `merged` measurement with the track GNN
+    /// gave it to by that track's correction instead of pulling it onto the measurement, so
+    /// that an unresolved group keeps its members' relative geometry (docs/model.md §6.5).
+    /// Default false.
+    pub merged_group_update: bool,
 }
 
 /// A detection never starts a track when it lies, for some existing track, inside the track's
@@ -286,6 +291,7 @@ impl Default for TrackerConfig {
             revisit: RevisitPolicy::default(),
             beam_miss_fraction: 0.5,
             share_merged: true,
+            merged_group_update: false,
         }
     }
 }

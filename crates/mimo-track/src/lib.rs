@@ -108,6 +108,7 @@ pub mod filter;
 pub mod frame;
 pub mod gating;
 pub mod geometry;
+pub mod group;
 pub mod initiation;
 pub mod jpda;
 pub mod linalg;

@@ -15,6 +15,7 @@
 
 mod budget;
 mod config;
+pub mod group;
 pub mod planner;
 
 pub use config::{DefaultTaConfig, ResourceConfig};
@@ -131,7 +132,8 @@ impl DefaultTa {
         } else {
             Vec::new()
         };
-        for info in st.tracker.tracks() {
+        let tracks = st.tracker.tracks();
+        for info in tracks.iter().cloned() {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
@@ -142,13 +144,36 @@ impl DefaultTa {
                 let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
                 let trouble = info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min;
                 let planned = planner::plan(rm, &st.tracker, &st.geom, now, &info, &over_budget, &busy_rx, trouble);
-                if let Some((req, unresolved)) = planned {
+                if let Some((mut req, unresolved)) = planned {
                     if unresolved {
                         self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);
                     } else {
                         self.hold_until.remove(&info.id);
                     }
                     self.pending.insert(info.id, now);
+                    if rm.group_looks && info.status == TrackStatus::Confirmed {
+                        // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
+                        let soon: Vec<u64> = tracks
+                            .iter()
+                            .filter(|o| {
+                                o.id != info.id
+                                    && o.status == TrackStatus::Confirmed
+                                    && !self.pending.contains_key(&o.id)
+                                    && o.next_due_s
+                                        .max(self.hold_until.get(&o.id).copied().unwrap_or(f64::NEG_INFINITY))
+                                        <= now + rm.group_lookahead_s
+                            })
+                            .map(|o| o.id)
+                            .collect();
+                        if let Some(tx) = req.transmitters.first().map(|t| t.radar) {
+                            let half = req.window_half_m;
+                            for (id, dist) in group::members(rm, &st.tracker, &st.geom, now, req.aim_ecef, tx, &soon) {
+                                req.tag.push(id);
+                                req.window_half_m = req.window_half_m.max(half + dist);
+                                self.pending.insert(id, now);
+                            }
+                        }
+                    }
                     out.push(Request::Dwell(req));
                 }
             } else {

@@ -1,0 +1,43 @@
+//! Group looks (docs/model.md §7.2): one dwell serves every confirmed track that sits in the
+//! same beam as the track it was planned for, so that an unresolved or tight group costs one
+//! look instead of one per member.
+
+use super::config::ResourceConfig;
+use crate::geometry::ShipGeometry;
+use mimo_core::DVec3;
+use mimo_core::ids::RadarId;
+use mimo_track::MultiTargetTracker;
+
+/// The tracks among `candidates` whose predicted positions at `t_s` lie, seen from radar `tx`,
+/// within `group_beam_fraction` of the narrower beamwidth of `aim` and within `group_radius_m`
+/// of it, each with its distance from `aim` (m). Candidates keep their order.
+pub fn members(
+    cfg: &ResourceConfig,
+    tracker: &MultiTargetTracker,
+    geom: &ShipGeometry,
+    t_s: f64,
+    aim: DVec3,
+    tx: RadarId,
+    candidates: &[u64],
+) -> Vec<(u64, f64)> {
+    let (Some(p), Some(face)) = (geom.params(tx), geom.faces_at(tx, t_s).into_iter().next()) else {
+        return Vec::new();
+    };
+    let site = face.origin_ecef;
+    let d0 = aim - site;
+    let r0 = d0.length();
+    if r0 <= 0.0 {
+        return Vec::new();
+    }
+    let da_max = cfg.group_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
+    candidates
+        .iter()
+        .filter_map(|&id| {
+            let q = tracker.predict(id, t_s)?;
+            let d1 = q.pos - site;
+            let r1 = d1.length();
+            let dist = (q.pos - aim).length();
+            (r1 > 0.0 && dist <= cfg.group_radius_m && (d1 / r1 - d0 / r0).length() <= da_max).then_some((id, dist))
+        })
+        .collect()
+}
