@@ -34,17 +34,32 @@ fn add_source(c: &mut Cell, target: usize, power: f64) {
     }
 }
 
+/// Channel `(j → i)` with its returns and cell window (§4.4, §5.2) and no cells yet: where both
+/// rungs of the ladder (docs/model.md §4.8) start.
+pub(crate) fn open_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>]) -> Channel {
+    let tx = &d.transmitters[j];
+    let rx = &d.receivers[i];
+    let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
+    let window = cell_window(lo, hi, rx.params.range_cell_m());
+    Channel {
+        tx: j,
+        rx: i,
+        window,
+        cells: Vec::new(),
+        returns: returns[j][i].clone(),
+        shortcut_cells: 0,
+        false_alarms: 0,
+    }
+}
+
 /// Simulate one channel's cells.
 pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>]) -> Channel {
     let tx = &d.transmitters[j];
     let rx = &d.receivers[i];
     let dr = rx.params.range_cell_m();
     let rets = &returns[j][i];
-    let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
-    let window = cell_window(lo, hi, dr);
-    let mut ch =
-        Channel { tx: j, rx: i, window, cells: Vec::new(), returns: rets.clone(), shortcut_cells: 0, false_alarms: 0 };
-    let Some((kmin, kmax)) = window else { return ch };
+    let mut ch = open_channel(d, j, i, returns);
+    let Some((kmin, kmax)) = ch.window else { return ch };
     let w = i64::from(d.fidelity.explicit_cells_each_side);
 
     // Leakage from the other transmitters' echoes (§5.3).

@@ -39,12 +39,12 @@
 //! Random draws: one stream per (channel, group), keyed `(dwell keys…, KEY_STATISTICAL, tx, rx,
 //! index of the group's first target)`.
 
-use crate::channel::{false_alarm_cells, merge_intervals};
+use crate::channel::{false_alarm_cells, merge_intervals, open_channel};
 use crate::detect::{Cell, MIN_SIGMA_UV, range_f2_observed, range_sigma_m};
 use crate::dwell::{Channel, Dwell, Return, Target, cn, detect_channel, stream};
 use crate::monopulse::{MERGE_T_THRESHOLD, ml_bias_factor};
 use crate::pattern::Antenna;
-use crate::range::{cell_window, triangle};
+use crate::range::triangle;
 use mimo_core::records::PrimitiveRow;
 use mimo_core::rng::Stream;
 use num_complex::Complex64;
@@ -109,11 +109,8 @@ pub(crate) fn measure_channel(
     let rx = &d.receivers[i];
     let dr = rx.params.range_cell_m();
     let rets = &returns[j][i];
-    let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
-    let window = cell_window(lo, hi, dr);
-    let mut ch =
-        Channel { tx: j, rx: i, window, cells: Vec::new(), returns: rets.clone(), shortcut_cells: 0, false_alarms: 0 };
-    let Some((kmin, kmax)) = window else { return (ch, Vec::new()) };
+    let mut ch = open_channel(d, j, i, returns);
+    let Some((kmin, kmax)) = ch.window else { return (ch, Vec::new()) };
     let mut segs = Vec::new();
     let mut out = Vec::new();
     // Most channels (every empty search dwell) have no return: no antenna, no groups.

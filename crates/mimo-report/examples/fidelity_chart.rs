@@ -20,8 +20,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .collect();
     let title = format!(
-        "Fidelity ladder: scenario {}, {} × {} s, dev build, 1 thread (walls on a loaded machine)",
-        v["scenario"], v["runs"], v["duration_s"]
+        "Fidelity ladder: scenario {}, {} × {} s, {} build, 1 thread",
+        v["scenario"],
+        v["runs"],
+        v["duration_s"],
+        v["build"].as_str().unwrap_or("dev")
     );
     draw_fidelity(&points, &title, Path::new(output))?;
     println!("wrote {output}");
