@@ -8,7 +8,7 @@
 #
 #   scripts/fidelity.sh [SCENARIO] [RUNS] [DURATION_S] [REPEATS]     (default: 7 2 1000 2)
 #
-# Uses the dev build (target/debug/mimo, built if missing); OUT=dir sets where the recordings go
+# Uses the dev build (target/debug/mimo, built if missing) or MIMO=path/to/mimo; OUT=dir sets where the recordings go
 # (default runs/fidelity-sSCENARIO). Agreement of a rung = 1 − the largest absolute difference
 # from the voltage rung among its probability-valued statistics: P_D at each point of the curve,
 # the merged fraction of an unresolved pair, the mean completeness, and the end-to-end merged
@@ -20,7 +20,7 @@ runs="${2:-2}"
 duration="${3:-1000}"
 repeats="${4:-2}"
 out="${OUT:-runs/fidelity-s${scenario}}"
-mimo=target/debug/mimo
+mimo="${MIMO:-target/debug/mimo}"
 [ -x "$mimo" ] || cargo build --workspace -q
 mkdir -p "$out"
 levels=(voltage measurement auto)
@@ -39,9 +39,11 @@ for level in "${levels[@]}"; do
 done
 cargo nextest run --workspace -E 'package(mimo-radar) & binary(fidelity)' --no-capture 2>&1 \
   | grep -E 'P_D voltage|mean NEES|merged fraction' >"$out/radar.txt"
-python3 - "$out" "$scenario" "$runs" "$duration" "$repeats" <<'EOF'
+build=$(case "$mimo" in *release*) echo release ;; *) echo dev ;; esac)
+python3 - "$out" "$scenario" "$runs" "$duration" "$repeats" "$build" <<'EOF'
 import json, re, sys
 out, scenario, runs, duration, repeats = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4]), int(sys.argv[5])
+build = sys.argv[6]
 walls = {}
 for line in open(f"{out}/walls.txt"):
     level, wall = line.split()
@@ -99,7 +101,7 @@ for level in ["voltage", "measurement", "auto"]:
         "agreement": 1.0 - max(dc, d_pd, d_merged, d_e2e),
     })
 report = {
-    "scenario": scenario, "runs": runs, "duration_s": duration, "repeats": repeats, "threads": 1, "build": "dev",
+    "scenario": scenario, "runs": runs, "duration_s": duration, "repeats": repeats, "threads": 1, "build": build,
     "wall": "best of the repetitions of timing_s.simulate_and_write (simulation and table writing)",
     "agreement": "1 - max(|dP_D| over the curve, |d merged fraction of a pair|, |d completeness|, |d end-to-end merged fraction|) against the voltage rung",
     "rungs": rungs, "pd_curve": pd, "merged_fraction": merged, "mean_nees": nees,

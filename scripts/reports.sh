@@ -3,16 +3,22 @@
 # default test article.
 #
 #   scripts/reports.sh [RUNS] [SCENARIOS...]      (default: 2 runs of scenarios 1-7)
+#   MIMO=target/debug/mimo scripts/reports.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 runs="${1:-2}"
 shift || true
 scenarios=("$@")
 [ ${#scenarios[@]} -gt 0 ] || scenarios=(1 2 3 4 5 6 7)
-cargo build --release -q -p mimo-cli
-mimo=target/release/mimo
+# MIMO=path/to/mimo uses an existing binary (e.g. target/debug/mimo: the dev build optimises the
+# simulation and scoring crates too).
+if [[ -z "${MIMO:-}" ]]; then
+  cargo build --release -q --workspace --bins
+  MIMO=target/release/mimo
+fi
+mimo="$MIMO"
 mkdir -p reports
-$mimo scenarios --map reports/geometry.png >/dev/null
+$mimo scenarios --map reports/geometry.png --force >/dev/null
 cp reports/geometry.png scenarios/geometry.png
 for s in "${scenarios[@]}"; do
   out="runs/ref-s${s}"

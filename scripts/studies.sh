@@ -10,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # MIMO=path/to/mimo uses an existing binary (the dev build optimises the simulation crates too).
 if [[ -z "${MIMO:-}" ]]; then
-  cargo build --release --locked -p mimo-cli
+  cargo build --release --locked --workspace --bins
   MIMO=target/release/mimo
 fi
 for name in "${@:-challenge stability}"; do
