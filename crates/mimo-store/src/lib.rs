@@ -175,12 +175,12 @@ const SPLIT_COLUMNS: &[&str] = &["t_s", "aim_x_m", "aim_y_m", "aim_z_m"];
 /// Writer properties for a table of `schema`: fixed so that identical rows give identical bytes.
 ///
 /// The physical encoding only (docs/design.md §3: the columns and their logical types are the
-/// contract): zstd pages; dictionary encoding for the string columns only (`radar`, `kind`, …
-/// become a few bits per row and stay utf8 for every reader); delta encoding for ids, the
-/// byte-stream split for distinct floats, and plain values for every other number — interning
-/// each value of a column into a dictionary costs more than zstd spends on the plain values,
-/// which it compresses as well (docs/DECISIONS.md, "Table encoding"). Every Parquet reader
-/// (polars, pyarrow, DuckDB, arrow-rs) reads them.
+/// contract): zstd pages; no dictionary on any column (interning each value costs the writer
+/// more than zstd spends on the plain values, which it compresses nearly as well: the few
+/// distinct strings of `radar`, `kind`, … are runs zstd folds away) and no page statistics on the
+/// strings; delta encoding for ids, the byte-stream split for distinct floats, plain values for
+/// every other number (docs/DECISIONS.md, "Table encoding"). Every Parquet reader (polars,
+/// pyarrow, DuckDB, arrow-rs) reads them.
 pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
     let mut b = WriterProperties::builder()
         .set_compression(Compression::ZSTD(parquet::basic::ZstdLevel::default()))
