@@ -1,7 +1,7 @@
 //! Executing a dwell group: evaluate the radar model at mid-dwell and produce the group's rows
 //! and, when the test article wants it, its report (docs/design.md §5, docs/model.md §4–§5).
 
-use super::group::Group;
+use super::group::{Group, Part};
 use super::quiet::{dwell_row, search_aim};
 use crate::messages::{DwellReport, PartReport};
 use crate::world::World;
@@ -36,6 +36,72 @@ pub(crate) struct RunKeys {
     pub record_voltages: bool,
 }
 
+impl RunKeys {
+    /// The radar model's dwell of a group at its mid-time `t_mid_s`; `stream_keys` are the
+    /// group's `[run, gid]`, so the same group always draws the same numbers.
+    pub(super) fn radar_dwell<'a>(
+        &self,
+        world: &'a World,
+        t_mid_s: f64,
+        stream_keys: &'a [u64; 2],
+        transmitters: &'a [mimo_radar::Transmitter<'a>],
+        receivers: &'a [mimo_radar::Receiver<'a>],
+    ) -> mimo_radar::Dwell<'a> {
+        mimo_radar::Dwell {
+            run: self.run,
+            t_s: t_mid_s,
+            seed: self.seed,
+            keys: stream_keys,
+            transmitters,
+            receivers,
+            fidelity: &world.scenario.fidelity,
+            record_voltages: self.record_voltages,
+            simulate_all_cells: false,
+        }
+    }
+}
+
+/// Part `p`'s transmitter on its face `frame` at mid-dwell.
+pub(super) fn transmitter<'w>(world: &'w World, p: &Part, frame: FaceFrame) -> mimo_radar::Transmitter<'w> {
+    mimo_radar::Transmitter {
+        radar: p.radar,
+        params: world.params(p.radar),
+        frame,
+        beam_u: p.beam_u,
+        beam_v: p.beam_v,
+        n_pulses: p.n_pulses,
+        waveform: p.waveform,
+    }
+}
+
+/// Part `p`'s receiver (dwell part id `dwell_id`) on its face `frame`: the whole instrumented range
+/// for search, `±window_half_m` about the aim's ρ otherwise (docs/model.md §5.2).
+pub(super) fn receiver<'w>(
+    world: &'w World,
+    g: &Group,
+    p: &Part,
+    dwell_id: u64,
+    frame: FaceFrame,
+    aim: DVec3,
+) -> mimo_radar::Receiver<'w> {
+    let params = world.params(p.radar);
+    let window = match g.window_half_m {
+        None => RangeWindow::Fixed { rho_min_m: params.min_range_m, rho_max_m: params.instrumented_range_m },
+        Some(half) => RangeWindow::AroundAim { aim_ecef: aim, half_width_m: half },
+    };
+    mimo_radar::Receiver {
+        radar: p.radar,
+        dwell_id,
+        params,
+        face: p.face,
+        frame,
+        beam_u: p.beam_u,
+        beam_v: p.beam_v,
+        window,
+        predicted_snr: g.predicted_snr,
+    }
+}
+
 /// Execute group `gid` that starts at `t0_s`.
 pub(crate) fn execute<'w>(
     world: &'w World,
@@ -54,15 +120,7 @@ pub(crate) fn execute<'w>(
         .iter()
         .zip(&frames)
         .filter(|(p, _)| p.role.transmits())
-        .map(|(p, f)| mimo_radar::Transmitter {
-            radar: p.radar,
-            params: world.params(p.radar),
-            frame: *f,
-            beam_u: p.beam_u,
-            beam_v: p.beam_v,
-            n_pulses: p.n_pulses,
-            waveform: p.waveform,
-        })
+        .map(|(p, f)| transmitter(world, p, *f))
         .collect();
     let rxs: Vec<mimo_radar::Receiver> = g
         .parts
@@ -70,38 +128,11 @@ pub(crate) fn execute<'w>(
         .enumerate()
         .zip(&frames)
         .filter(|((_, p), _)| p.receives())
-        .map(|((i, p), f)| {
-            let params = world.params(p.radar);
-            let window = match g.window_half_m {
-                None => RangeWindow::Fixed { rho_min_m: params.min_range_m, rho_max_m: params.instrumented_range_m },
-                Some(half) => RangeWindow::AroundAim { aim_ecef: aim, half_width_m: half },
-            };
-            mimo_radar::Receiver {
-                radar: p.radar,
-                dwell_id: gid + i as u64,
-                params,
-                face: p.face,
-                frame: *f,
-                beam_u: p.beam_u,
-                beam_v: p.beam_v,
-                window,
-                predicted_snr: g.predicted_snr,
-            }
-        })
+        .map(|((i, p), f)| receiver(world, g, p, gid + i as u64, *f, aim))
         .collect();
     world.radar_targets_into(t_mid, targets);
     let stream_keys = [u64::from(keys.run), gid];
-    let dwell = mimo_radar::Dwell {
-        run: keys.run,
-        t_s: t_mid,
-        seed: keys.seed,
-        keys: &stream_keys,
-        transmitters: &txs,
-        receivers: &rxs,
-        fidelity: &world.scenario.fidelity,
-        record_voltages: keys.record_voltages,
-        simulate_all_cells: false,
-    };
+    let dwell = keys.radar_dwell(world, t_mid, &stream_keys, &txs, &rxs);
     let out = mimo_radar::evaluate(&dwell, targets);
     let measurements = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
     let dwells = (0..g.parts.len()).map(|i| dwell_row(world, keys.run, gid, g, i, t0_s, aim)).collect();

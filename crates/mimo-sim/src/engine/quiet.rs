@@ -6,13 +6,12 @@
 //! returns that row without building the dwell's vectors; any other dwell goes through
 //! [`super::execute::execute`], so the recorded tables are byte-identical either way.
 
-use super::execute::RunKeys;
+use super::execute::{RunKeys, receiver, transmitter};
 use super::group::{Group, Part};
 use crate::world::World;
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::records::DwellRow;
-use mimo_radar::dwell::RangeWindow;
 use mimo_radar::energy::dwell_energy_j;
 
 /// The aim of a search beam: its direction at half the instrumented range.
@@ -69,43 +68,15 @@ pub(super) fn quiet_search_row<'w>(
     }
     let t_mid = t0_s + 0.5 * g.duration_s;
     let frame = world.face_at(p.radar, p.face, t_mid)?;
-    let params = world.params(p.radar);
-    // The same transmitter, receiver and stream keys as `execute` builds for this group.
-    let tx = mimo_radar::Transmitter {
-        radar: p.radar,
-        params,
-        frame,
-        beam_u: p.beam_u,
-        beam_v: p.beam_v,
-        n_pulses: p.n_pulses,
-        waveform: p.waveform,
-    };
-    let rx = mimo_radar::Receiver {
-        radar: p.radar,
-        dwell_id: gid,
-        params,
-        face: p.face,
-        frame,
-        beam_u: p.beam_u,
-        beam_v: p.beam_v,
-        window: RangeWindow::Fixed { rho_min_m: params.min_range_m, rho_max_m: params.instrumented_range_m },
-        predicted_snr: g.predicted_snr,
-    };
+    let aim = search_aim(world, g, &frame);
+    // The transmitter, receiver and stream keys `execute` builds for this group.
+    let tx = transmitter(world, p, frame);
+    let rx = receiver(world, g, p, gid, frame, aim);
     world.radar_targets_into(t_mid, targets);
     let stream_keys = [u64::from(keys.run), gid];
-    let dwell = mimo_radar::Dwell {
-        run: keys.run,
-        t_s: t_mid,
-        seed: keys.seed,
-        keys: &stream_keys,
-        transmitters: std::slice::from_ref(&tx),
-        receivers: std::slice::from_ref(&rx),
-        fidelity: &world.scenario.fidelity,
-        record_voltages: keys.record_voltages,
-        simulate_all_cells: false,
-    };
+    let dwell = keys.radar_dwell(world, t_mid, &stream_keys, std::slice::from_ref(&tx), std::slice::from_ref(&rx));
     if !mimo_radar::quiet::is_quiet(&dwell, targets) {
         return None;
     }
-    Some(dwell_row(world, keys.run, gid, g, 0, t0_s, search_aim(world, g, &frame)))
+    Some(dwell_row(world, keys.run, gid, g, 0, t0_s, aim))
 }
