@@ -2,19 +2,11 @@
 //! the level in the manifest, and the closed loop's track completeness at the `measurement` and
 //! `auto` rungs agrees with the `voltage` rung's on the same scenario and seeds.
 
-use mimo_cli::main_with_args;
+mod common;
+
+use common::{mimo, p};
 use mimo_core::records::MeasurementRow;
 use std::path::Path;
-
-fn mimo(args: &[&str]) -> i32 {
-    let mut v = vec!["mimo".to_string()];
-    v.extend(args.iter().map(|s| s.to_string()));
-    main_with_args(v)
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
-}
 
 /// Per-run completeness of a scored run directory.
 fn per_run_completeness(run: &Path) -> Vec<f64> {

@@ -7,19 +7,15 @@
 //! test article), re-bless with `MIMO_BLESS=1 cargo test -p mimo-cli --test golden` and say in the
 //! commit why the numbers moved.
 
+mod common;
+
 use arrow::util::display::{ArrayFormatter, FormatOptions};
-use mimo_cli::main_with_args;
+use common::mimo;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::collections::BTreeMap;
 use std::path::Path;
 
 const GOLDEN: &str = "tests/golden_hashes.json";
-
-fn mimo(args: &[&str]) -> i32 {
-    let mut v = vec!["mimo".to_string()];
-    v.extend(args.iter().map(|s| s.to_string()));
-    main_with_args(v)
-}
 
 /// FNV-1a over the text of every value, column by column in schema order, row by row.
 fn content_hash(path: &Path) -> String {

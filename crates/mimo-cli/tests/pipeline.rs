@@ -1,18 +1,10 @@
 //! End-to-end tests of the `mimo` command, run in-process through `mimo_cli::main_with_args`.
 
-use mimo_cli::main_with_args;
+mod common;
+
+use common::{mimo, p};
 use mimo_core::records::{MeasurementRow, TrackRow, TruthRow};
 use std::path::{Path, PathBuf};
-
-fn mimo(args: &[&str]) -> i32 {
-    let mut v = vec!["mimo".to_string()];
-    v.extend(args.iter().map(|s| s.to_string()));
-    main_with_args(v)
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
-}
 
 fn files_of(dir: &Path) -> Vec<PathBuf> {
     let mut out = Vec::new();

@@ -8,20 +8,12 @@
 //! script on. A screenshot must show the scene. Bad input exits 2 with one `error:` line and
 //! writes nothing.
 
-use mimo_cli::main_with_args;
+mod common;
+
+use common::{mimo, p};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
-
-fn mimo(args: &[&str]) -> i32 {
-    let mut v = vec!["mimo".to_string()];
-    v.extend(args.iter().map(|s| s.to_string()));
-    main_with_args(v)
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
-}
 
 /// One 60-s scenario-7 recording, scored, shared by the tests of this file.
 fn recording() -> &'static Path {

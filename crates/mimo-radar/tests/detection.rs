@@ -192,22 +192,9 @@ fn detection_probability_follows_the_swerling_1_curve() {
         let pos = ship.point(0, r, bu, bv);
         let mut hits = 0u64;
         for trial in 0..trials {
-            let txs = [ship.tx(&p, 0, bu, bv, 1)];
-            let rxs = [ship.rx(&p, trial, 0, bu, bv, (r - 1000.0, r + 1000.0))];
             let keys = [trial, snr_db as u64];
-            let d = Dwell {
-                run: 0,
-                t_s: 0.0,
-                seed: SEED,
-                keys: &keys,
-                transmitters: &txs,
-                receivers: &rxs,
-                fidelity: &fid,
-                record_voltages: false,
-                simulate_all_cells: false,
-            };
             let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: rcs, pol: None }];
-            let out = evaluate(&d, &tg);
+            let out = ship.monostatic_dwell(&p, &fid, &keys, (bu, bv), (r - 1000.0, r + 1000.0), &tg);
             if trial == 0 {
                 let ret = &out.channels[0].returns[0];
                 assert!((ret.peak_snr / snr - 1.0).abs() < 1e-9);
@@ -439,21 +426,8 @@ fn unresolved_pair_raises_the_merged_flag() {
             } else {
                 tg[0].pos_ecef = ship.point(0, r, 0.0, 0.0);
             }
-            let txs = [ship.tx(&p, 0, 0.0, 0.0, 1)];
-            let rxs = [ship.rx(&p, trial, 0, 0.0, 0.0, (r - 1000.0, r + 1000.0))];
             let keys = [trial, case as u64];
-            let d = Dwell {
-                run: 0,
-                t_s: 0.0,
-                seed: SEED,
-                keys: &keys,
-                transmitters: &txs,
-                receivers: &rxs,
-                fidelity: &fid,
-                record_voltages: false,
-                simulate_all_cells: false,
-            };
-            let out = evaluate(&d, &tg);
+            let out = ship.monostatic_dwell(&p, &fid, &keys, (0.0, 0.0), (r - 1000.0, r + 1000.0), &tg);
             for m in measurements_from_primitives(&out.primitives, 0).iter().filter(|m| m.target_hint.is_some()) {
                 det += 1;
                 merged += u64::from(m.merged);
@@ -554,23 +528,10 @@ fn polarization_sets_the_detected_power() {
         let snr = 10f64.powf(snr_db / 10.0);
         let mut hits = 0u64;
         for trial in 0..trials {
-            let txs = [ship.tx(&p, 0, bu, bv, 1)];
-            let rxs = [ship.rx(&p, trial, 0, bu, bv, (r - 1000.0, r + 1000.0))];
             let keys = [trial, 77 + case as u64];
-            let d = Dwell {
-                run: 0,
-                t_s: 0.0,
-                seed: SEED,
-                keys: &keys,
-                transmitters: &txs,
-                receivers: &rxs,
-                fidelity: &fid,
-                record_voltages: false,
-                simulate_all_cells: false,
-            };
             // The target's nominal σ̄ is irrelevant with polarization on.
             let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: 1.0, pol: Some(pol) }];
-            let out = evaluate(&d, &tg);
+            let out = ship.monostatic_dwell(&p, &fid, &keys, (bu, bv), (r - 1000.0, r + 1000.0), &tg);
             if trial == 0 {
                 let ret = &out.channels[0].returns[0];
                 assert!((ret.peak_snr / snr - 1.0).abs() < 1e-9, "case {case}: mean SNR {}", ret.peak_snr);

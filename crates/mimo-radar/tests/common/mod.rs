@@ -6,7 +6,7 @@ use mimo_core::face::FaceFrame;
 use mimo_core::geo::Geodetic;
 use mimo_core::ids::RadarId;
 use mimo_core::params::{Fidelity, RadarParams};
-use mimo_radar::dwell::{RangeWindow, Receiver, Transmitter};
+use mimo_radar::dwell::{Dwell, DwellOutput, RangeWindow, Receiver, Target, Transmitter, evaluate};
 use mimo_radar::equation::snr1;
 
 pub const SEED: u64 = 20_261_122;
@@ -61,6 +61,33 @@ impl Ship {
             window: RangeWindow::Fixed { rho_min_m: rho.0, rho_max_m: rho.1 },
             predicted_snr: None,
         }
+    }
+
+    /// Evaluate one single-pulse monostatic dwell of face 0 steered at `beam` = (u, v), with
+    /// stream keys `keys` (the first is also the receiver's dwell id) and the range window `rho` (m).
+    pub fn monostatic_dwell(
+        &self,
+        p: &RadarParams,
+        fid: &Fidelity,
+        keys: &[u64],
+        beam: (f64, f64),
+        rho: (f64, f64),
+        targets: &[Target],
+    ) -> DwellOutput {
+        let txs = [self.tx(p, 0, beam.0, beam.1, 1)];
+        let rxs = [self.rx(p, keys.first().copied().unwrap_or(0), 0, beam.0, beam.1, rho)];
+        let d = Dwell {
+            run: 0,
+            t_s: 0.0,
+            seed: SEED,
+            keys,
+            transmitters: &txs,
+            receivers: &rxs,
+            fidelity: fid,
+            record_voltages: false,
+            simulate_all_cells: false,
+        };
+        evaluate(&d, targets)
     }
 
     /// A point at range `r` and direction `(u, v)` of a face.
