@@ -80,7 +80,22 @@
     return { x: x, y: y, z: z };
   })();
   function graticule(g) { var o = { x: [], y: [], z: [] }; for (var n = 0; n < g.p.length / 3; n++) { var b = g.starts.indexOf(n) > 0; if (b) { o.x.push(null); o.y.push(null); o.z.push(null); } o.x.push(g.p[3 * n]); o.y.push(g.p[3 * n + 1]); o.z.push(g.p[3 * n + 2]); } return o; }
-  var GRID = { region: graticule(D.region.graticule), globe: graticule(D.globe) };
+  var GRID = { region: graticule(D.region.graticule), globe: null }; // the globe's on first use
+  // The region view's coastlines: the parts within the region graticule's extent (and a point
+  // beyond it, so lines reach its edge). Outlines elsewhere lie outside every region box, and
+  // each vertex costs time when the scene is first drawn.
+  var COAST_REGION = (function () {
+    var g = GRID.region, lo = [Infinity, Infinity], hi = [-Infinity, -Infinity], o = { x: [], y: [], z: [] };
+    g.x.forEach(function (x, n) { if (x === null) return; lo[0] = Math.min(lo[0], x); hi[0] = Math.max(hi[0], x); lo[1] = Math.min(lo[1], g.y[n]); hi[1] = Math.max(hi[1], g.y[n]); });
+    var inside = function (n) { return COAST.x[n] !== null && COAST.x[n] >= lo[0] && COAST.x[n] <= hi[0] && COAST.y[n] >= lo[1] && COAST.y[n] <= hi[1]; };
+    var open = false;
+    for (var n = 0; n < COAST.x.length; n++) {
+      if (COAST.x[n] !== null && (inside(n) || (n > 0 && inside(n - 1)) || (n + 1 < COAST.x.length && inside(n + 1)))) {
+        o.x.push(COAST.x[n]); o.y.push(COAST.y[n]); o.z.push(COAST.z[n]); open = true;
+      } else if (open) { o.x.push(null); o.y.push(null); o.z.push(null); open = false; }
+    }
+    return o;
+  })();
   function lines(name, dash, width) {
     return { type: 'scatter3d', mode: 'lines', name: name, x: [], y: [], z: [], line: { color: [], width: width, dash: dash },
       hoverinfo: 'skip', showlegend: false, meta: 'lines' };
@@ -93,9 +108,12 @@
     for (var n = 0; n < s.x.length; n++) { tr.x.push(s.x[n]); tr.y.push(s.y[n]); tr.z.push(s.z[n]); tr.line.color.push(color); }
     tr.x.push(null); tr.y.push(null); tr.z.push(null); tr.line.color.push(color);
   }
+  // Markers are opaque (plotly's default opacity for per-point sizes is 0.7): a translucent
+  // point cloud is drawn in gl-plot3d's transparent pass, with a shader program of its own
+  // linked at the first frame (docs/DECISIONS.md, fourth round).
   function markers() {
     return { type: 'scatter3d', mode: 'markers', name: 'objects', x: [], y: [], z: [], customdata: [], text: [],
-      marker: { symbol: [], size: [], color: [], line: { width: 0 } }, hoverinfo: 'text', showlegend: false, meta: 'objects' };
+      marker: { symbol: [], size: [], color: [], opacity: 1, line: { width: 0 } }, hoverinfo: 'text', showlegend: false, meta: 'objects' };
   }
   function addMark(tr, p, cd, symbol, size, color, text) {
     tr.x.push(p[0]); tr.y.push(p[1]); tr.z.push(p[2]); tr.customdata.push(cd);
@@ -113,8 +131,9 @@
     var key = S.mode + S.layers.earth + S.layers.coast;
     if (STATIC && key === staticKey) return STATIC;
     var tr = lines('earth', 'solid', 2);
+    if (S.mode === 'globe' && !GRID.globe) GRID.globe = graticule(D.globe);
     if (S.layers.earth) addStatic(tr, GRID[S.mode], '#9dbbd1');
-    if (S.layers.coast) addStatic(tr, COAST, '#4a4a4a');
+    if (S.layers.coast) addStatic(tr, S.mode === 'region' ? COAST_REGION : COAST, '#4a4a4a');
     // Two lone vertices (not drawn: a line needs two) span the whole earth and 200 km above
     // it. plotly scales every trace by the bounds of all the scene's data (scene.dataScale), so
     // with these the scale never depends on the moving objects and the earth's buffers stay valid.
@@ -322,17 +341,21 @@
     frameAt(S.t);
     var lo = S.box[0], hi = S.box[1], sc;
     // No axis box, ticks or titles: an ENU-metre box says little on a globe, and tick text is
-    // costly to draw (text vectorised per label). The up axis keeps only its floor (the sea).
-    var ax = function (r) { return { visible: false, range: r, showspikes: false }; };
+    // costly to draw (text vectorised per label).
+    // The axes are "visible" with no ticks and empty titles rather than hidden: plotly leaves a
+    // hidden axis with gl-axes3d's default ticks (−3…3) and titles "x", "y", whose text is
+    // vectorised again at every render although nothing is drawn (docs/DECISIONS.md, fourth round).
+    var NOTICKS = { showticklabels: false, ticks: '', tickmode: 'array', tickvals: [], ticktext: [], showgrid: false, showline: false,
+      zeroline: false, showspikes: false, showaxeslabels: false, title: { text: '' } };
+    var ax = function (r) { return Object.assign({ visible: true, range: r, showbackground: false }, NOTICKS); };
     if (S.mode === 'region') {
       var w = hi[0] - lo[0];
       sc = { xaxis: ax([lo[0], hi[0]]), yaxis: ax([lo[1], hi[1]]), zaxis: ax([lo[2], hi[2]]),
         aspectmode: 'manual', aspectratio: { x: 1, y: (hi[1] - lo[1]) / w, z: Math.max(0.05, S.vex * (hi[2] - lo[2]) / w) },
         camera: { eye: { x: -0.45, y: -0.8, z: 0.55 }, center: { x: 0, y: 0, z: -0.1 } } }; // frames the box of ships and targets
-      if (S.layers.earth) { // the sea, under the graticule: the up axis's floor, with nothing else of the axis drawn
-        sc.zaxis = { visible: true, range: [lo[2], hi[2]], showbackground: true, backgroundcolor: '#e3eef7', showticklabels: false, ticks: '',
-          showgrid: false, showline: false, zeroline: false, showspikes: false, title: { text: '' } };
-      }
+      // The sea, under the graticule: the scene's background colour (a clear of the canvas), not
+      // the up axis's floor, whose faces cost a few hundred ms of software WebGL in the first frame.
+      if (S.layers.earth) sc.bgcolor = '#e3eef7';
     } else {
       sc = { xaxis: ax([-6.5e6, 6.5e6]), yaxis: ax([-6.5e6, 6.5e6]), zaxis: ax([-12.8e6, 2e5]),
         aspectmode: 'data', camera: { eye: { x: 0, y: -0.25, z: 0.9 }, center: { x: 0, y: 0, z: 0 } } };
@@ -361,6 +384,7 @@
       keepStatic();
       inflight--; rendered++;
       document.getElementById('tlabel').textContent = 't = ' + S.t.toFixed(1) + ' s';
+      if (!mg._fullLayout) return null; // the metrics panel is not drawn yet (it shows S.t when it is)
       return Plotly.relayout(mg, { 'shapes[0].x0': S.t, 'shapes[0].x1': S.t });
     });
     queued = p;
@@ -599,6 +623,11 @@
   var frames2 = function () {
     return new Promise(function (r) { requestAnimationFrame(function () { requestAnimationFrame(r); }); setTimeout(r, 5000); });
   };
+  // The metrics panel is drawn when the browser is next idle after the scene's first frame (at
+  // most 200 ms later), so it never delays the scene.
+  var idle = function () {
+    return new Promise(function (r) { if (window.requestIdleCallback) requestIdleCallback(function () { r(); }, { timeout: 200 }); else setTimeout(r, 0); });
+  };
   Plotly.newPlot(gd, build(S.t), sceneLayout(), CONFIG).then(function () {
     keepStatic();
     MARKS.scene_ms = performance.now();
@@ -607,7 +636,7 @@
   }).then(function () {
     window.__mimo.firstRenderMs = MARKS.first_render_ms = performance.now();
     controls();
-    return metricsPlot();
+    return idle().then(metricsPlot);
   }).then(function () {
     MARKS.metrics_ms = performance.now();
     return frames2();
