@@ -321,6 +321,39 @@
 
   // ---- drawing ----
   var gd = document.getElementById('scene'), mg = document.getElementById('metrics');
+  // Picking on demand. gl-plot3d draws every trace a second time, with pick shaders into an
+  // off-screen buffer, at every change of the scene (each slider step and the first frame), so
+  // that a hover or click can be looked up. Under software WebGL the first such pass costs
+  // compiling its shaders' draw routines. Draws with a pick program (its fragment shader reads
+  // pickId or pickGroup) are skipped while the pointer is outside the scene; when it enters, the
+  // pick buffers are drawn at once, before any click can read them (docs/DECISIONS.md, fourth round).
+  var PICK = { on: false };
+  [window.WebGLRenderingContext, window.WebGL2RenderingContext].forEach(function (C) {
+    if (!C) return;
+    var P = C.prototype, link = P.linkProgram, use = P.useProgram, drawA = P.drawArrays, drawE = P.drawElements;
+    P.linkProgram = function (prog) {
+      try {
+        prog.__mimoPick = this.getAttachedShaders(prog).some(function (sh) {
+          return this.getShaderParameter(sh, this.SHADER_TYPE) === this.FRAGMENT_SHADER && /\bpick(Id|Group)\b/.test(this.getShaderSource(sh) || '');
+        }, this);
+      } catch (e) { /* not a program we can read: drawn as usual */ }
+      return link.call(this, prog);
+    };
+    P.useProgram = function (prog) { this.__mimoProg = prog; return use.call(this, prog); };
+    P.drawArrays = function () { if (!PICK.on && this.__mimoProg && this.__mimoProg.__mimoPick) return; return drawA.apply(this, arguments); };
+    P.drawElements = function () { if (!PICK.on && this.__mimoProg && this.__mimoProg.__mimoPick) return; return drawE.apply(this, arguments); };
+  });
+  function picking(on) {
+    if (PICK.on === on) return;
+    PICK.on = on;
+    var sc = on && gd._fullLayout && gd._fullLayout.scene && gd._fullLayout.scene._scene;
+    if (!sc || !sc.glplot) return;
+    sc.glplot.objects.forEach(function (o) { o.dirty = true; }); // the next redraw draws the pick buffers
+    sc.glplot.redraw();
+  }
+  gd.addEventListener('pointerenter', function () { picking(true); });
+  gd.addEventListener('pointermove', function () { picking(true); });
+  gd.addEventListener('pointerleave', function () { picking(false); });
   // Framing (crates/mimo-plot/src/framing.rs): the region view shows a box that holds the ships
   // and targets at t. The box is kept while the box of t's step lies inside it and is not much
   // smaller (70 % of its width), so most slider steps do not rescale the scene; otherwise the
