@@ -128,9 +128,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .map(|&k| {
                 // The dwells' keys first; whole rows only for the groups the test article is sent.
                 let dwells_file = run_file(&a.run, "dwells", k);
-                let keys = dwell_keys(&mimo_store::dwell_keys::read_dwell_keys(&dwells_file)?);
+                let store_keys = mimo_store::dwell_keys::read_dwell_keys(&dwells_file)?;
+                let keys = dwell_keys(&store_keys);
                 let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
-                    Ok(mimo_store::dwell_keys::read_dwell_rows(&dwells_file, at)?)
+                    Ok(mimo_store::dwell_keys::read_dwell_rows(&dwells_file, &store_keys, at)?)
                 };
                 let (prims, meas): (Vec<PrimitiveRow>, Vec<MeasurementRow>) = match from {
                     ReplayFrom::Primitives => (mimo_store::read_table(&run_file(&a.run, "primitives", k))?, Vec::new()),

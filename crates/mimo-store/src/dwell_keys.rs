@@ -13,7 +13,7 @@ use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
 use arrow::array::RecordBatch;
 use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellRow, Requester};
+use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
 use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
 use parquet::arrow::ProjectionMask;
 use parquet::arrow::arrow_reader::{ParquetRecordBatchReaderBuilder, RowSelection, RowSelectionPolicy};
@@ -52,6 +52,22 @@ impl DwellKeys {
 }
 
 const KEY_COLUMNS: [&str; 7] = ["run", "dwell_id", "group_id", "radar", "face", "requested_by", "t_s"];
+/// The columns of a dwells row that are not keys.
+const REST_COLUMNS: [&str; 13] = [
+    "role",
+    "kind",
+    "duration_s",
+    "pulse_width_s",
+    "n_pulses",
+    "peak_power_w",
+    "energy_j",
+    "waveform",
+    "beam_u",
+    "beam_v",
+    "aim_x_m",
+    "aim_y_m",
+    "aim_z_m",
+];
 
 /// The dwells file opened and its whole schema checked against the table's spec.
 fn open_checked(
@@ -103,8 +119,9 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
 }
 
 /// Read whole rows of one dwells file: the rows at the given file positions (ascending), in file
-/// order. Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
-pub fn read_dwell_rows(path: &Path, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
+/// order. `keys` are the file's keys ([`read_dwell_keys`]); only the other columns are decoded.
+/// Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
+pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
     let (builder, spec) = open_checked(path)?;
     let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
     let bad = |row: usize, why: &str| StoreError::BadRow {
@@ -117,7 +134,7 @@ pub fn read_dwell_rows(path: &Path, rows: &[usize]) -> Result<Vec<DwellRow>, Sto
         return Err(bad(w[1], "rows asked for out of order"));
     }
     if let Some(&last) = rows.last()
-        && last >= n_rows
+        && (last >= n_rows || last >= keys.len())
     {
         return Err(bad(last, "row asked for past the end of the file"));
     }
@@ -131,16 +148,50 @@ pub fn read_dwell_rows(path: &Path, rows: &[usize]) -> Result<Vec<DwellRow>, Sto
     }
     let selection = RowSelection::from_consecutive_ranges(ranges.into_iter(), n_rows);
     // Selectors (skip runs of rows), not a mask over decoded rows: the rows asked for are few.
+    let mask = ProjectionMask::columns(builder.parquet_schema(), REST_COLUMNS);
     let reader = builder
+        .with_projection(mask)
         .with_row_selection(selection)
         .with_row_selection_policy(RowSelectionPolicy::Selectors)
         .build()
         .map_err(parquet_err(path))?;
     let mut out = Vec::with_capacity(rows.len());
+    let mut at = rows.iter();
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch::check(&batch, path, spec)?;
-        out.extend(DwellRow::from_batch(&b)?);
+        let b = Batch { batch: &batch, file: path, spec };
+        // The checks of `DwellRow::from_batch`, column by column, on the rows read.
+        let role = b.parsed("role", Role::parse, "tx, rx, txrx")?;
+        let kind = b.parsed("kind", DwellKind::parse, "search, confirm, track, mimo")?;
+        let (dur, pw, np) = (b.f64("duration_s")?, b.f64("pulse_width_s")?, b.u32("n_pulses")?);
+        let (pp, e, wf) = (b.f64("peak_power_w")?, b.f64("energy_j")?, b.u32("waveform")?);
+        let (bu, bv) = (b.f64("beam_u")?, b.f64("beam_v")?);
+        let (ax, ay, az) = (b.f64("aim_x_m")?, b.f64("aim_y_m")?, b.f64("aim_z_m")?);
+        for i in 0..role.len() {
+            let Some(&k) = at.next() else { break };
+            out.push(DwellRow {
+                run: keys.run[k],
+                dwell_id: keys.dwell_id[k],
+                group_id: keys.group_id[k],
+                radar: keys.radar[k],
+                role: role[i],
+                kind: kind[i],
+                requested_by: keys.requested_by[k],
+                t_s: keys.t_s[k],
+                duration_s: dur[i],
+                pulse_width_s: pw[i],
+                n_pulses: np[i],
+                peak_power_w: pp[i],
+                energy_j: e[i],
+                waveform: wf[i],
+                face: keys.face[k],
+                beam_u: bu[i],
+                beam_v: bv[i],
+                aim_x_m: ax[i],
+                aim_y_m: ay[i],
+                aim_z_m: az[i],
+            });
+        }
     }
     if out.len() != rows.len() {
         return Err(StoreError::Parquet {
@@ -154,7 +205,6 @@ pub fn read_dwell_rows(path: &Path, rows: &[usize]) -> Result<Vec<DwellRow>, Sto
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mimo_core::records::{DwellKind, Role};
 
     fn row(i: u64) -> DwellRow {
         DwellRow {
@@ -198,11 +248,11 @@ mod tests {
             );
         }
         let pick: Vec<usize> = vec![0, 1, 2, 7, 1000, 1001, crate::ROW_GROUP_ROWS - 1, crate::ROW_GROUP_ROWS + 5];
-        let got = read_dwell_rows(&path, &pick).expect("rows");
+        let got = read_dwell_rows(&path, &k, &pick).expect("rows");
         let want: Vec<DwellRow> = pick.iter().map(|&i| rows[i].clone()).collect();
         assert_eq!(got, want);
-        assert!(read_dwell_rows(&path, &[3, 2]).is_err());
-        assert!(read_dwell_rows(&path, &[n as usize]).is_err());
+        assert!(read_dwell_rows(&path, &k, &[3, 2]).is_err());
+        assert!(read_dwell_rows(&path, &k, &[n as usize]).is_err());
     }
 
     /// The keys pass refuses what `read_table` refuses, with the same message.
