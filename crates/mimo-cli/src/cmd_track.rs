@@ -7,7 +7,7 @@ use mimo_scenario::Scenario;
 use mimo_sim::{EngineConfig, SearchConfig, World};
 use mimo_store::manifest::{Manifest, TableFile, TrackerInfo};
 use mimo_store::rundir::RunDirWriter;
-use mimo_ta::replay::{ReplayFrom, replay};
+use mimo_ta::replay::{DwellKey, ReplayError, ReplayFrom, replay_selected};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -52,6 +52,20 @@ pub fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, CliError> {
     // The scenario's own errors name fields, not files: say which manifest holds it.
     s.validate().map_err(|e| CliError::input(format!("{}: field 'scenario.resolved': {e}", file.display())))?;
     Ok(s)
+}
+
+/// The replay's keys of the store's key columns.
+fn dwell_keys(k: &mimo_store::dwell_keys::DwellKeys) -> Vec<DwellKey> {
+    (0..k.len())
+        .map(|i| DwellKey {
+            run: k.run[i],
+            dwell_id: k.dwell_id[i],
+            group_id: k.group_id[i],
+            radar: k.radar[i],
+            face: k.face[i],
+            requested_by: k.requested_by[i],
+        })
+        .collect()
 }
 
 fn run_file(dir: &Path, table: &str, run: u32) -> PathBuf {
@@ -112,7 +126,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let results: Vec<RunResult> = pool.install(|| {
         runs.par_iter()
             .map(|&k| {
-                let dwells: Vec<DwellRow> = mimo_store::read_table(&run_file(&a.run, "dwells", k))?;
+                // The dwells' keys first; whole rows only for the groups the test article is sent.
+                let dwells_file = run_file(&a.run, "dwells", k);
+                let store_keys = mimo_store::dwell_keys::read_dwell_keys(&dwells_file)?;
+                let keys = dwell_keys(&store_keys);
+                let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
+                    Ok(mimo_store::dwell_keys::read_dwell_rows(&dwells_file, &store_keys, at)?)
+                };
                 let (prims, meas): (Vec<PrimitiveRow>, Vec<MeasurementRow>) = match from {
                     ReplayFrom::Primitives => (mimo_store::read_table(&run_file(&a.run, "primitives", k))?, Vec::new()),
                     ReplayFrom::Measurements => {
@@ -122,15 +142,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 let mut tester = ta.build(&world)?;
                 let mut out = RunTables::default();
                 let stats =
-                    replay(&world, &cfg, tester.as_mut(), k, &dwells, &prims, &meas, from, &mut out).map_err(|e| {
-                        match e {
-                            mimo_ta::replay::ReplayError::UnknownDwell { .. }
-                            | mimo_ta::replay::ReplayError::UnknownFace { .. } => {
+                    replay_selected(&world, &cfg, tester.as_mut(), k, &keys, &mut load, &prims, &meas, from, &mut out)
+                        .map_err(|e| match e {
+                            ReplayError::UnknownDwell { .. } | ReplayError::UnknownFace { .. } => {
                                 CliError::input(format!("{}: {e}", a.run.display()))
                             }
                             other => CliError::from(other),
-                        }
-                    })?;
+                        })?;
                 let mut files = vec![("tracks".to_string(), writer.write_run_table("tracks", k, &out.tracks)?)];
                 if from == ReplayFrom::Primitives {
                     files.push((

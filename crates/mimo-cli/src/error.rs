@@ -66,6 +66,11 @@ impl From<mimo_ta::replay::ReplayError> for CliError {
         match e {
             R::UnknownDwell { .. } | R::UnknownFace { .. } => CliError::Input(e.to_string()),
             R::Ta { .. } | R::Sink(_) => CliError::Other(e.to_string()),
+            // The store's own error, with its class (input or system).
+            R::DwellRows(e) => match e.downcast::<mimo_store::StoreError>() {
+                Ok(store) => CliError::from(*store),
+                Err(e) => CliError::Other(e.to_string()),
+            },
         }
     }
 }

@@ -27,6 +27,7 @@ pub mod assign;
 pub mod face;
 pub mod geo;
 pub mod ids;
+pub mod nearly_sorted;
 pub mod params;
 pub mod polarimetry;
 pub mod records;

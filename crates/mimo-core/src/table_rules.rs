@@ -16,7 +16,6 @@
 //! Each check returns the first offending row (0-based, within the file checked) and a reason.
 
 use std::collections::HashMap;
-use std::collections::hash_map::Entry;
 use std::hash::Hash;
 
 /// A row that breaks a rule: the column to blame, the row (0-based) and why.
@@ -67,46 +66,79 @@ fn check_times<K: Hash + Eq + std::fmt::Display>(
     strict: bool,
     what: &str,
 ) -> Result<(), Violation> {
-    let mut latest: HashMap<K, (f64, usize)> = HashMap::new();
+    let mut latest = Latest::default();
     for (row, (key, &t)) in keys.into_iter().zip(t_s).enumerate() {
-        match latest.entry(key) {
-            Entry::Vacant(v) => {
-                v.insert((t, row));
-            }
-            Entry::Occupied(mut o) => {
-                let (max, max_row) = *o.get();
-                let back = t < max - tolerance_s;
-                if back || (strict && t == max) {
-                    let why = match (back, tolerance_s > 0.0, strict) {
-                        (true, true, _) => format!(
-                            "{t} is more than {tolerance_s} s before {max} at row {max_row} for {what} {} (times must not run backwards within each {what})",
-                            o.key()
-                        ),
-                        (true, false, s) => format!(
-                            "{t} is before {max} at row {max_row} for {what} {} (times must {} within each {what})",
-                            o.key(),
-                            if s { "increase" } else { "not decrease" }
-                        ),
-                        (false, ..) => format!(
-                            "{t} repeats {max} at row {max_row} for {what} {} (times must increase within each {what})",
-                            o.key()
-                        ),
-                    };
-                    return Err(Violation { column: "t_s", row, why });
-                }
-                if t > max {
-                    o.insert((t, row));
-                }
-            }
+        let Some((max, max_row)) = latest.get(&key) else {
+            latest.set(key, (t, row));
+            continue;
+        };
+        let back = t < max - tolerance_s;
+        if back || (strict && t == max) {
+            let why = match (back, tolerance_s > 0.0, strict) {
+                (true, true, _) => format!(
+                    "{t} is more than {tolerance_s} s before {max} at row {max_row} for {what} {key} (times must not run backwards within each {what})"
+                ),
+                (true, false, s) => format!(
+                    "{t} is before {max} at row {max_row} for {what} {key} (times must {} within each {what})",
+                    if s { "increase" } else { "not decrease" }
+                ),
+                (false, ..) => format!(
+                    "{t} repeats {max} at row {max_row} for {what} {key} (times must increase within each {what})"
+                ),
+            };
+            return Err(Violation { column: "t_s", row, why });
+        }
+        if t > max {
+            latest.set(key, (t, row));
         }
     }
     Ok(())
 }
 
+/// The latest time and row of each key: a short list while the keys are few (a file's radars or
+/// targets: a few comparisons a row instead of a hash), a hash map beyond.
+struct Latest<K> {
+    few: Vec<(K, (f64, usize))>,
+    many: HashMap<K, (f64, usize)>,
+}
+
+impl<K> Default for Latest<K> {
+    fn default() -> Self {
+        Latest { few: Vec::new(), many: HashMap::new() }
+    }
+}
+
+impl<K: Hash + Eq> Latest<K> {
+    const FEW: usize = 16;
+
+    fn get(&self, key: &K) -> Option<(f64, usize)> {
+        if self.many.is_empty() {
+            self.few.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+        } else {
+            self.many.get(key).copied()
+        }
+    }
+
+    fn set(&mut self, key: K, v: (f64, usize)) {
+        if self.many.is_empty() {
+            if let Some(slot) = self.few.iter_mut().find(|(k, _)| *k == key) {
+                slot.1 = v;
+                return;
+            }
+            if self.few.len() < Self::FEW {
+                self.few.push((key, v));
+                return;
+            }
+            self.many.extend(self.few.drain(..));
+        }
+        self.many.insert(key, v);
+    }
+}
+
 /// Keys that must be unique (e.g. `(run, dwell_id)`): the first repeat.
 ///
 /// Tables are written in key order, so keys that strictly increase are accepted after one
-/// comparison per row; only otherwise are they hashed, to find the first repeat and its row.
+/// comparison per row; only otherwise are they sorted, to find the first repeat and its row.
 pub fn unique<K: Hash + Eq + Ord + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     column: &'static str,
@@ -115,22 +147,25 @@ pub fn unique<K: Hash + Eq + Ord + std::fmt::Display>(
     if keys.windows(2).all(|w| w[0] < w[1]) {
         return Ok(());
     }
-    let mut seen: HashMap<&K, usize> = HashMap::with_capacity(keys.len());
-    for (row, key) in keys.iter().enumerate() {
-        match seen.entry(key) {
-            Entry::Vacant(v) => {
-                v.insert(row);
-            }
-            Entry::Occupied(o) => {
-                return Err(Violation {
-                    column,
-                    row,
-                    why: format!("{} repeats row {} ({column} must be unique within a run)", o.key(), o.get()),
-                });
-            }
+    // Sorted by (key, row), each key's rows are together in file order; the first repeat in the
+    // file is the smallest second row of any key, and it repeats that key's first row.
+    let mut order: Vec<(&K, usize)> = keys.iter().zip(0..).collect();
+    crate::nearly_sorted::sort_nearly_sorted(&mut order);
+    let mut first: Option<(usize, usize)> = None;
+    for i in 1..order.len() {
+        let starts_group = i == 1 || order[i - 2].0 != order[i - 1].0;
+        if starts_group && order[i].0 == order[i - 1].0 && first.is_none_or(|(r, _)| order[i].1 < r) {
+            first = Some((order[i].1, order[i - 1].1));
         }
     }
-    Ok(())
+    match first {
+        None => Ok(()),
+        Some((row, was)) => Err(Violation {
+            column,
+            row,
+            why: format!("{} repeats row {was} ({column} must be unique within a run)", keys[row]),
+        }),
+    }
 }
 
 /// Every row's run is the file's run (files are `run-K.parquet`, one run each).

@@ -16,10 +16,13 @@
 //!   run's tables written that way, the engine's sink for `mimo simulate` (memory flat in the
 //!   run's length).
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
+//! * [`dwell_keys`]: the dwells table read in two passes for re-runs: every row's keys, then
+//!   whole rows only where asked.
 
 #![warn(missing_docs)]
 
 pub mod columns;
+pub mod dwell_keys;
 pub mod invariants;
 pub mod lineage;
 pub mod manifest;
@@ -243,6 +246,23 @@ pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), S
 /// Read one Parquet file of table `R`, checking table name, schema version, column types and
 /// finiteness of floating-point values.
 pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
+    let builder = open_table::<R>(path)?;
+    let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+    let table_spec =
+        schema::table(R::SPEC.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", R::SPEC.name)))?;
+    let mut out = Vec::new();
+    for batch in reader {
+        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+        let b = Batch::check(&batch, path, table_spec)?;
+        out.extend(R::from_batch(&b)?);
+    }
+    invariants::check(path, &out)?;
+    Ok(out)
+}
+
+/// Open one Parquet file of table `R` for reading, checking its table name, schema version and
+/// column-chunk ranges (what [`read_table`] checks before reading a value).
+pub(crate) fn open_table<R: TableRow>(path: &Path) -> Result<ParquetRecordBatchReaderBuilder<File>, StoreError> {
     let file = File::open(path).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             StoreError::Missing { path: path.to_path_buf() }
@@ -283,17 +303,7 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
         }
     }
     check_chunk_ranges(builder.metadata(), path)?;
-    let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-    let table_spec =
-        schema::table(spec.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", spec.name)))?;
-    let mut out = Vec::new();
-    for batch in reader {
-        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch::check(&batch, path, table_spec)?;
-        out.extend(R::from_batch(&b)?);
-    }
-    invariants::check(path, &out)?;
-    Ok(out)
+    Ok(builder)
 }
 
 /// Refuse a footer whose column chunks lie at negative offsets or lengths (a damaged file): the

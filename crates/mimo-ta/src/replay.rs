@@ -10,9 +10,11 @@
 //! primitives, measurements are first re-formed per dwell group with
 //! `mimo_radar::measurements_from_primitives` and the group's own id base, which reproduces the
 //! recorded measurements exactly. Truth never reaches the test article: `target_hint` is
-//! cleared before delivery.
+//! cleared before delivery. [`replay_selected`] needs only the dwells table's keys up front and
+//! loads whole rows for the groups delivered alone (a few percent of the table).
 
-use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Role, TrackRow};
+use mimo_core::ids::RadarId;
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Requester, Role, TrackRow};
 use mimo_core::sink::{RunSink, SinkError};
 use mimo_core::time::SimTime;
 use mimo_sim::engine::{Engine, first_meas_id};
@@ -62,6 +64,9 @@ pub enum ReplayError {
     /// The sink could not take the rows.
     #[error("{0}")]
     Sink(#[from] SinkError),
+    /// The whole dwells rows of the groups delivered could not be loaded.
+    #[error("{0}")]
+    DwellRows(Box<dyn std::error::Error + Send + Sync>),
 }
 
 /// Counters of a re-run.
@@ -74,6 +79,41 @@ pub struct ReplayStats {
     /// Requests the test article made (ignored: the schedule is the recording's).
     pub ignored_requests: u64,
 }
+
+/// The columns of a dwells row a re-run needs before it knows which groups it delivers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DwellKey {
+    /// `run`.
+    pub run: u32,
+    /// `dwell_id`.
+    pub dwell_id: u64,
+    /// `group_id`.
+    pub group_id: u64,
+    /// `radar`.
+    pub radar: RadarId,
+    /// `face`.
+    pub face: u8,
+    /// `requested_by`.
+    pub requested_by: Requester,
+}
+
+impl DwellKey {
+    /// The key of a whole row.
+    pub fn of(d: &DwellRow) -> DwellKey {
+        DwellKey {
+            run: d.run,
+            dwell_id: d.dwell_id,
+            group_id: d.group_id,
+            radar: d.radar,
+            face: d.face,
+            requested_by: d.requested_by,
+        }
+    }
+}
+
+/// Whole dwells rows by position in the key list (positions ascending, rows in that order); the
+/// error is returned as [`ReplayError::DwellRows`].
+pub type DwellLoader<'a> = dyn FnMut(&[usize]) -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> + 'a;
 
 /// Re-run test article `ta` over one run's dwells and primitives or measurements. Track rows
 /// (and, from primitives, the re-formed measurements) go to `sink`.
@@ -89,19 +129,47 @@ pub fn replay(
     from: ReplayFrom,
     sink: &mut dyn RunSink,
 ) -> Result<ReplayStats, ReplayError> {
+    let keys: Vec<DwellKey> = dwells.iter().map(DwellKey::of).collect();
+    let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
+        Ok(at.iter().map(|&i| dwells[i].clone()).collect())
+    };
+    replay_selected(world, cfg, ta, run, &keys, &mut load, primitives, measurements, from, sink)
+}
+
+/// [`replay`] from the dwells table's keys (`keys`, every row) and a loader of whole rows, asked
+/// once for the rows of the groups delivered: a reader can skip decoding the rest of the table
+/// (`mimo_store::dwell_keys`). The result is [`replay`]'s.
+#[allow(clippy::too_many_arguments)] // the recording's tables, the test article and the sink
+pub fn replay_selected(
+    world: &World,
+    cfg: &EngineConfig,
+    ta: &mut dyn TestArticle,
+    run: u32,
+    keys: &[DwellKey],
+    load: &mut DwellLoader<'_>,
+    primitives: &[PrimitiveRow],
+    measurements: &[MeasurementRow],
+    from: ReplayFrom,
+    sink: &mut dyn RunSink,
+) -> Result<ReplayStats, ReplayError> {
     let fault = |ta: &dyn TestArticle, fault: TaFault| ReplayError::Ta { name: ta.name().to_string(), fault };
-    // The run's dwell parts in dwell_id order: dwell_id → group_id by binary search. Every part
-    // must name a face its ship has (checked here, cheaply, for every part; frames are computed
-    // only for the groups delivered).
-    let mut rows: Vec<&DwellRow> = dwells.iter().filter(|d| d.run == run).collect();
-    rows.sort_by_key(|d| d.dwell_id);
-    for d in &rows {
+    // The run's dwell parts in dwell_id order (positions in `keys`; equal ids keep file order):
+    // dwell_id → group_id by binary search. Every part must name a face its ship has (checked
+    // here, cheaply, for every part; frames are computed only for the groups delivered).
+    let mut by_id: Vec<(u64, usize)> =
+        (0..keys.len()).filter(|&i| keys[i].run == run).map(|i| (keys[i].dwell_id, i)).collect();
+    mimo_core::nearly_sorted::sort_nearly_sorted(&mut by_id);
+    let rows: Vec<usize> = by_id.into_iter().map(|(_, i)| i).collect();
+    for &i in &rows {
+        let d = &keys[i];
         let n_faces = world.scenario.ships.get(d.radar.index()).map_or(0, |s| s.radar.face_azimuths_deg.len());
         if usize::from(d.face) >= n_faces {
             return Err(ReplayError::UnknownFace { dwell_id: d.dwell_id, radar: d.radar.to_string(), face: d.face });
         }
     }
-    let group_of = |dwell_id: u64| rows.binary_search_by_key(&dwell_id, |d| d.dwell_id).ok().map(|i| rows[i].group_id);
+    let group_of = |dwell_id: u64| {
+        rows.binary_search_by_key(&dwell_id, |&i| keys[i].dwell_id).ok().map(|k| keys[rows[k]].group_id)
+    };
 
     // Measurements (and, when subscribed, primitives) per group.
     let mut meas_by_group: HashMap<u64, Vec<MeasurementRow>> = HashMap::new();
@@ -151,31 +219,51 @@ pub fn replay(
     // Groups as runs of parts: part indices ordered by (group_id, dwell_id), so each group's parts
     // are contiguous and in dwell_id order. A group's kind, requester, start, duration and aim are
     // its first part's. Only the groups the subscription wants are kept.
+    // Groups are usually numbered in dwell_id order already: then no sort is needed.
     let mut by_group: Vec<u32> = (0..rows.len() as u32).collect();
-    by_group.sort_by_key(|&i| (rows[i as usize].group_id, rows[i as usize].dwell_id));
-    let mut wanted: Vec<(SimTime, u64, std::ops::Range<usize>)> = Vec::new();
+    if !rows.windows(2).all(|w| keys[w[0]].group_id <= keys[w[1]].group_id) {
+        by_group.sort_by_key(|&k| (keys[rows[k as usize]].group_id, keys[rows[k as usize]].dwell_id));
+    }
+    let mut wanted_parts: Vec<(u64, std::ops::Range<usize>)> = Vec::new();
     let mut k = 0;
     while k < by_group.len() {
-        let first = rows[by_group[k] as usize];
+        let first = &keys[rows[by_group[k] as usize]];
         let mut end = k + 1;
-        while end < by_group.len() && rows[by_group[end] as usize].group_id == first.group_id {
+        while end < by_group.len() && keys[rows[by_group[end] as usize]].group_id == first.group_id {
             end += 1;
         }
         let n_meas = meas_by_group.get(&first.group_id).map_or(0, Vec::len);
         if sub.wants(first.requested_by, n_meas) {
-            let t_end = SimTime::from_secs(first.t_s).plus_secs(first.duration_s);
-            wanted.push((t_end, first.group_id, k..end));
+            wanted_parts.push((first.group_id, k..end));
         }
         k = end;
+    }
+    // Whole rows of the wanted groups' parts only, by position in `keys`.
+    let mut needed: Vec<usize> =
+        wanted_parts.iter().flat_map(|(_, parts)| by_group[parts.clone()].iter().map(|&k| rows[k as usize])).collect();
+    needed.sort_unstable();
+    needed.dedup();
+    let full = load(&needed).map_err(ReplayError::DwellRows)?;
+    if full.len() != needed.len() {
+        return Err(ReplayError::DwellRows(
+            format!("{} dwells rows loaded for {} asked for", full.len(), needed.len()).into(),
+        ));
+    }
+    let row_at = |i: usize| needed.binary_search(&i).ok().map(|p| &full[p]);
+    let mut wanted: Vec<(SimTime, u64, std::ops::Range<usize>)> = Vec::with_capacity(wanted_parts.len());
+    for (gid, parts) in wanted_parts {
+        let Some(first) = row_at(rows[by_group[parts.start] as usize]) else { continue };
+        let t_end = SimTime::from_secs(first.t_s).plus_secs(first.duration_s);
+        wanted.push((t_end, gid, parts));
     }
     // Delivery order of the engine: end time, then group id.
     wanted.sort_by_key(|w| (w.0, w.1));
     for (end, gid, parts) in wanted {
-        let g = rows[by_group[parts.start] as usize];
+        let Some(g) = row_at(rows[by_group[parts.start] as usize]) else { continue };
         let t_mid = g.t_s + 0.5 * g.duration_s;
         let mut reports = Vec::with_capacity(parts.len());
         for &i in &by_group[parts] {
-            let d = rows[i as usize];
+            let Some(d) = row_at(rows[i as usize]) else { continue };
             // The engine's own (interpolated) face frames, so reports match the closed loop's.
             let frame = world.face_at(d.radar, d.face, t_mid).ok_or_else(|| ReplayError::UnknownFace {
                 dwell_id: d.dwell_id,

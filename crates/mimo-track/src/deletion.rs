@@ -46,10 +46,32 @@ pub enum DeleteReason {
     Divergence,
 }
 
+/// A promise of a deleter about a track whose status, misses and updates stay as they are:
+/// [`Deleter::check`] keeps it at every check time `t_s` with `0 ≤ t_s − t_last_update_s ≤
+/// max_dt_s` whose prediction is finite with a position-covariance trace of at most
+/// `max_position_trace_m2`. The tracker uses it to skip checks that cannot fire.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuietSpan {
+    /// Longest time since the last update (s) the promise covers.
+    pub max_dt_s: f64,
+    /// Largest trace of the predicted position covariance (m²) the promise covers.
+    pub max_position_trace_m2: f64,
+}
+
+impl QuietSpan {
+    /// No limit of either kind.
+    pub const ALWAYS: QuietSpan = QuietSpan { max_dt_s: f64::INFINITY, max_position_trace_m2: f64::INFINITY };
+}
+
 /// The deletion family.
 pub trait Deleter: Send + Sync {
     /// The reason to delete the track now, or `None` to keep it.
     fn check(&self, track: &TrackView<'_>) -> Option<DeleteReason>;
+    /// The promise this deleter makes about a track of this status, consecutive misses and
+    /// updates (see [`QuietSpan`]), or `None` for no promise (the default: every check runs).
+    fn quiet_span(&self, _status: TrackStatus, _consecutive_misses: u32, _n_updates: u32) -> Option<QuietSpan> {
+        None
+    }
 }
 
 /// Delete a confirmed track after `n_miss` consecutive missed looks (re-dwells count).
@@ -62,6 +84,10 @@ pub struct MissCountDeleter {
 impl Deleter for MissCountDeleter {
     fn check(&self, t: &TrackView<'_>) -> Option<DeleteReason> {
         (t.status == TrackStatus::Confirmed && t.consecutive_misses >= self.n_miss).then_some(DeleteReason::Misses)
+    }
+
+    fn quiet_span(&self, status: TrackStatus, consecutive_misses: u32, _n_updates: u32) -> Option<QuietSpan> {
+        (status != TrackStatus::Confirmed || consecutive_misses < self.n_miss).then_some(QuietSpan::ALWAYS)
     }
 }
 
@@ -76,6 +102,10 @@ impl Deleter for CovarianceDeleter {
     fn check(&self, t: &TrackView<'_>) -> Option<DeleteReason> {
         let tr = trace(&t.predicted.pos_cov());
         (!tr.is_finite() || tr > self.max_position_trace_m2).then_some(DeleteReason::Covariance)
+    }
+
+    fn quiet_span(&self, _status: TrackStatus, _consecutive_misses: u32, _n_updates: u32) -> Option<QuietSpan> {
+        Some(QuietSpan { max_position_trace_m2: self.max_position_trace_m2, ..QuietSpan::ALWAYS })
     }
 }
 
@@ -96,6 +126,14 @@ impl Deleter for CoastDeleter {
         };
         (t.t_s - t.t_last_update_s > limit).then_some(DeleteReason::Coast)
     }
+
+    fn quiet_span(&self, status: TrackStatus, _consecutive_misses: u32, _n_updates: u32) -> Option<QuietSpan> {
+        let limit = match status {
+            TrackStatus::Tentative => self.tentative_max_s,
+            _ => self.confirmed_max_s,
+        };
+        Some(QuietSpan { max_dt_s: limit, ..QuietSpan::ALWAYS })
+    }
 }
 
 /// The first reason any member gives.
@@ -108,6 +146,17 @@ pub struct AnyDeleter {
 impl Deleter for AnyDeleter {
     fn check(&self, t: &TrackView<'_>) -> Option<DeleteReason> {
         self.members.iter().find_map(|d| d.check(t))
+    }
+
+    /// Every member's promise at once: the tightest limits, or none if a member makes none.
+    fn quiet_span(&self, status: TrackStatus, consecutive_misses: u32, n_updates: u32) -> Option<QuietSpan> {
+        self.members.iter().try_fold(QuietSpan::ALWAYS, |acc, d| {
+            let s = d.quiet_span(status, consecutive_misses, n_updates)?;
+            Some(QuietSpan {
+                max_dt_s: acc.max_dt_s.min(s.max_dt_s),
+                max_position_trace_m2: acc.max_position_trace_m2.min(s.max_position_trace_m2),
+            })
+        })
     }
 }
 

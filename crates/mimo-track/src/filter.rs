@@ -92,6 +92,16 @@ pub trait TrackFilter: Send + Sync {
     fn init(&self, g: Gaussian) -> FilterState;
     /// Predict over `dt` seconds (pure: the state is not changed).
     fn predict(&self, state: &FilterState, dt: f64) -> FilterPrediction;
+    /// The combined mean of [`TrackFilter::predict`], bit for bit, without the covariances.
+    fn predict_mean(&self, state: &FilterState, dt: f64) -> [f64; 6] {
+        self.predict(state, dt).combined.x
+    }
+    /// Whether the trace of the combined predicted position covariance is convex in `dt ≥ 0` for
+    /// this state (lets the tracker skip deletion checks that cannot fire, docs/model.md §6.4).
+    /// The default, `false`, is always safe.
+    fn position_trace_convex(&self, _state: &FilterState) -> bool {
+        false
+    }
     /// Update a prediction with a measurement.
     fn update(
         &self,
@@ -149,6 +159,14 @@ impl TrackFilter for SingleModelFilter {
     fn predict(&self, state: &FilterState, dt: f64) -> FilterPrediction {
         let g = self.predictor.predict(&state.combined(), dt);
         FilterPrediction { modes: vec![g], cbar: vec![1.0], combined: g }
+    }
+
+    fn predict_mean(&self, state: &FilterState, dt: f64) -> [f64; 6] {
+        self.predictor.predict_mean(&state.combined(), dt)
+    }
+
+    fn position_trace_convex(&self, state: &FilterState) -> bool {
+        self.predictor.position_trace_convex(&state.combined())
     }
 
     fn update(

@@ -102,6 +102,7 @@ mod channel;
 pub mod components;
 pub mod config;
 pub mod deletion;
+mod deletion_quiet;
 pub mod diagnostics;
 pub mod dwell;
 pub mod filter;

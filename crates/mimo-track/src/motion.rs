@@ -24,6 +24,13 @@ pub trait MotionModel: Send + Sync {
     fn jacobian(&self, x: &Vec6, dt: f64) -> Mat6;
     /// Process-noise covariance over `dt`.
     fn process_noise(&self, x: &Vec6, dt: f64) -> Mat6;
+    /// Whether the trace of the predicted position covariance is a convex function of `dt ≥ 0`
+    /// for every prior with non-negative velocity variances (true of a linear constant-velocity
+    /// model with convex process noise). Lets the tracker skip deletion checks that cannot fire
+    /// (docs/model.md §6.4). The default, `false`, is always safe.
+    fn position_trace_convex(&self) -> bool {
+        false
+    }
 }
 
 /// Discretization of the white-noise acceleration.
@@ -108,6 +115,15 @@ impl MotionModel for Ncv {
     fn process_noise(&self, _x: &Vec6, dt: f64) -> Mat6 {
         self.noise.q(dt)
     }
+
+    /// `tr P⁻_pos(dt) = tr P_pp + 2 dt tr P_pv + dt² tr P_vv + 3 Q_pp(dt)`: a quadratic with a
+    /// non-negative leading term plus `σ² dt⁴/4` or `q̃ dt³/3`, convex for `dt ≥ 0`.
+    fn position_trace_convex(&self) -> bool {
+        match self.noise {
+            ProcessNoise::Dwna { sigma_a_mps2 } => sigma_a_mps2.is_finite(),
+            ProcessNoise::Cwna { q_m2ps3 } => q_m2ps3.is_finite() && q_m2ps3 >= 0.0,
+        }
+    }
 }
 
 /// Coordinated turn at a known, fixed rate `omega_radps` (positive = counter-clockwise seen from
@@ -168,6 +184,15 @@ impl MotionModel for HorizontalTurn {
 pub trait Predictor: Send + Sync {
     /// Predict `prior` over `dt` seconds.
     fn predict(&self, prior: &Gaussian, dt: f64) -> Gaussian;
+    /// The mean of [`Predictor::predict`], bit for bit, without the covariance.
+    fn predict_mean(&self, prior: &Gaussian, dt: f64) -> Vec6 {
+        self.predict(prior, dt).x
+    }
+    /// Whether the trace of the predicted position covariance of `prior` is convex in `dt ≥ 0`
+    /// (see [`MotionModel::position_trace_convex`]). The default, `false`, is always safe.
+    fn position_trace_convex(&self, _prior: &Gaussian) -> bool {
+        false
+    }
 }
 
 /// EKF prediction with a motion model: `x⁻ = f(x)`, `P⁻ = F P Fᵀ + Q` (symmetrized).
@@ -198,6 +223,15 @@ pub fn ekf_predict(model: &dyn MotionModel, prior: &Gaussian, dt: f64) -> Gaussi
 impl<M: MotionModel> Predictor for KalmanPredictor<M> {
     fn predict(&self, prior: &Gaussian, dt: f64) -> Gaussian {
         ekf_predict(&self.model, prior, dt)
+    }
+
+    fn predict_mean(&self, prior: &Gaussian, dt: f64) -> Vec6 {
+        // The mean step of `ekf_predict`.
+        if dt == 0.0 { prior.x } else { self.model.propagate(&prior.x, dt) }
+    }
+
+    fn position_trace_convex(&self, prior: &Gaussian) -> bool {
+        self.model.position_trace_convex() && (3..6).all(|i| prior.p[i][i] >= 0.0)
     }
 }
 

@@ -57,6 +57,8 @@ pub struct MultiTargetTracker {
     pub(crate) next_id: u64,
     pub(crate) nis_log: Vec<NisRecord>,
     pub(crate) stats: TrackerStats,
+    /// Deletion checks known to keep their track (docs/model.md §6.4).
+    pub(crate) quiet: crate::deletion_quiet::QuietTracks,
 }
 
 impl fmt::Debug for MultiTargetTracker {
@@ -92,6 +94,7 @@ impl MultiTargetTracker {
             next_id: 1,
             nis_log: Vec::new(),
             stats: TrackerStats::default(),
+            quiet: Default::default(),
         }
     }
 
@@ -314,8 +317,8 @@ impl MultiTargetTracker {
             })
             .collect();
         for (id, t) in &self.tracks {
-            let g = self.c.filter.predict(&t.state, ctx.t_s - t.t_s).combined;
-            let p = g.pos();
+            let x = self.c.filter.predict_mean(&t.state, ctx.t_s - t.t_s);
+            let p = mimo_core::DVec3::new(x[0], x[1], x[2]);
             for (look, m) in &models {
                 let l = crate::linalg::mul_vec(&m.m, &(p - m.rx).to_array());
                 if l[2] <= 0.0 {
@@ -337,6 +340,9 @@ impl MultiTargetTracker {
         let mut rows = Vec::new();
         let mut gone = Vec::new();
         for (id, t) in &self.tracks {
+            if !rejected.contains(id) && self.quiet.is_quiet(&*self.c.filter, &*self.c.deleter, t, t_s) {
+                continue;
+            }
             let g = self.c.filter.predict(&t.state, t_s - t.t_s).combined;
             let reason = if rejected.contains(id) {
                 Some(DeleteReason::Unconfirmed)
@@ -363,6 +369,7 @@ impl MultiTargetTracker {
         }
         for (id, r) in gone {
             self.tracks.remove(&id);
+            self.quiet.forget(id);
             *self.stats.deleted.entry(r).or_insert(0) += 1;
         }
         rows

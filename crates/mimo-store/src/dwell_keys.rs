@@ -1,0 +1,277 @@
+//! The dwells table read in two passes, for re-runs (`mimo track`, docs/design.md §2).
+//!
+//! A re-run delivers only the dwell groups its test article subscribes to (by default those
+//! with a detection or ordered by the test article: a few percent of the rows). The first pass,
+//! [`read_dwell_keys`], decodes the columns that decide which rows those are (run, ids, radar,
+//! face, requester) and `t_s`, for every row, and checks the table's rules on them
+//! (docs/design.md §7: unique `dwell_id`, times ordered per radar, one run per file) exactly as
+//! [`crate::read_table`] does. The second, [`read_dwell_rows`], decodes whole rows only for the
+//! rows asked for, with the same column checks (types, nulls, finite values, categories) on
+//! those rows.
+
+use crate::rows::{Batch, TableRow};
+use crate::{StoreError, invariants, schema};
+use arrow::array::RecordBatch;
+use mimo_core::ids::RadarId;
+use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
+use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
+use parquet::arrow::ProjectionMask;
+use parquet::arrow::arrow_reader::{ParquetRecordBatchReaderBuilder, RowSelection, RowSelectionPolicy};
+use std::fs::File;
+use std::path::Path;
+
+/// The key columns of every row of a dwells file, in file order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DwellKeys {
+    /// `run`.
+    pub run: Vec<u32>,
+    /// `dwell_id`.
+    pub dwell_id: Vec<u64>,
+    /// `group_id`.
+    pub group_id: Vec<u64>,
+    /// `radar`.
+    pub radar: Vec<RadarId>,
+    /// `face`.
+    pub face: Vec<u8>,
+    /// `requested_by`.
+    pub requested_by: Vec<Requester>,
+    /// `t_s` (s).
+    pub t_s: Vec<f64>,
+}
+
+impl DwellKeys {
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.run.len()
+    }
+
+    /// No rows.
+    pub fn is_empty(&self) -> bool {
+        self.run.is_empty()
+    }
+}
+
+const KEY_COLUMNS: [&str; 7] = ["run", "dwell_id", "group_id", "radar", "face", "requested_by", "t_s"];
+/// The columns of a dwells row that are not keys.
+const REST_COLUMNS: [&str; 13] = [
+    "role",
+    "kind",
+    "duration_s",
+    "pulse_width_s",
+    "n_pulses",
+    "peak_power_w",
+    "energy_j",
+    "waveform",
+    "beam_u",
+    "beam_v",
+    "aim_x_m",
+    "aim_y_m",
+    "aim_z_m",
+];
+
+/// The dwells file opened and its whole schema checked against the table's spec.
+fn open_checked(
+    path: &Path,
+) -> Result<(ParquetRecordBatchReaderBuilder<File>, &'static schema::TableSpec), StoreError> {
+    let builder = crate::open_table::<DwellRow>(path)?;
+    let spec = schema::table(DwellRow::SPEC.name)
+        .ok_or_else(|| StoreError::Arrow(format!("unknown table {}", DwellRow::SPEC.name)))?;
+    // Every column present with its type, as `read_table` checks on each batch.
+    Batch::check(&RecordBatch::new_empty(builder.schema().clone()), path, spec)?;
+    Ok((builder, spec))
+}
+
+fn parquet_err(path: &Path) -> impl Fn(parquet::errors::ParquetError) -> StoreError + '_ {
+    move |e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() }
+}
+
+/// Read the key columns of every row of one dwells file and check the table's rules on them.
+pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
+    let (builder, spec) = open_checked(path)?;
+    let mask = ProjectionMask::columns(builder.parquet_schema(), KEY_COLUMNS);
+    let reader = builder.with_projection(mask).build().map_err(parquet_err(path))?;
+    let mut k = DwellKeys::default();
+    for batch in reader {
+        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+        let b = Batch { batch: &batch, file: path, spec };
+        k.run.extend(b.u32("run")?);
+        k.dwell_id.extend(b.u64("dwell_id")?);
+        k.group_id.extend(b.u64("group_id")?);
+        k.radar.extend(b.radar("radar")?);
+        k.face.extend(b.u8("face")?);
+        k.requested_by.extend(b.parsed("requested_by", Requester::parse, "radar, ta")?);
+        k.t_s.extend(b.f64("t_s")?);
+    }
+    // The rules of `invariants` for `DwellRow`, on the same values.
+    let to_err = |v: mimo_core::table_rules::Violation| StoreError::BadRow {
+        file: path.to_path_buf(),
+        column: v.column,
+        row: v.row,
+        why: v.why,
+    };
+    if let Some(run) = invariants::file_run(path) {
+        runs_match(&k.run, run).map_err(to_err)?;
+    }
+    unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), "dwell_id").map_err(to_err)?;
+    times_ordered_per_key(k.run.iter().zip(&k.radar).map(|(&r, &d)| Key2(r, d)), &k.t_s, false, "radar")
+        .map_err(to_err)?;
+    Ok(k)
+}
+
+/// Read whole rows of one dwells file: the rows at the given file positions (ascending), in file
+/// order. `keys` are the file's keys ([`read_dwell_keys`]); only the other columns are decoded.
+/// Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
+pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
+    let (builder, spec) = open_checked(path)?;
+    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
+    let bad = |row: usize, why: &str| StoreError::BadRow {
+        file: path.to_path_buf(),
+        column: "dwell_id",
+        row,
+        why: why.to_string(),
+    };
+    if let Some(w) = rows.windows(2).find(|w| w[1] <= w[0]) {
+        return Err(bad(w[1], "rows asked for out of order"));
+    }
+    if let Some(&last) = rows.last()
+        && (last >= n_rows || last >= keys.len())
+    {
+        return Err(bad(last, "row asked for past the end of the file"));
+    }
+    // Consecutive positions as ranges.
+    let mut ranges: Vec<std::ops::Range<usize>> = Vec::new();
+    for &r in rows {
+        match ranges.last_mut() {
+            Some(last) if last.end == r => last.end = r + 1,
+            _ => ranges.push(r..r + 1),
+        }
+    }
+    let selection = RowSelection::from_consecutive_ranges(ranges.into_iter(), n_rows);
+    // Selectors (skip runs of rows), not a mask over decoded rows: the rows asked for are few.
+    let mask = ProjectionMask::columns(builder.parquet_schema(), REST_COLUMNS);
+    let reader = builder
+        .with_projection(mask)
+        .with_row_selection(selection)
+        .with_row_selection_policy(RowSelectionPolicy::Selectors)
+        .build()
+        .map_err(parquet_err(path))?;
+    let mut out = Vec::with_capacity(rows.len());
+    let mut at = rows.iter();
+    for batch in reader {
+        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+        let b = Batch { batch: &batch, file: path, spec };
+        // The checks of `DwellRow::from_batch`, column by column, on the rows read.
+        let role = b.parsed("role", Role::parse, "tx, rx, txrx")?;
+        let kind = b.parsed("kind", DwellKind::parse, "search, confirm, track, mimo")?;
+        let (dur, pw, np) = (b.f64("duration_s")?, b.f64("pulse_width_s")?, b.u32("n_pulses")?);
+        let (pp, e, wf) = (b.f64("peak_power_w")?, b.f64("energy_j")?, b.u32("waveform")?);
+        let (bu, bv) = (b.f64("beam_u")?, b.f64("beam_v")?);
+        let (ax, ay, az) = (b.f64("aim_x_m")?, b.f64("aim_y_m")?, b.f64("aim_z_m")?);
+        for i in 0..role.len() {
+            let Some(&k) = at.next() else { break };
+            out.push(DwellRow {
+                run: keys.run[k],
+                dwell_id: keys.dwell_id[k],
+                group_id: keys.group_id[k],
+                radar: keys.radar[k],
+                role: role[i],
+                kind: kind[i],
+                requested_by: keys.requested_by[k],
+                t_s: keys.t_s[k],
+                duration_s: dur[i],
+                pulse_width_s: pw[i],
+                n_pulses: np[i],
+                peak_power_w: pp[i],
+                energy_j: e[i],
+                waveform: wf[i],
+                face: keys.face[k],
+                beam_u: bu[i],
+                beam_v: bv[i],
+                aim_x_m: ax[i],
+                aim_y_m: ay[i],
+                aim_z_m: az[i],
+            });
+        }
+    }
+    if out.len() != rows.len() {
+        return Err(StoreError::Parquet {
+            path: path.to_path_buf(),
+            why: format!("{} dwell rows read for {} asked for", out.len(), rows.len()),
+        });
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(i: u64) -> DwellRow {
+        DwellRow {
+            run: 0,
+            dwell_id: 100 + i,
+            group_id: 50 + i / 2,
+            radar: RadarId::parse(if i.is_multiple_of(3) { "R1" } else { "R2" }).expect("radar"),
+            role: Role::Txrx,
+            kind: DwellKind::Search,
+            requested_by: if i.is_multiple_of(4) { Requester::Ta } else { Requester::Radar },
+            t_s: i as f64 * 0.5,
+            duration_s: 0.01,
+            pulse_width_s: 1e-5,
+            n_pulses: 1 + i as u32,
+            peak_power_w: 1e5,
+            energy_j: 1.0,
+            waveform: 0,
+            face: (i % 4) as u8,
+            beam_u: 0.01 * i as f64,
+            beam_v: -0.02 * i as f64,
+            aim_x_m: 1.0,
+            aim_y_m: 2.0,
+            aim_z_m: i as f64,
+        }
+    }
+
+    /// Keys and selected rows round-trip what was written, across row groups.
+    #[test]
+    fn keys_and_selected_rows_round_trip() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let n = crate::ROW_GROUP_ROWS as u64 + 300;
+        let rows: Vec<DwellRow> = (0..n).map(row).collect();
+        crate::write_table(&path, &rows).expect("write");
+        let k = read_dwell_keys(&path).expect("keys");
+        assert_eq!(k.len(), rows.len());
+        for (i, r) in rows.iter().enumerate() {
+            assert_eq!(
+                (k.run[i], k.dwell_id[i], k.group_id[i], k.radar[i], k.face[i], k.requested_by[i], k.t_s[i]),
+                (r.run, r.dwell_id, r.group_id, r.radar, r.face, r.requested_by, r.t_s)
+            );
+        }
+        let pick: Vec<usize> = vec![0, 1, 2, 7, 1000, 1001, crate::ROW_GROUP_ROWS - 1, crate::ROW_GROUP_ROWS + 5];
+        let got = read_dwell_rows(&path, &k, &pick).expect("rows");
+        let want: Vec<DwellRow> = pick.iter().map(|&i| rows[i].clone()).collect();
+        assert_eq!(got, want);
+        assert!(read_dwell_rows(&path, &k, &[3, 2]).is_err());
+        assert!(read_dwell_rows(&path, &k, &[n as usize]).is_err());
+    }
+
+    /// The keys pass refuses what `read_table` refuses, with the same message.
+    #[test]
+    fn keys_check_the_table_rules() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let mut rows: Vec<DwellRow> = (0..10).map(row).collect();
+        rows[4].dwell_id = rows[2].dwell_id;
+        crate::write_table(&path, &rows).expect("write");
+        let a = read_dwell_keys(&path).expect_err("repeated id").to_string();
+        let b = crate::read_table::<DwellRow>(&path).expect_err("repeated id").to_string();
+        assert_eq!(a, b);
+        assert!(a.contains("row 4"), "{a}");
+        let mut rows: Vec<DwellRow> = (0..10).map(row).collect();
+        rows[6].t_s = 0.0;
+        crate::write_table(&path, &rows).expect("write");
+        let a = read_dwell_keys(&path).expect_err("time back").to_string();
+        let b = crate::read_table::<DwellRow>(&path).expect_err("time back").to_string();
+        assert_eq!(a, b);
+    }
+}

@@ -1,0 +1,211 @@
+//! Deletion checks that cannot fire, skipped (docs/model.md §6.4).
+//!
+//! The tracker asks its deleter about every live track after each dwell, and the covariance rule
+//! needs the track predicted to the dwell's time. Most tracks are far from every limit, so each
+//! track carries a certificate: the span of times since its last update over which no rule can
+//! fire, found once per change of the track (update, status, misses) from the deleter's
+//! [`QuietSpan`] and two predictions. A check inside the span is skipped; every other check runs
+//! exactly as before, so the tracks and their deletions are the same, bit for bit.
+//!
+//! The covariance limit is certified by convexity: when the filter says the trace of the
+//! predicted position covariance is convex in `dt ≥ 0` ([`TrackFilter::position_trace_convex`]),
+//! its largest value on `[0, D]` is at an end, so both ends below the limit (with a margin far
+//! above rounding) put the whole span below it; when the far end is above, a shorter span is
+//! found by bisection. Without that promise nothing is skipped.
+
+use crate::deletion::Deleter;
+use crate::filter::{FilterState, TrackFilter};
+use crate::linalg::trace;
+use crate::tracker::Track;
+use mimo_core::records::TrackStatus;
+use std::collections::BTreeMap;
+
+/// Relative margin below the covariance limit that the span's ends must keep: far above the
+/// rounding of a 6×6 prediction, far below anything the limit means.
+const TRACE_MARGIN: f64 = 1e-6;
+
+/// What a certificate was computed from: the track fields the deleter and the prediction see.
+#[derive(Debug, Clone, PartialEq)]
+struct Basis {
+    t_s: f64,
+    status: TrackStatus,
+    consecutive_misses: u32,
+    n_updates: u32,
+    state: FilterState,
+}
+
+impl Basis {
+    fn of(t: &Track) -> Basis {
+        Basis {
+            t_s: t.t_s,
+            status: t.status,
+            consecutive_misses: t.consecutive_misses,
+            n_updates: t.n_updates,
+            state: t.state.clone(),
+        }
+    }
+
+    fn matches(&self, t: &Track) -> bool {
+        self.t_s == t.t_s
+            && self.status == t.status
+            && self.consecutive_misses == t.consecutive_misses
+            && self.n_updates == t.n_updates
+            && self.state == t.state
+    }
+}
+
+/// Per-track certificates: `dt` from the last update up to `max_dt_s` needs no check.
+#[derive(Debug, Default)]
+pub(crate) struct QuietTracks {
+    certs: BTreeMap<u64, (Basis, f64)>,
+}
+
+impl QuietTracks {
+    /// Whether checking `track` at `t_s` is sure to keep it (and may be skipped). Recomputes the
+    /// track's certificate when the track changed since it was made.
+    pub(crate) fn is_quiet(
+        &mut self,
+        filter: &dyn TrackFilter,
+        deleter: &dyn Deleter,
+        track: &Track,
+        t_s: f64,
+    ) -> bool {
+        let max_dt_s = match self.certs.get(&track.id) {
+            Some((b, max_dt_s)) if b.matches(track) => *max_dt_s,
+            _ => {
+                let max_dt_s = quiet_dt_s(filter, deleter, track);
+                self.certs.insert(track.id, (Basis::of(track), max_dt_s));
+                max_dt_s
+            }
+        };
+        let dt = t_s - track.t_s;
+        dt >= 0.0 && dt <= max_dt_s
+    }
+
+    /// Drop a deleted track's certificate.
+    pub(crate) fn forget(&mut self, id: u64) {
+        self.certs.remove(&id);
+    }
+}
+
+/// Halvings of the span searched for the covariance limit when it falls inside the span.
+const BISECTIONS: u32 = 5;
+
+/// The longest `dt` since the last update over which no rule can fire, or −∞ when nothing can
+/// be promised. When the covariance limit is reached inside the deleter's span, the span is cut
+/// to a time found below it by bisection (the times below the limit are an interval from 0, the
+/// trace being convex and below the limit at 0).
+fn quiet_dt_s(filter: &dyn TrackFilter, deleter: &dyn Deleter, t: &Track) -> f64 {
+    const NEVER: f64 = f64::NEG_INFINITY;
+    let Some(span) = deleter.quiet_span(t.status, t.consecutive_misses, t.n_updates) else { return NEVER };
+    if !(span.max_dt_s.is_finite() && span.max_dt_s >= 0.0 && filter.position_trace_convex(&t.state)) {
+        return NEVER;
+    }
+    let limit = span.max_position_trace_m2 * (1.0 - TRACE_MARGIN);
+    let below = |dt: f64| {
+        let g = filter.predict(&t.state, dt).combined;
+        g.is_finite() && trace(&g.pos_cov()) <= limit
+    };
+    if !below(0.0) {
+        return NEVER;
+    }
+    if below(span.max_dt_s) {
+        return span.max_dt_s;
+    }
+    let (mut lo, mut hi) = (0.0, span.max_dt_s);
+    for _ in 0..BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if below(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::deletion::{DeleteReason, DeletionConfig, TrackView};
+    use crate::filter::SingleModelFilter;
+    use crate::frame::Gaussian;
+    use crate::linalg::{identity, scale};
+    use crate::motion::{KalmanPredictor, Ncv};
+    use crate::update::EkfUpdater;
+
+    fn track(p_scale: f64) -> Track {
+        Track {
+            id: 7,
+            status: TrackStatus::Confirmed,
+            state: FilterState::single(Gaussian {
+                x: [0.0, 0.0, 0.0, 200.0, 0.0, 0.0],
+                p: scale(&identity(), p_scale),
+            }),
+            t_s: 100.0,
+            t_init_s: 90.0,
+            n_updates: 5,
+            last_meas_id: None,
+            looks: vec![true],
+            consecutive_misses: 0,
+            next_due_s: 101.0,
+            last_face: None,
+            nis_sum: 0.0,
+            nis_count: 0,
+        }
+    }
+
+    /// Whatever `is_quiet` skips, the deleter keeps: checked at many times against the full rule.
+    #[test]
+    fn skipped_checks_never_delete() {
+        let filter = SingleModelFilter {
+            name: "ekf".into(),
+            predictor: Box::new(KalmanPredictor::new(Ncv::dwna(5.0))),
+            updater: Box::new(EkfUpdater::default()),
+        };
+        let deleter = DeletionConfig::default().build();
+        let mut quiet = QuietTracks::default();
+        let (mut skipped, mut deleted) = (0, 0);
+        for p_scale in [1.0, 1e4, 1e6, 8.9e6, 1e7] {
+            let t = track(p_scale);
+            for k in 0..400 {
+                let t_s = 99.0 + 0.1 * k as f64;
+                let g = filter.predict(&t.state, t_s - t.t_s).combined;
+                let view = TrackView {
+                    track_id: t.id,
+                    status: t.status,
+                    consecutive_misses: t.consecutive_misses,
+                    n_updates: t.n_updates,
+                    t_last_update_s: t.t_s,
+                    t_s,
+                    predicted: &g,
+                };
+                let reason: Option<DeleteReason> = deleter.check(&view);
+                if quiet.is_quiet(&filter, &deleter, &t, t_s) {
+                    skipped += 1;
+                    assert_eq!(reason, None, "skipped a deletion at p_scale {p_scale}, t {t_s}");
+                } else if reason.is_some() {
+                    deleted += 1;
+                }
+            }
+        }
+        // Both kinds of outcome happen: the test sees skips and real deletions.
+        assert!(skipped > 100 && deleted > 100, "{skipped} skipped, {deleted} deleted");
+    }
+
+    /// A track with misses due for deletion is never skipped.
+    #[test]
+    fn missed_tracks_are_checked() {
+        let filter = SingleModelFilter {
+            name: "ekf".into(),
+            predictor: Box::new(KalmanPredictor::new(Ncv::dwna(5.0))),
+            updater: Box::new(EkfUpdater::default()),
+        };
+        let deleter = DeletionConfig::default().build();
+        let mut quiet = QuietTracks::default();
+        let mut t = track(1.0);
+        assert!(quiet.is_quiet(&filter, &deleter, &t, 101.0));
+        t.consecutive_misses = 3;
+        assert!(!quiet.is_quiet(&filter, &deleter, &t, 101.0));
+    }
+}
