@@ -8,6 +8,7 @@ use crate::dwell::DwellContext;
 use crate::filter::{FilterPrediction, TrackFilter};
 use crate::jpda::{AssociationProbabilities, combine};
 use crate::measurement::{MeasurementModel, PreparedMeasurement};
+use crate::partner::PartnerMode;
 use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::records::TrackStatus;
 use std::collections::BTreeSet;
@@ -37,6 +38,7 @@ impl MultiTargetTracker {
         list: &[PreparedMeasurement],
         may_initiate: bool,
         updated: &mut BTreeSet<u64>,
+        excused: &mut BTreeSet<u64>,
         new_ids: &mut Vec<u64>,
     ) {
         let ids: Vec<u64> = self.tracks.keys().copied().collect();
@@ -69,7 +71,7 @@ impl MultiTargetTracker {
                 self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
                 vec![false; n_m]
             }
-            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated),
+            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated, excused),
         };
         let filter = &*self.c.filter;
 
@@ -120,6 +122,7 @@ impl MultiTargetTracker {
 
     /// GNN: each track is updated with its assigned measurement (plus, with `share_merged`, a
     /// gated `merged` measurement left to it). Returns which measurements were claimed.
+    #[allow(clippy::too_many_arguments)]
     fn hard_updates(
         &mut self,
         ctx: &DwellContext,
@@ -128,6 +131,7 @@ impl MultiTargetTracker {
         caches: &mut [PredCache],
         table: &HypothesisTable,
         updated: &mut BTreeSet<u64>,
+        excused: &mut BTreeSet<u64>,
     ) -> Vec<bool> {
         let n_m = list.len();
         let filter = &*self.c.filter;
@@ -137,6 +141,31 @@ impl MultiTargetTracker {
         for j in assign.iter().flatten() {
             if *j < n_m {
                 claimed[*j] = true;
+            }
+        }
+        // Tracks inside the resolution cell of the track GNN gave a measurement share it as an
+        // unresolved pair's return (`partner_update`, docs/model.md §6.5).
+        let pu = self.config.partner_update;
+        let mut partnered = vec![false; ids.len()];
+        if pu.enabled() {
+            let tracks = &self.tracks;
+            let mut zp = |i: usize, j: usize| {
+                let track = tracks.get(ids.get(i)?)?;
+                let m = list.get(j)?;
+                Some(m.model.h(&caches[i].get(filter, track, m.t_s).combined.x))
+            };
+            let chosen = pu.partners(table, &assign, self.config.revisit.beamwidth, &mut zp);
+            for (i, j) in chosen.into_iter().enumerate() {
+                match (j, pu.mode) {
+                    (Some(j), PartnerMode::Shift) => {
+                        assign[i] = Some(j);
+                        partnered[i] = true;
+                    }
+                    (Some(_), PartnerMode::Excuse) => {
+                        excused.insert(ids[i]);
+                    }
+                    (None, _) => {}
+                }
             }
         }
         // Tracks given a merged measurement another track already has (`share_merged`).
@@ -159,8 +188,9 @@ impl MultiTargetTracker {
         // With the group update, the tracks GNN assigned go first and leave their correction of
         // each merged measurement for the tracks sharing it (docs/model.md §6.5).
         let group = self.config.share_merged && self.config.merged_group_update;
-        let order: Vec<usize> = if group {
-            (0..ids.len()).filter(|&i| !shared[i]).chain((0..ids.len()).filter(|&i| shared[i])).collect()
+        let follows = |i: usize| partnered[i] || (group && shared[i]);
+        let order: Vec<usize> = if group || pu.enabled() {
+            (0..ids.len()).filter(|&i| !follows(i)).chain((0..ids.len()).filter(|&i| follows(i))).collect()
         } else {
             (0..ids.len()).collect()
         };
@@ -175,7 +205,13 @@ impl MultiTargetTracker {
                 if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
             let pred = caches[i].get(filter, track, m.t_s).clone();
             let outcome = filter.update(&pred, &m.model, &m.z, &m.r, iterations).map(|mut u| {
-                if group && m.merged {
+                if partnered[i] {
+                    if let Some(dx) = correction[j] {
+                        crate::group::shift_modes(&mut u.state, &pred, &dx);
+                    }
+                } else if pu.enabled() && !shared[i] {
+                    correction[j] = Some(crate::group::correction(&u.state, &pred));
+                } else if group && m.merged {
                     match (shared[i], correction[j]) {
                         (true, Some(dx)) => crate::group::shift_modes(&mut u.state, &pred, &dx),
                         (false, _) => correction[j] = Some(crate::group::correction(&u.state, &pred)),

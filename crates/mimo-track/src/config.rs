@@ -7,6 +7,7 @@ use crate::gating::ChiSquareGate;
 use crate::initiation::{MOfN, OnePointInitiator, TwoPointConfig};
 use crate::measurement::MeasurementConfig;
 use crate::motion::ProcessNoise;
+use crate::partner::PartnerUpdate;
 use crate::policy::RevisitPolicy;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -219,6 +220,10 @@ pub struct TrackerConfig {
     /// that an unresolved group keeps its members' relative geometry (docs/model.md §6.5).
     /// Default false.
     pub merged_group_update: bool,
+    /// Let a track GNN left without a measurement share the measurement of another track whose
+    /// resolution cell it is in, moving by that track's correction (docs/model.md §6.5). Off by
+    /// default.
+    pub partner_update: PartnerUpdate,
 }
 
 /// A detection never starts a track when it lies, for some existing track, inside the track's
@@ -292,6 +297,7 @@ impl Default for TrackerConfig {
             beam_miss_fraction: 0.5,
             share_merged: true,
             merged_group_update: false,
+            partner_update: PartnerUpdate::default(),
         }
     }
 }
@@ -336,6 +342,8 @@ impl TrackerConfig {
             ("initiation_exclusion.nis", e.nis),
             ("initiation_exclusion.range_cell_m", e.range_cell_m),
             ("initiation_exclusion.beam_fraction", e.beam_fraction),
+            ("partner_update.range_sum_m", self.partner_update.range_sum_m),
+            ("partner_update.beam_fraction", self.partner_update.beam_fraction),
         ] {
             if !(x.is_finite() && x >= 0.0) {
                 return Err(bad(name, "a finite number >= 0", x));

@@ -115,6 +115,7 @@ pub mod jpda;
 pub mod linalg;
 pub mod measurement;
 pub mod motion;
+pub mod partner;
 pub mod policy;
 mod queries;
 pub mod tracker;

@@ -225,10 +225,11 @@ impl MultiTargetTracker {
             InitiateOn::AnyDwell => true,
         };
         let mut updated: BTreeSet<u64> = BTreeSet::new();
+        let mut excused: BTreeSet<u64> = BTreeSet::new();
         let mut new_ids: Vec<u64> = Vec::new();
         for list in channels.values() {
             let init = list.first().is_some_and(|m| may_initiate(m.tx, m.rx));
-            self.process_channel(ctx, list, init, &mut updated, &mut new_ids);
+            self.process_channel(ctx, list, init, &mut updated, &mut excused, &mut new_ids);
         }
 
         // Looks: explicit targets, plus tracks inside a non-search beam.
@@ -236,6 +237,8 @@ impl MultiTargetTracker {
         if ctx.kind != DwellKind::Search && self.config.beam_miss_fraction > 0.0 {
             looked.extend(self.tracks_in_looks(ctx, geom));
         }
+        // A track whose unresolved partner took the pair's return missed nothing (docs/model.md §6.5).
+        looked.retain(|id| !excused.contains(id));
 
         let mut rejected: BTreeSet<u64> = BTreeSet::new();
         let ids: Vec<u64> = self.tracks.keys().copied().collect();
