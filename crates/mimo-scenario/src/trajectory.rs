@@ -1,6 +1,7 @@
 //! Truth trajectories: every target integrated once at [`STEP_S`], then evaluated at any time
 //! by cubic Hermite interpolation of ECEF position and velocity.
 
+use crate::epoch_balls::{Ball, EpochBalls};
 use crate::error::ScenarioError;
 use crate::flight::{
     Controls, Ctx, RefState, STEP_S, compile_offsets, direction_of, heading_of, member_state, node, rk4,
@@ -41,6 +42,7 @@ pub struct Trajectories {
     rcs: Vec<f64>,
     pos: Vec<Vec<DVec3>>,
     vel: Vec<Vec<DVec3>>,
+    balls: EpochBalls,
 }
 
 fn first_node_at_or_after(t: f64) -> usize {
@@ -198,6 +200,7 @@ impl Scenario {
             duration_s: self.duration_s,
             ids: self.targets.iter().map(|t| t.id.clone()).collect(),
             rcs: self.targets.iter().map(|t| t.rcs_m2).collect(),
+            balls: EpochBalls::new(&b.pos, &b.vel),
             pos: b.pos,
             vel: b.vel,
         };
@@ -319,6 +322,12 @@ impl Trajectories {
             m0: vel[k] * STEP_S,
             m1: vel[k + 1] * STEP_S,
         }
+    }
+
+    /// A ball that holds target `i` at `t_s` and at every other time of the same one-second epoch
+    /// (see [`EpochBalls`]); `None` outside the sampled span. Panics if `i >= self.len()`.
+    pub fn ball_at(&self, i: usize, t_s: f64) -> Option<Ball> {
+        self.balls.ball_at(i, t_s)
     }
 
     /// Mean RCS of target `i` (m²). Panics if `i >= self.len()`.
