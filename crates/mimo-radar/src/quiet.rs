@@ -47,7 +47,7 @@ pub struct TargetBall {
 /// distance (a chord of the unit sphere, projected) `≤ 1.04 ρ/R` of it; the face frame's matrix
 /// is a rotation or a convex combination of two (the interpolated ship frames), so it does not
 /// lengthen vectors.
-pub fn beam_clear(d: &Dwell, balls: &[TargetBall]) -> bool {
+pub fn beam_clear(d: &Dwell, balls: impl IntoIterator<Item = TargetBall>) -> bool {
     let [tx] = d.transmitters else { return false };
     if d.fidelity.pattern != PatternModel::Gaussian {
         return false;
@@ -61,7 +61,7 @@ pub fn beam_clear(d: &Dwell, balls: &[TargetBall]) -> bool {
     }
     // Sine-space distance beyond which the gate drops a target, with 1 % for rounding.
     let clear = 1.01 * r0_sq.sqrt() * theta;
-    balls.iter().all(|b| {
+    balls.into_iter().all(|b| {
         let l = tx.frame.face_from_ecef * (b.center_ecef - tx.frame.origin_ecef);
         let range_m = l.length();
         if !(b.radius_m >= 0.0 && range_m >= 2.0 * b.radius_m && range_m > 0.0) {

@@ -129,7 +129,7 @@ fn a_clear_beam_gets_no_return_from_any_target_in_its_ball() {
             record_voltages: false,
             simulate_all_cells: false,
         };
-        if beam_clear(&d, &balls) {
+        if beam_clear(&d, balls.iter().copied()) {
             clear += 1;
             assert_eq!(fid.pattern, PatternModel::Gaussian, "case {case}");
             let out = evaluate(&d, &targets);

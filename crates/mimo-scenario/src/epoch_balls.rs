@@ -29,13 +29,15 @@ pub struct Ball {
     pub radius_m: f64,
 }
 
-/// Per target and epoch, a [`Ball`] holding the target at every time of the epoch.
+/// Per epoch and target, a [`Ball`] holding the target at every time of the epoch.
 #[derive(Debug, Clone, Default)]
 pub struct EpochBalls {
     /// Last sample's time (s): outside `(0, t_last)` the trajectory is extrapolated, not bounded.
     t_last_s: f64,
-    /// `balls[target][epoch]`.
-    balls: Vec<Vec<Ball>>,
+    /// Targets per epoch.
+    n_targets: usize,
+    /// `balls[epoch * n_targets + target]`.
+    balls: Vec<Ball>,
 }
 
 fn epoch_len_s() -> f64 {
@@ -49,22 +51,20 @@ impl EpochBalls {
         let t_last_s = n_nodes.saturating_sub(1) as f64 * STEP_S;
         let n_segments = n_nodes.saturating_sub(1);
         let n_epochs = n_segments.div_ceil(STEPS_PER_EPOCH);
-        let balls = pos
-            .iter()
-            .zip(vel)
-            .map(|(p, v)| (0..n_epochs).map(|e| epoch_ball(p, v, e, n_segments)).collect())
+        let balls = (0..n_epochs)
+            .flat_map(|e| pos.iter().zip(vel).map(move |(p, v)| epoch_ball(p, v, e, n_segments)))
             .collect();
-        EpochBalls { t_last_s, balls }
+        EpochBalls { t_last_s, n_targets: pos.len(), balls }
     }
 
-    /// A ball holding target `i` at `t_s`, or `None` when `t_s` lies outside the sampled span
-    /// (the trajectory is extrapolated there). Panics if `i` is not a target index.
-    pub fn ball_at(&self, i: usize, t_s: f64) -> Option<Ball> {
+    /// Every target's ball at `t_s` (in target order), or `None` when `t_s` lies outside the
+    /// sampled span (the trajectories are extrapolated there).
+    pub fn balls_at(&self, t_s: f64) -> Option<&[Ball]> {
         if !(t_s > 0.0 && t_s < self.t_last_s) {
             return None;
         }
         let e = (t_s / epoch_len_s()).floor() as usize;
-        self.balls[i].get(e).copied()
+        self.balls.get(e * self.n_targets..(e + 1) * self.n_targets)
     }
 }
 
@@ -114,15 +114,15 @@ mod tests {
         let mut worst_margin_m = f64::INFINITY;
         for j in 1..49_900 {
             let t = j as f64 * 0.001_000_3;
-            let b = balls.ball_at(0, t).expect("inside the span");
+            let b = balls.balls_at(t).expect("inside the span")[0];
             let margin = b.radius_m - hermite(&pos, &vel, t).distance(b.center_ecef);
             worst_margin_m = worst_margin_m.min(margin);
             // An epoch's ball is about half its path (250 m) across, not the whole turn.
             assert!(b.radius_m < 200.0, "radius {} m at t = {t}", b.radius_m);
         }
         assert!(worst_margin_m > 0.0, "a position outside its ball by {} m", -worst_margin_m);
-        assert_eq!(balls.ball_at(0, 0.0), None);
-        assert_eq!(balls.ball_at(0, 50.0), None);
-        assert!(balls.ball_at(0, 49.999).is_some());
+        assert_eq!(balls.balls_at(0.0), None);
+        assert_eq!(balls.balls_at(50.0), None);
+        assert!(balls.balls_at(49.999).is_some());
     }
 }

@@ -42,7 +42,8 @@ pub struct Trajectories {
     rcs: Vec<f64>,
     pos: Vec<Vec<DVec3>>,
     vel: Vec<Vec<DVec3>>,
-    balls: EpochBalls,
+    /// Made on the first [`Trajectories::balls_at`] (only the simulator's quiet dwells ask).
+    balls: std::sync::OnceLock<EpochBalls>,
 }
 
 fn first_node_at_or_after(t: f64) -> usize {
@@ -200,7 +201,7 @@ impl Scenario {
             duration_s: self.duration_s,
             ids: self.targets.iter().map(|t| t.id.clone()).collect(),
             rcs: self.targets.iter().map(|t| t.rcs_m2).collect(),
-            balls: EpochBalls::new(&b.pos, &b.vel),
+            balls: std::sync::OnceLock::new(),
             pos: b.pos,
             vel: b.vel,
         };
@@ -324,10 +325,10 @@ impl Trajectories {
         }
     }
 
-    /// A ball that holds target `i` at `t_s` and at every other time of the same one-second epoch
-    /// (see [`EpochBalls`]); `None` outside the sampled span. Panics if `i >= self.len()`.
-    pub fn ball_at(&self, i: usize, t_s: f64) -> Option<Ball> {
-        self.balls.ball_at(i, t_s)
+    /// For every target (in order), a ball that holds it at `t_s` and at every other time of the
+    /// same one-second epoch (see [`EpochBalls`]); `None` outside the sampled span.
+    pub fn balls_at(&self, t_s: f64) -> Option<&[Ball]> {
+        self.balls.get_or_init(|| EpochBalls::new(&self.pos, &self.vel)).balls_at(t_s)
     }
 
     /// Mean RCS of target `i` (m²). Panics if `i >= self.len()`.

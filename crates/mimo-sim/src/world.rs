@@ -91,15 +91,9 @@ impl World {
     }
 
     /// For every target, a ball that holds it at `t_s` (and the rest of its one-second epoch:
-    /// [`mimo_scenario::epoch_balls`]), into `out` (cleared first). `false` when some target has
-    /// none (`t_s` outside the sampled trajectories); `out` is then incomplete.
-    pub fn radar_target_balls_into(&self, t_s: f64, out: &mut Vec<mimo_radar::quiet::TargetBall>) -> bool {
-        out.clear();
-        for i in 0..self.trajectories.len() {
-            let Some(b) = self.trajectories.ball_at(i, t_s) else { return false };
-            out.push(mimo_radar::quiet::TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m });
-        }
-        true
+    /// [`mimo_scenario::epoch_balls`]); `None` when `t_s` lies outside the sampled trajectories.
+    pub fn target_balls_at(&self, t_s: f64) -> Option<&[mimo_scenario::epoch_balls::Ball]> {
+        self.trajectories.balls_at(t_s)
     }
 
     /// Every target's truth at `t_s`.

@@ -156,8 +156,6 @@ pub struct Engine<'a> {
     stats: RunStats,
     /// The targets at the current dwell's mid-time (a buffer reused by every dwell).
     targets: Vec<mimo_radar::Target<'a>>,
-    /// Balls holding the targets around the current quiet dwell's mid-time (a reused buffer).
-    balls: Vec<mimo_radar::quiet::TargetBall>,
 }
 
 impl<'a> Engine<'a> {
@@ -189,7 +187,6 @@ impl<'a> Engine<'a> {
             next_dwell_id: 0,
             stats: RunStats::default(),
             targets: Vec::new(),
-            balls: Vec::new(),
         }
     }
 
@@ -487,8 +484,7 @@ impl<'a> Engine<'a> {
         // A quiet search dwell the test article does not want to hear of: its row only.
         if g.requested_by == Requester::Radar
             && !self.subscription.wants(g.requested_by, 0)
-            && let Some(row) =
-                quiet::quiet_search_row(self.world, &keys, gid, &g, t0, (&mut self.targets, &mut self.balls))
+            && let Some(row) = quiet::quiet_search_row(self.world, &keys, gid, &g, t0, &mut self.targets)
         {
             self.stats.dwells += 1;
             self.stats.search_dwells += 1;

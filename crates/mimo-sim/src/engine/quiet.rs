@@ -63,7 +63,7 @@ pub(super) fn quiet_search_row<'w>(
     gid: u64,
     g: &Group,
     t0_s: f64,
-    (targets, balls): (&mut Vec<mimo_radar::Target<'w>>, &mut Vec<TargetBall>),
+    targets: &mut Vec<mimo_radar::Target<'w>>,
 ) -> Option<DwellRow> {
     let [p] = g.parts.as_slice() else { return None };
     if g.aim.is_some() || g.window_half_m.is_some() || !p.role.transmits() || !p.receives() {
@@ -79,7 +79,10 @@ pub(super) fn quiet_search_row<'w>(
     let dwell = keys.radar_dwell(world, t_mid, &stream_keys, std::slice::from_ref(&tx), std::slice::from_ref(&rx));
     // A beam far from every target's ball gates every target out whatever its exact position:
     // the positions are then not computed (the answer and the random draws are the same).
-    let quiet = if world.radar_target_balls_into(t_mid, balls) && beam_clear(&dwell, balls) {
+    let clear = world.target_balls_at(t_mid).is_some_and(|balls| {
+        beam_clear(&dwell, balls.iter().map(|b| TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m }))
+    });
+    let quiet = if clear {
         is_quiet(&dwell, &[])
     } else {
         world.radar_targets_into(t_mid, targets);
