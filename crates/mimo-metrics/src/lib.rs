@@ -261,7 +261,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     } else {
         opts.threads
     };
-    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s, threads)?;
+    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;
 
     // Per-run track metrics, runs in parallel.
     let empty_tracks: Vec<TrackLife> = Vec::new();
