@@ -256,6 +256,11 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     }
     let run_set: BTreeSet<u32> = truth.runs.iter().copied().collect();
     let tracks = load_tracks(&input.tracks, &run_set)?;
+    let threads = if opts.threads == 0 {
+        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
+    } else {
+        opts.threads
+    };
     let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;
 
     // Per-run track metrics, runs in parallel.
@@ -277,12 +282,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
             scorable: &*input.scorable,
         })
         .collect();
-    let threads = if opts.threads == 0 {
-        std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
-    } else {
-        opts.threads
-    }
-    .clamp(1, run_inputs.len().max(1));
+    let threads = threads.clamp(1, run_inputs.len().max(1));
     let outputs = run_parallel(&run_inputs, threads);
 
     let mut track_metrics = Vec::new();

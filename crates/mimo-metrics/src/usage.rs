@@ -175,70 +175,78 @@ pub(crate) fn usage(interval_sums: DataFrame, input: &UsageInput<'_>) -> Result<
     }
     let total = totals(&per_interval, dt);
 
-    // Sensor totals over the whole run (every dwell, also those after the last scoring time).
-    let run_grid = {
-        let (mut r, mut m) = (vec![], vec![]);
-        for &run in input.runs {
-            for radar in input.radars {
-                r.push(run);
-                m.push(radar.clone());
-            }
+    // Sensor totals over the whole run (every dwell, also those after the last scoring time),
+    // summed over the interval rows in their order, so the same rows give the same bits (a polars
+    // grouped sum of floats did not, run to run).
+    let totals_by_key = run_totals(&interval_sums)?;
+    let mut per_run = Vec::with_capacity(input.runs.len() * input.radars.len());
+    let mut runs_sorted = input.runs.to_vec();
+    runs_sorted.sort_unstable();
+    runs_sorted.dedup();
+    for &run in &runs_sorted {
+        for radar in input.radars {
+            let s = totals_by_key.get(&(run, radar.as_str())).copied().unwrap_or([0.0; 4]);
+            per_run.push(RunRadarUsage {
+                run,
+                radar: radar.clone(),
+                dwell_time_s: s[0],
+                energy_j: s[1],
+                ta_dwell_time_s: s[2],
+                ta_energy_j: s[3],
+            });
         }
-        DataFrame::new_infer_height(vec![Column::new("run".into(), r), Column::new("radar".into(), m)])
-            .map_err(internal("usage run grid"))?
+    }
+    // Means over runs, radars in id order.
+    let n_runs = runs_sorted.len() as f64;
+    let per_radar: Vec<RadarUsage> = if runs_sorted.is_empty() {
+        Vec::new()
+    } else {
+        input
+            .radars
+            .iter()
+            .map(|radar| {
+                let mut acc = [0.0; 4];
+                for r in per_run.iter().filter(|r| r.radar == *radar) {
+                    for (a, v) in acc.iter_mut().zip([r.dwell_time_s, r.energy_j, r.ta_dwell_time_s, r.ta_energy_j]) {
+                        *a += v;
+                    }
+                }
+                RadarUsage {
+                    radar: radar.clone(),
+                    dwell_time_s: acc[0] / n_runs,
+                    energy_j: acc[1] / n_runs,
+                    ta_dwell_time_s: acc[2] / n_runs,
+                    ta_energy_j: acc[3] / n_runs,
+                }
+            })
+            .collect()
     };
-    let keys = [col("run"), col("radar")];
-    let per_run_df = run_grid
-        .lazy()
-        .join(
-            interval_sums
-                .lazy()
-                .group_by_stable([col("run"), col("radar")])
-                .agg(SUMS.iter().map(|s| col(*s).sum()).collect::<Vec<_>>()),
-            keys.clone(),
-            keys,
-            JoinArgs::new(JoinType::Left),
-        )
-        .with_columns(SUMS.iter().map(|s| col(*s).fill_null(lit(0.0))).collect::<Vec<_>>())
-        .sort(["run", "radar"], SortMultipleOptions::default())
-        .collect()
-        .map_err(internal("usage per run"))?;
-    let pr_run = f64_col(&per_run_df, "run")?;
-    let pr_radar = str_col(&per_run_df, "radar")?;
-    let pr: Vec<Vec<Option<f64>>> = SUMS.iter().map(|s| f64_col(&per_run_df, s)).collect::<Result<_, _>>()?;
-    let mut per_run: Vec<RunRadarUsage> = (0..per_run_df.height())
-        .map(|i| RunRadarUsage {
-            run: pr_run[i].unwrap_or(0.0) as u32,
-            radar: pr_radar[i].clone(),
-            dwell_time_s: pr[0][i].unwrap_or(0.0),
-            energy_j: pr[1][i].unwrap_or(0.0),
-            ta_dwell_time_s: pr[2][i].unwrap_or(0.0),
-            ta_energy_j: pr[3][i].unwrap_or(0.0),
-        })
-        .collect();
-    let order: BTreeMap<&str, usize> = input.radars.iter().enumerate().map(|(i, r)| (r.as_str(), i)).collect();
-    per_run.sort_by_key(|r| (r.run, order.get(r.radar.as_str()).copied().unwrap_or(usize::MAX)));
-
-    let per_radar_df = per_run_df
-        .lazy()
-        .group_by_stable([col("radar")])
-        .agg(SUMS.iter().map(|s| col(*s).mean()).collect::<Vec<_>>())
-        .collect()
-        .map_err(internal("usage per radar"))?;
-    let rr = str_col(&per_radar_df, "radar")?;
-    let rs: Vec<Vec<Option<f64>>> = SUMS.iter().map(|s| f64_col(&per_radar_df, s)).collect::<Result<_, _>>()?;
-    let mut per_radar: Vec<RadarUsage> = (0..per_radar_df.height())
-        .map(|i| RadarUsage {
-            radar: rr[i].clone(),
-            dwell_time_s: rs[0][i].unwrap_or(0.0),
-            energy_j: rs[1][i].unwrap_or(0.0),
-            ta_dwell_time_s: rs[2][i].unwrap_or(0.0),
-            ta_energy_j: rs[3][i].unwrap_or(0.0),
-        })
-        .collect();
-    per_radar.sort_by_key(|r| order.get(r.radar.as_str()).copied().unwrap_or(usize::MAX));
 
     Ok(UsageOutput { per_interval, total, per_radar, per_run })
+}
+
+/// The four sums of [`SUMS`] over every interval row of each (run, radar), added in row order.
+fn run_totals(interval_sums: &DataFrame) -> Result<BTreeMap<(u32, &str), [f64; 4]>, MetricsError> {
+    let run = interval_sums.column("run").map_err(internal("usage run"))?;
+    let run = run.u32().map_err(internal("usage run"))?;
+    let radar = interval_sums.column("radar").map_err(internal("usage radar"))?;
+    let radar = radar.str().map_err(internal("usage radar"))?;
+    let sums = SUMS
+        .iter()
+        .map(|s| {
+            let c = interval_sums.column(s).map_err(internal("usage sums"))?;
+            Ok(c.f64().map_err(internal("usage sums"))?.iter().map(|v| v.unwrap_or(0.0)).collect::<Vec<f64>>())
+        })
+        .collect::<Result<Vec<_>, MetricsError>>()?;
+    let mut out: BTreeMap<(u32, &str), [f64; 4]> = BTreeMap::new();
+    for (i, (run, radar)) in run.iter().zip(radar.iter()).enumerate() {
+        let (Some(run), Some(radar)) = (run, radar) else { continue };
+        let acc = out.entry((run, radar)).or_insert([0.0; 4]);
+        for (a, s) in acc.iter_mut().zip(&sums) {
+            *a += s[i];
+        }
+    }
+    Ok(out)
 }
 
 /// Sum the per-radar interval rows over radars.

@@ -20,6 +20,58 @@ use crate::dwell::{Dwell, KEY_FALSE_ALARM, PATTERN_FLOOR, SNR_FLOOR, Target, str
 use crate::equation::snr1;
 use crate::pattern::Antenna;
 use crate::range::cell_window;
+use mimo_core::DVec3;
+use mimo_core::params::PatternModel;
+
+/// A ball that certainly holds a target during a dwell (ECEF centre, radius in m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TargetBall {
+    /// Centre (ECEF, m).
+    pub center_ecef: DVec3,
+    /// Radius (m).
+    pub radius_m: f64,
+}
+
+/// Whether no target anywhere in `balls` can pass the pattern gate of the monostatic dwell `d`
+/// (one transmitter, the Gaussian pattern of docs/model.md §2.2): then [`is_quiet`] gives the
+/// same answer with the targets' exact positions as with no target at all, and the caller need
+/// not compute the positions. `false` means "unsure" (another pattern model, a ball too close
+/// to the radar or to the beam).
+///
+/// The bound: with `a = Δu/θ_u`, `b = Δv/θ_v`, `r² = a² + b²`, the Gaussian gains give the
+/// two-way pattern `Σ² · max(Σ², Δa², Δe²) ≤ e^{−8 ln2 r²} · max(1, k_m² r²)`, and since
+/// `r² ≤ e^{r² − 1}` this is at most `max(1, k_m²/e) · e^{−(8 ln2 − 1) r²}`, a decreasing
+/// function of `r`. At `r ≥ r₀`, where that bound is half the pattern floor, every target is
+/// dropped by the gate. A point of a ball of radius `ρ` whose centre lies at face-frame
+/// distance `R ≥ 2ρ` is seen within an angle `asin(ρ/R)` of the centre, i.e. within a sine-space
+/// distance (a chord of the unit sphere, projected) `≤ 1.04 ρ/R` of it; the face frame's matrix
+/// is a rotation or a convex combination of two (the interpolated ship frames), so it does not
+/// lengthen vectors.
+pub fn beam_clear(d: &Dwell, balls: impl IntoIterator<Item = TargetBall>) -> bool {
+    let [tx] = d.transmitters else { return false };
+    if d.fidelity.pattern != PatternModel::Gaussian {
+        return false;
+    }
+    let ant = Antenna::new(tx.params, PatternModel::Gaussian);
+    let k2 = ant.slope() * ant.slope();
+    let r0_sq = (2.0 * (k2 / std::f64::consts::E).max(1.0) / PATTERN_FLOOR).ln() / (8.0 * std::f64::consts::LN_2 - 1.0);
+    let theta = ant.theta_u().max(ant.theta_v());
+    if !(r0_sq.is_finite() && theta.is_finite() && theta > 0.0) {
+        return false;
+    }
+    // Sine-space distance beyond which the gate drops a target, with 1 % for rounding.
+    let clear = 1.01 * r0_sq.sqrt() * theta;
+    balls.into_iter().all(|b| {
+        let l = tx.frame.face_from_ecef * (b.center_ecef - tx.frame.origin_ecef);
+        let range_m = l.length();
+        if !(b.radius_m >= 0.0 && range_m >= 2.0 * b.radius_m && range_m > 0.0) {
+            return false;
+        }
+        let (du, dv) = (l.x / range_m - tx.beam_u, l.y / range_m - tx.beam_v);
+        let need = clear + 1.05 * b.radius_m / range_m;
+        du * du + dv * dv > need * need
+    })
+}
 
 /// Could target `tg` give a return in the monostatic dwell `d` (one transmitter, one receiver,
 /// same face and beam)? `false` only when the full model's gates certainly drop it.

@@ -10,7 +10,7 @@ use mimo_core::params::{Fidelity, PatternModel, RadarParams};
 use mimo_core::rng::{Stream, domain};
 use mimo_radar::dwell::{Dwell, Target, evaluate};
 use mimo_radar::geometry::visible;
-use mimo_radar::quiet::is_quiet;
+use mimo_radar::quiet::{TargetBall, beam_clear, is_quiet};
 
 #[test]
 fn quiet_means_the_full_model_gives_nothing() {
@@ -86,4 +86,58 @@ fn quiet_means_the_full_model_gives_nothing() {
     }
     // Both answers occur often, so the checks above bite.
     assert!(quiet > 200 && loud > 200, "quiet {quiet}, loud {loud}, horizon only {horizon_only}");
+}
+
+#[test]
+fn a_clear_beam_gets_no_return_from_any_target_in_its_ball() {
+    let (mut clear, mut unsure) = (0, 0);
+    for case in 0..1200u64 {
+        let mut s = Stream::new(SEED, &[domain::TEST, 7, case]);
+        let p = RadarParams::default();
+        let fid = Fidelity {
+            pattern: if case % 5 == 0 { PatternModel::UniformAperture } else { PatternModel::Gaussian },
+            ..Fidelity::default()
+        };
+        let ship = Ship::new(0, 36.0, -70.0, &p);
+        let face = (case % 4) as usize;
+        let (bu, bv) = (0.6 * s.uniform() - 0.3, 0.3 * s.uniform() - 0.05);
+        let (th_u, th_v) = (p.beamwidth_u(), p.beamwidth_v());
+        let ids: Vec<String> = (0..3).map(|i| format!("T{i}")).collect();
+        // Strong targets a few beamwidths around the beam, each somewhere in a ball of up to 3 km.
+        let mut balls = Vec::new();
+        let targets: Vec<Target> = (0..3)
+            .map(|i| {
+                let (du, dv) = ((s.uniform() - 0.5) * 10.0 * th_u, (s.uniform() - 0.5) * 10.0 * th_v);
+                let r = 10e3 + s.uniform() * 200e3;
+                let pos = ship.point(face, r, bu + du, bv + dv);
+                let off = mimo_core::DVec3::new(s.uniform() - 0.5, s.uniform() - 0.5, s.uniform() - 0.5) * 3e3;
+                balls.push(TargetBall { center_ecef: pos + off, radius_m: off.length() * (1.0 + s.uniform()) });
+                Target { id: &ids[i], index: i as u32, pos_ecef: pos, rcs_m2: rcs_for_snr(&p, 1e3, r, 1.0), pol: None }
+            })
+            .collect();
+        let txs = [ship.tx(&p, face, bu, bv, 2)];
+        let rxs = [ship.rx(&p, case, face, bu, bv, (p.min_range_m, p.instrumented_range_m))];
+        let keys = [5, case];
+        let d = Dwell {
+            run: 5,
+            t_s: 1.0,
+            seed: SEED,
+            keys: &keys,
+            transmitters: &txs,
+            receivers: &rxs,
+            fidelity: &fid,
+            record_voltages: false,
+            simulate_all_cells: false,
+        };
+        if beam_clear(&d, balls.iter().copied()) {
+            clear += 1;
+            assert_eq!(fid.pattern, PatternModel::Gaussian, "case {case}");
+            let out = evaluate(&d, &targets);
+            assert!(out.channels[0].returns.is_empty(), "case {case}: clear, yet a target returned");
+            assert_eq!(is_quiet(&d, &targets), is_quiet(&d, &[]), "case {case}");
+        } else {
+            unsure += 1;
+        }
+    }
+    assert!(clear > 200 && unsure > 200, "clear {clear}, unsure {unsure}");
 }

@@ -37,6 +37,7 @@
 
 #![warn(missing_docs)]
 
+pub mod epoch_balls;
 mod error;
 mod flight;
 mod load;

@@ -1,6 +1,7 @@
 //! Truth trajectories: every target integrated once at [`STEP_S`], then evaluated at any time
 //! by cubic Hermite interpolation of ECEF position and velocity.
 
+use crate::epoch_balls::{Ball, EpochBalls};
 use crate::error::ScenarioError;
 use crate::flight::{
     Controls, Ctx, RefState, STEP_S, compile_offsets, direction_of, heading_of, member_state, node, rk4,
@@ -41,6 +42,8 @@ pub struct Trajectories {
     rcs: Vec<f64>,
     pos: Vec<Vec<DVec3>>,
     vel: Vec<Vec<DVec3>>,
+    /// Made on the first [`Trajectories::balls_at`] (only the simulator's quiet dwells ask).
+    balls: std::sync::OnceLock<EpochBalls>,
 }
 
 fn first_node_at_or_after(t: f64) -> usize {
@@ -198,6 +201,7 @@ impl Scenario {
             duration_s: self.duration_s,
             ids: self.targets.iter().map(|t| t.id.clone()).collect(),
             rcs: self.targets.iter().map(|t| t.rcs_m2).collect(),
+            balls: std::sync::OnceLock::new(),
             pos: b.pos,
             vel: b.vel,
         };
@@ -319,6 +323,12 @@ impl Trajectories {
             m0: vel[k] * STEP_S,
             m1: vel[k + 1] * STEP_S,
         }
+    }
+
+    /// For every target (in order), a ball that holds it at `t_s` and at every other time of the
+    /// same one-second epoch (see [`EpochBalls`]); `None` outside the sampled span.
+    pub fn balls_at(&self, t_s: f64) -> Option<&[Ball]> {
+        self.balls.get_or_init(|| EpochBalls::new(&self.pos, &self.vel)).balls_at(t_s)
     }
 
     /// Mean RCS of target `i` (m²). Panics if `i >= self.len()`.

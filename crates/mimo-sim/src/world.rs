@@ -90,6 +90,12 @@ impl World {
         }
     }
 
+    /// For every target, a ball that holds it at `t_s` (and the rest of its one-second epoch:
+    /// [`mimo_scenario::epoch_balls`]); `None` when `t_s` lies outside the sampled trajectories.
+    pub fn target_balls_at(&self, t_s: f64) -> Option<&[mimo_scenario::epoch_balls::Ball]> {
+        self.trajectories.balls_at(t_s)
+    }
+
     /// Every target's truth at `t_s`.
     pub fn targets_at(&self, t_s: f64) -> Vec<TargetNow<'_>> {
         (0..self.scenario.targets.len())

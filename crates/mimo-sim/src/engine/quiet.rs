@@ -3,7 +3,9 @@
 //! A search dwell that no target reaches and whose false-alarm count is zero produces one dwell
 //! row and nothing else. [`quiet_search_row`] recognises it with
 //! [`mimo_radar::quiet::is_quiet`] (same gates, same random stream as the full model) and
-//! returns that row without building the dwell's vectors; any other dwell goes through
+//! returns that row without building the dwell's vectors (and, when the beam is far from a
+//! ball holding each target over the current epoch, without the targets' exact positions:
+//! [`mimo_radar::quiet::beam_clear`]); any other dwell goes through
 //! [`super::execute::execute`], so the recorded tables are byte-identical either way.
 
 use super::execute::{RunKeys, receiver, transmitter};
@@ -13,6 +15,7 @@ use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::records::DwellRow;
 use mimo_radar::energy::dwell_energy_j;
+use mimo_radar::quiet::{TargetBall, beam_clear, is_quiet};
 
 /// The aim of a search beam: its direction at half the instrumented range.
 pub(super) fn search_aim(world: &World, g: &Group, frame: &FaceFrame) -> DVec3 {
@@ -72,10 +75,20 @@ pub(super) fn quiet_search_row<'w>(
     // The transmitter, receiver and stream keys `execute` builds for this group.
     let tx = transmitter(world, p, frame);
     let rx = receiver(world, g, p, gid, frame, aim);
-    world.radar_targets_into(t_mid, targets);
     let stream_keys = [u64::from(keys.run), gid];
     let dwell = keys.radar_dwell(world, t_mid, &stream_keys, std::slice::from_ref(&tx), std::slice::from_ref(&rx));
-    if !mimo_radar::quiet::is_quiet(&dwell, targets) {
+    // A beam far from every target's ball gates every target out whatever its exact position:
+    // the positions are then not computed (the answer and the random draws are the same).
+    let clear = world.target_balls_at(t_mid).is_some_and(|balls| {
+        beam_clear(&dwell, balls.iter().map(|b| TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m }))
+    });
+    let quiet = if clear {
+        is_quiet(&dwell, &[])
+    } else {
+        world.radar_targets_into(t_mid, targets);
+        is_quiet(&dwell, targets)
+    };
+    if !quiet {
         return None;
     }
     Some(dwell_row(world, keys.run, gid, g, 0, t0_s, aim))
