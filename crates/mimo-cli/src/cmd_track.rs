@@ -90,9 +90,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let _ = crate::interrupt::install();
     mimo_store::lineage::check_output_apart(&a.run, &a.out)?;
     let manifest = Manifest::read(&a.run)?;
-    let world = World::new(scenario_of(&a.run, &manifest)?).map_err(|e| {
-        CliError::input(format!("{}: field 'scenario.resolved': {e}", a.run.join("manifest.json").display()))
-    })?;
+    // The replay needs the ships' faces, never the targets: their trajectories are not built.
+    let world = World::ships_only(scenario_of(&a.run, &manifest)?);
     let runs: Vec<u32> = (0..manifest.runs).collect();
     // Check every input file before writing anything.
     let source = match from {

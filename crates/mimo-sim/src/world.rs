@@ -8,13 +8,14 @@ use mimo_core::ids::RadarId;
 use mimo_core::params::RadarParams;
 use mimo_scenario::{Scenario, ScenarioError, ShipFrames, Trajectories};
 
-/// A scenario with its trajectories built.
+/// A scenario with its trajectories built ([`World::new`]), or only its ships
+/// ([`World::ships_only`], for a replay, which never asks where the targets are).
 #[derive(Debug, Clone)]
 pub struct World {
     /// The validated scenario.
     pub scenario: Scenario,
-    /// Every target's trajectory.
-    pub trajectories: Trajectories,
+    /// Every target's trajectory (`None` in a ships-only world).
+    trajectories: Option<Trajectories>,
     /// Every ship's faces over the run, sampled and interpolated.
     frames: Vec<ShipFrames>,
 }
@@ -39,9 +40,26 @@ pub struct TargetNow<'w> {
 impl World {
     /// Build the trajectories of a validated scenario.
     pub fn new(scenario: Scenario) -> Result<World, ScenarioError> {
-        let trajectories = scenario.build_trajectories()?;
+        let trajectories = Some(scenario.build_trajectories()?);
         let frames = scenario.ships.iter().map(|s| ShipFrames::new(s, scenario.duration_s)).collect();
         Ok(World { scenario, trajectories, frames })
+    }
+
+    /// The ships alone, with no target trajectories: what a replay (`mimo track`) needs, since
+    /// a test article never sees the targets. Building the trajectories (the flight integration
+    /// of every target over the run) was a tenth of a replay's instructions. Asking such a world
+    /// where a target is panics: it is a programming error, not bad input.
+    pub fn ships_only(scenario: Scenario) -> World {
+        let frames = scenario.ships.iter().map(|s| ShipFrames::new(s, scenario.duration_s)).collect();
+        World { scenario, trajectories: None, frames }
+    }
+
+    /// Every target's trajectory.
+    ///
+    /// # Panics
+    /// On a [`World::ships_only`] world.
+    pub fn trajectories(&self) -> &Trajectories {
+        self.trajectories.as_ref().expect("a ships-only world (World::ships_only) has no target trajectories")
     }
 
     /// Number of radars (ships).
@@ -79,12 +97,13 @@ impl World {
     /// (cleared first; no geodetic conversion).
     pub fn radar_targets_into<'w>(&'w self, t_s: f64, out: &mut Vec<mimo_radar::Target<'w>>) {
         out.clear();
+        let trajectories = self.trajectories();
         for (i, t) in self.scenario.targets.iter().enumerate() {
             out.push(mimo_radar::Target {
                 id: t.id.as_str(),
                 index: i as u32,
-                pos_ecef: self.trajectories.position_at(i, t_s),
-                rcs_m2: self.trajectories.rcs_m2(i),
+                pos_ecef: trajectories.position_at(i, t_s),
+                rcs_m2: trajectories.rcs_m2(i),
                 pol: t.polarimetry,
             });
         }
@@ -93,14 +112,14 @@ impl World {
     /// For every target, a ball that holds it at `t_s` (and the rest of its one-second epoch:
     /// [`mimo_scenario::epoch_balls`]); `None` when `t_s` lies outside the sampled trajectories.
     pub fn target_balls_at(&self, t_s: f64) -> Option<&[mimo_scenario::epoch_balls::Ball]> {
-        self.trajectories.balls_at(t_s)
+        self.trajectories().balls_at(t_s)
     }
 
     /// Every target's truth at `t_s`.
     pub fn targets_at(&self, t_s: f64) -> Vec<TargetNow<'_>> {
         (0..self.scenario.targets.len())
             .map(|i| {
-                let s = self.trajectories.state_at(i, t_s);
+                let s = self.trajectories().state_at(i, t_s);
                 TargetNow {
                     id: self.scenario.targets[i].id.as_str(),
                     index: i as u32,

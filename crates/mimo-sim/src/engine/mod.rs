@@ -221,7 +221,7 @@ impl<'a> Engine<'a> {
     /// Run to the end; the rows went to the sink. Returns the run's counters.
     pub fn run(mut self) -> Result<RunStats, EngineError> {
         let rate = self.world.scenario.fidelity.truth_rate_hz;
-        let mut truth = self.world.trajectories.truth_rows(self.run, rate);
+        let mut truth = self.world.trajectories().truth_rows(self.run, rate);
         truth.retain(|r| r.t_s <= self.cfg.duration_s + 1e-9);
         self.sink.truth(truth)?;
         for r in 0..self.timelines.len() {
