@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's screenshot of the run viewer: scenario 7, run 0, at t = 250 s, with a bistatic
 # (MIMO) measurement selected (its 1σ/3σ ellipsoid and sensor lines drawn). Uses the 1000-s run
-# of scripts/plot_open_time.sh (runs/plot-s7, made here when missing) and headless Chromium.
+# of scripts/plot_open_time.sh (runs/plot-s7, made here when missing), headless Chromium driven by
+# scripts/plot_screenshot.mjs (node).
 #
 #   scripts/plot_screenshot.sh            writes reports/plot-s7-t250.png
 set -euo pipefail
@@ -15,11 +16,5 @@ if [ ! -f "$run/manifest.json" ] || [ ! -f "$run/score/summary.json" ]; then
   "$mimo" score "$run" --no-charts --quiet
 fi
 "$mimo" plot "$run" --out "$run/view-t250.html" --force --quiet
-profile=$(mktemp -d)
-"$chromium" --headless --no-sandbox --disable-gpu --use-angle=swiftshader --enable-unsafe-swiftshader \
-  --no-first-run --disable-background-networking --disable-component-update --disable-sync \
-  "--host-resolver-rules=MAP * ~NOTFOUND" --window-size=1400,1000 --virtual-time-budget=60000 \
-  --user-data-dir="$profile" --screenshot="$PWD/reports/plot-s7-t250.png" \
-  "file://$(realpath "$run/view-t250.html")#t=250&select=mimo" 2>/dev/null
-rm -rf "$profile"
-echo "wrote reports/plot-s7-t250.png"
+node scripts/plot_screenshot.mjs "$chromium" "file://$(realpath "$run/view-t250.html")#t=250&select=mimo" \
+  "$PWD/reports/plot-s7-t250.png" 1400 1000
