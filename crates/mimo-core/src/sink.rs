@@ -23,7 +23,7 @@ impl std::error::Error for SinkError {}
 
 /// Receives the rows of one Monte Carlo run, table by table, in the order they are made.
 pub trait RunSink {
-    /// Truth samples (once, at the start of a run).
+    /// Truth samples, in time order, in one or more blocks at the start of a run.
     fn truth(&mut self, rows: Vec<TruthRow>) -> Result<(), SinkError>;
     /// One radar's part in one dwell.
     fn dwell(&mut self, row: DwellRow) -> Result<(), SinkError>;

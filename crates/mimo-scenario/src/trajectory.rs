@@ -346,12 +346,27 @@ impl Trajectories {
     /// scenario's end inclusive (times are `j / rate_hz`), ordered by time, then by target in
     /// scenario order. Empty if `rate_hz` is not a positive finite number.
     pub fn truth_rows(&self, run: u32, rate_hz: f64) -> Vec<TruthRow> {
+        self.truth_rows_of_steps(run, rate_hz, 0..self.truth_steps(rate_hz))
+    }
+
+    /// The number of truth sample times over the run at `rate_hz` (0 for a rate that is not a
+    /// finite positive number): the steps `j` of [`Trajectories::truth_rows_of_steps`].
+    pub fn truth_steps(&self, rate_hz: f64) -> usize {
+        if !(rate_hz.is_finite() && rate_hz > 0.0) {
+            return 0;
+        }
+        (self.duration_s * rate_hz + 1e-9).floor() as usize + 1
+    }
+
+    /// The truth rows of sample times `j / rate_hz` for `j` in `steps`, in the order of
+    /// [`Trajectories::truth_rows`]: consecutive ranges give that table piece by piece, so a
+    /// writer can stream it with memory that does not grow with the run's duration.
+    pub fn truth_rows_of_steps(&self, run: u32, rate_hz: f64, steps: std::ops::Range<usize>) -> Vec<TruthRow> {
         if !(rate_hz.is_finite() && rate_hz > 0.0) {
             return Vec::new();
         }
-        let n_times = (self.duration_s * rate_hz + 1e-9).floor() as usize + 1;
-        let mut rows = Vec::with_capacity(n_times * self.len());
-        for j in 0..n_times {
+        let mut rows = Vec::with_capacity(steps.len() * self.len());
+        for j in steps {
             let t = j as f64 / rate_hz;
             for (i, id) in self.ids.iter().enumerate() {
                 let s = self.state_at(i, t);

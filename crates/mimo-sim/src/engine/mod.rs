@@ -220,10 +220,19 @@ impl<'a> Engine<'a> {
 
     /// Run to the end; the rows went to the sink. Returns the run's counters.
     pub fn run(mut self) -> Result<RunStats, EngineError> {
+        // The truth table, streamed a block of sample times at a time (memory flat in duration).
+        const TRUTH_STEPS_PER_BLOCK: usize = 1024;
         let rate = self.world.scenario.fidelity.truth_rate_hz;
-        let mut truth = self.world.trajectories().truth_rows(self.run, rate);
-        truth.retain(|r| r.t_s <= self.cfg.duration_s + 1e-9);
-        self.sink.truth(truth)?;
+        let trajectories = self.world.trajectories();
+        let n_steps = trajectories.truth_steps(rate);
+        for first in (0..n_steps).step_by(TRUTH_STEPS_PER_BLOCK) {
+            let steps = first..(first + TRUTH_STEPS_PER_BLOCK).min(n_steps);
+            let mut truth = trajectories.truth_rows_of_steps(self.run, rate, steps);
+            truth.retain(|r| r.t_s <= self.cfg.duration_s + 1e-9);
+            if !truth.is_empty() {
+                self.sink.truth(truth)?;
+            }
+        }
         for r in 0..self.timelines.len() {
             self.push(SimTime::ZERO, Ev::Decide(r as u8));
         }
