@@ -155,14 +155,19 @@ mod tests {
         }
     }
 
-    /// Whatever `is_quiet` skips, the deleter keeps: checked at many times against the full rule.
-    #[test]
-    fn skipped_checks_never_delete() {
-        let filter = SingleModelFilter {
+    /// The default constant-velocity EKF (the filter whose covariance trace is convex in dt).
+    fn ekf() -> SingleModelFilter {
+        SingleModelFilter {
             name: "ekf".into(),
             predictor: Box::new(KalmanPredictor::new(Ncv::dwna(5.0))),
             updater: Box::new(EkfUpdater::default()),
-        };
+        }
+    }
+
+    /// Whatever `is_quiet` skips, the deleter keeps: checked at many times against the full rule.
+    #[test]
+    fn skipped_checks_never_delete() {
+        let filter = ekf();
         let deleter = DeletionConfig::default().build();
         let mut quiet = QuietTracks::default();
         let (mut skipped, mut deleted) = (0, 0);
@@ -196,11 +201,7 @@ mod tests {
     /// A track with misses due for deletion is never skipped.
     #[test]
     fn missed_tracks_are_checked() {
-        let filter = SingleModelFilter {
-            name: "ekf".into(),
-            predictor: Box::new(KalmanPredictor::new(Ncv::dwna(5.0))),
-            updater: Box::new(EkfUpdater::default()),
-        };
+        let filter = ekf();
         let deleter = DeletionConfig::default().build();
         let mut quiet = QuietTracks::default();
         let mut t = track(1.0);
