@@ -171,15 +171,7 @@ fn unresolved_pair_separation(group_update: bool) -> f64 {
     let mut rng = rng(&[13, 7, group_update as u64]);
     let mut truth = [[-150.0, 60_000.0, 6_000.0, 0.0, -200.0, 0.0], [150.0, 60_000.0, 6_000.0, 0.0, -200.0, 0.0]];
     let mut tracker = MultiTargetTracker::new(cfg, sim.centre);
-    let mut ids = [0u64; 2];
-    for (k, x) in truth.iter().enumerate() {
-        let mut p = [[0.0; 6]; 6];
-        for (i, row) in p.iter_mut().enumerate() {
-            row[i] = if i < 3 { 100.0 } else { 9.0 };
-        }
-        let e = tracker.frame().state_to_ecef(&Gaussian { x: *x, p });
-        ids[k] = tracker.spawn_track(0, 0.0, &e, TrackStatus::Confirmed).expect("spawned").0;
-    }
+    let ids = spawn_confirmed_pair(&mut tracker, &truth);
     for k in 1..=30u64 {
         let t = k as f64;
         for x in truth.iter_mut() {

@@ -13,7 +13,7 @@ use common::*;
 use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_track::motion::ProcessNoise;
 use mimo_track::partner::{PartnerMode, PartnerUpdate};
-use mimo_track::{DwellContext, Gaussian, MultiTargetTracker, TrackerConfig};
+use mimo_track::{DwellContext, MultiTargetTracker, TrackerConfig};
 
 const SIGMA_RHO_M: f64 = 8.0;
 const SIGMA_UV: f64 = 1e-3;
@@ -42,15 +42,7 @@ fn fly(partner: PartnerUpdate, dy_m: f64, resolved: bool) -> Flight {
     let mut truth =
         [[-150.0, 60_000.0, 6_000.0, 0.0, -200.0, 0.0], [150.0, 60_000.0 + dy_m, 6_000.0, 0.0, -200.0, 0.0]];
     let mut tracker = MultiTargetTracker::new(cfg, sim.centre);
-    let mut ids = [0u64; 2];
-    for (k, x) in truth.iter().enumerate() {
-        let mut p = [[0.0; 6]; 6];
-        for (i, row) in p.iter_mut().enumerate() {
-            row[i] = if i < 3 { 100.0 } else { 9.0 };
-        }
-        let e = tracker.frame().state_to_ecef(&Gaussian { x: *x, p });
-        ids[k] = tracker.spawn_track(0, 0.0, &e, TrackStatus::Confirmed).expect("spawned").0;
-    }
+    let ids = spawn_confirmed_pair(&mut tracker, &truth);
     let (mut both_updated, mut crossed) = (0, 0);
     for k in 1..=30u64 {
         let t = k as f64;
@@ -136,15 +128,7 @@ fn alternating(partner: PartnerUpdate) -> (Option<u64>, bool) {
     let mut rng = rng(&[13, 78]);
     let mut truth = [[-150.0, 60_000.0, 6_000.0, 0.0, -200.0, 0.0], [150.0, 60_037.0, 6_000.0, 0.0, -200.0, 0.0]];
     let mut tracker = MultiTargetTracker::new(cfg, sim.centre);
-    let mut ids = [0u64; 2];
-    for (k, x) in truth.iter().enumerate() {
-        let mut p = [[0.0; 6]; 6];
-        for (i, row) in p.iter_mut().enumerate() {
-            row[i] = if i < 3 { 100.0 } else { 9.0 };
-        }
-        let e = tracker.frame().state_to_ecef(&Gaussian { x: *x, p });
-        ids[k] = tracker.spawn_track(0, 0.0, &e, TrackStatus::Confirmed).expect("spawned").0;
-    }
+    let ids = spawn_confirmed_pair(&mut tracker, &truth);
     let mut deleted = None;
     for k in 1..=40u64 {
         let t = k as f64;

@@ -121,3 +121,18 @@ pub fn assert_row_finite(row: &TrackRow) {
     let vals = [row.t_s, row.x_m, row.y_m, row.z_m, row.vx_mps, row.vy_mps, row.vz_mps];
     assert!(vals.iter().chain(row.cov.iter()).all(|v| v.is_finite()), "non-finite row {row:?}");
 }
+
+/// Two confirmed tracks spawned at the local states `truth` (position sigma 10 m, velocity
+/// sigma 3 m/s), at t = 0 on radar 0; their ids.
+pub fn spawn_confirmed_pair(tracker: &mut mimo_track::MultiTargetTracker, truth: &[[f64; 6]; 2]) -> [u64; 2] {
+    let mut ids = [0u64; 2];
+    for (k, x) in truth.iter().enumerate() {
+        let mut p = [[0.0; 6]; 6];
+        for (i, row) in p.iter_mut().enumerate() {
+            row[i] = if i < 3 { 100.0 } else { 9.0 };
+        }
+        let e = tracker.frame().state_to_ecef(&mimo_track::Gaussian { x: *x, p });
+        ids[k] = tracker.spawn_track(0, 0.0, &e, mimo_core::records::TrackStatus::Confirmed).expect("spawned").0;
+    }
+    ids
+}
