@@ -142,6 +142,28 @@ pub(crate) fn read_table_checked(
 
 /// Read one file of `table` with the given columns (in that order), validated.
 pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
+    read_file_slice(table, path, cols, None)
+}
+
+/// The number of rows of one file of `table` (from its footer).
+pub(crate) fn file_rows(table: &'static str, path: &Path) -> Result<usize, MetricsError> {
+    let file =
+        File::open(path).map_err(|e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() })?;
+    ParquetReader::new(file).num_rows().map_err(|e| MetricsError::Read {
+        table,
+        path: path.to_path_buf(),
+        detail: e.to_string(),
+    })
+}
+
+/// [`read_file`] of the rows `slice` = (first row, count) only (all rows for `None`); row
+/// numbers in its errors are then the slice's.
+pub(crate) fn read_file_slice(
+    table: &'static str,
+    path: &Path,
+    cols: &[Col<'_>],
+    slice: Option<(usize, usize)>,
+) -> Result<DataFrame, MetricsError> {
     let file = File::open(path).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             MetricsError::MissingTable { table, path: path.to_path_buf(), detail: "file does not exist".into() }
@@ -170,7 +192,7 @@ pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> R
         }
     }
     let names: Vec<String> = cols.iter().map(|c| c.name.to_string()).collect();
-    let df = reader.with_columns(Some(names.clone())).finish().map_err(read_err)?;
+    let df = reader.with_columns(Some(names.clone())).with_slice(slice).finish().map_err(read_err)?;
     let df = df.select(names).map_err(read_err)?;
     let mut columns = Vec::with_capacity(cols.len());
     for c in cols {

@@ -7,7 +7,7 @@ use mimo_core::ids::RadarId;
 use polars::prelude::*;
 use std::collections::BTreeMap;
 
-const SUMS: [&str; 4] = ["dwell_time_s", "energy_j", "ta_dwell_time_s", "ta_energy_j"];
+pub(crate) const SUMS: [&str; 4] = ["dwell_time_s", "energy_j", "ta_dwell_time_s", "ta_energy_j"];
 const NORMS: [&str; 4] =
     ["dwell_time_per_object_s", "energy_per_object_j", "ta_dwell_time_per_object_s", "ta_energy_per_object_j"];
 
