@@ -45,7 +45,17 @@ pub fn remove_pending() {
     };
     for p in paths {
         if p.is_dir() {
-            let _ = std::fs::remove_dir_all(&p);
+            // Renamed first, atomically: the run workers may still be writing, and while
+            // `remove_dir_all` walked the tree one of them could create its table directory and
+            // file again under the staging path, which was then left behind. After the rename
+            // nothing can be created under that path; the renamed tree (`.NAME.partial-*`, so
+            // the next writer removes it if this process is killed first) is removed.
+            let removing = p.with_file_name(format!(
+                "{}.removing",
+                p.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default()
+            ));
+            let doomed = if std::fs::rename(&p, &removing).is_ok() { removing } else { p };
+            let _ = std::fs::remove_dir_all(&doomed);
         } else {
             let _ = std::fs::remove_file(&p);
         }
