@@ -30,6 +30,21 @@ pub struct TrackView<'a> {
     pub predicted: &'a Gaussian,
 }
 
+impl<'a> TrackView<'a> {
+    /// What a deleter sees of `track` at `t_s`, given its prediction there.
+    pub fn of(track: &crate::tracker::Track, t_s: f64, predicted: &'a Gaussian) -> TrackView<'a> {
+        TrackView {
+            track_id: track.id,
+            status: track.status,
+            consecutive_misses: track.consecutive_misses,
+            n_updates: track.n_updates,
+            t_last_update_s: track.t_s,
+            t_s,
+            predicted,
+        }
+    }
+}
+
 /// Why a track ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

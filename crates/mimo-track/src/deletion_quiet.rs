@@ -176,16 +176,7 @@ mod tests {
             for k in 0..400 {
                 let t_s = 99.0 + 0.1 * k as f64;
                 let g = filter.predict(&t.state, t_s - t.t_s).combined;
-                let view = TrackView {
-                    track_id: t.id,
-                    status: t.status,
-                    consecutive_misses: t.consecutive_misses,
-                    n_updates: t.n_updates,
-                    t_last_update_s: t.t_s,
-                    t_s,
-                    predicted: &g,
-                };
-                let reason: Option<DeleteReason> = deleter.check(&view);
+                let reason: Option<DeleteReason> = deleter.check(&TrackView::of(&t, t_s, &g));
                 if quiet.is_quiet(&filter, &deleter, &t, t_s) {
                     skipped += 1;
                     assert_eq!(reason, None, "skipped a deletion at p_scale {p_scale}, t {t_s}");

@@ -352,15 +352,7 @@ impl MultiTargetTracker {
             } else if !g.is_finite() {
                 Some(DeleteReason::Divergence)
             } else {
-                self.c.deleter.check(&TrackView {
-                    track_id: *id,
-                    status: t.status,
-                    consecutive_misses: t.consecutive_misses,
-                    n_updates: t.n_updates,
-                    t_last_update_s: t.t_s,
-                    t_s,
-                    predicted: &g,
-                })
+                self.c.deleter.check(&TrackView::of(t, t_s, &g))
             };
             if let Some(r) = reason {
                 // The final row carries the last estimate (extrapolated to the deletion time
