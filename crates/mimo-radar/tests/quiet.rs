@@ -12,6 +12,28 @@ use mimo_radar::dwell::{Dwell, Target, evaluate};
 use mimo_radar::geometry::visible;
 use mimo_radar::quiet::{TargetBall, beam_clear, is_quiet};
 
+/// The dwell of both tests: run 5 at t = 1 s, one transmitter and one receiver, cells only
+/// near the returns.
+fn dwell<'a>(
+    keys: &'a [u64],
+    txs: &'a [mimo_radar::dwell::Transmitter<'a>],
+    rxs: &'a [mimo_radar::dwell::Receiver<'a>],
+    fid: &'a Fidelity,
+    record_voltages: bool,
+) -> Dwell<'a> {
+    Dwell {
+        run: 5,
+        t_s: 1.0,
+        seed: SEED,
+        keys,
+        transmitters: txs,
+        receivers: rxs,
+        fidelity: fid,
+        record_voltages,
+        simulate_all_cells: false,
+    }
+}
+
 #[test]
 fn quiet_means_the_full_model_gives_nothing() {
     let mut quiet = 0;
@@ -52,17 +74,7 @@ fn quiet_means_the_full_model_gives_nothing() {
         let txs = [ship.tx(&p, face, bu, bv, 2)];
         let rxs = [ship.rx(&p, case, face, bu, bv, (p.min_range_m, p.instrumented_range_m))];
         let keys = [5, case];
-        let d = Dwell {
-            run: 5,
-            t_s: 1.0,
-            seed: SEED,
-            keys: &keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: &fid,
-            record_voltages: true,
-            simulate_all_cells: false,
-        };
+        let d = dwell(&keys, &txs, &rxs, &fid, true);
         let out = evaluate(&d, &targets);
         let ch = &out.channels[0];
         let nothing = ch.returns.is_empty() && ch.false_alarms == 0;
@@ -118,17 +130,7 @@ fn a_clear_beam_gets_no_return_from_any_target_in_its_ball() {
         let txs = [ship.tx(&p, face, bu, bv, 2)];
         let rxs = [ship.rx(&p, case, face, bu, bv, (p.min_range_m, p.instrumented_range_m))];
         let keys = [5, case];
-        let d = Dwell {
-            run: 5,
-            t_s: 1.0,
-            seed: SEED,
-            keys: &keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: &fid,
-            record_voltages: false,
-            simulate_all_cells: false,
-        };
+        let d = dwell(&keys, &txs, &rxs, &fid, false);
         if beam_clear(&d, balls.iter().copied()) {
             clear += 1;
             assert_eq!(fid.pattern, PatternModel::Gaussian, "case {case}");
