@@ -3,7 +3,6 @@
 use crate::CliError;
 use crate::cmd_track::scenario_of;
 use mimo_metrics::{MetricsError, ScoreInput, ScoreOptions};
-use mimo_sim::World;
 use mimo_store::manifest::Manifest;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -87,16 +86,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let src = mimo_store::lineage::source_dir(&a.run, &manifest)?;
     let scenario = scenario_of(&a.run, &manifest)?;
     let radars: Vec<String> = scenario.ships.iter().map(|s| s.id.to_string()).collect();
-    let world = World::new(scenario).map_err(|e| {
-        CliError::input(format!("{}: field 'scenario.resolved': {e}", a.run.join("manifest.json").display()))
-    })?;
-    let ships = world.scenario.ships.clone();
+    // Scoring needs the ships (what each radar can see), not the targets' flight: their truth is
+    // the recorded truth table. `scenario_of` has validated the scenario.
+    let ships = scenario.ships.clone();
     let scorable: mimo_metrics::ScorablePredicate =
         Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt)));
     let input = ScoreInput::from_dirs(&src.join("truth"), &src.join("dwells"), &a.run.join("tracks"), scorable)
         .map_err(metrics_err)?;
     let opts = ScoreOptions {
-        scenario: world.scenario.name.clone(),
+        scenario: scenario.name.clone(),
         interval_s: a.interval,
         gate_m: a.gate,
         ospa_c_m: a.ospa_c,
