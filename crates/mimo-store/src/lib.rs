@@ -195,7 +195,8 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
     let mut b = WriterProperties::builder()
         .set_compression(Compression::ZSTD(parquet::basic::ZstdLevel::try_new(ZSTD_LEVEL).unwrap_or_default()))
         .set_created_by(format!("mimo {}", env!("CARGO_PKG_VERSION")))
-        .set_max_row_group_row_count(Some(ROW_GROUP_ROWS));
+        .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
+        .set_data_page_row_count_limit(PAGE_ROWS);
     for field in schema.fields() {
         let name = field.name().as_str();
         let path = parquet::schema::types::ColumnPath::from(name);
@@ -218,8 +219,16 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
     b.build()
 }
 
-/// Rows per Parquet row group (and most rows a table writer holds before writing them).
-pub const ROW_GROUP_ROWS: usize = 1 << 16;
+/// Most rows per data page. The Parquet writer's default cuts a page at 1 MiB or 20 000 rows,
+/// so each column of a sparse table (tracks, measurements: ~20 rows/s) kept a page open for
+/// several hundred seconds and its zstd context grew with it: a writer's memory followed the
+/// run's length (docs/DECISIONS.md, "Table encoding").
+pub const PAGE_ROWS: usize = 8192;
+
+/// Rows per Parquet row group (and most rows a table writer holds before writing them). The
+/// encoded pages of the row group being filled stay in memory, so this bounds a writer's memory
+/// whatever the run's length.
+pub const ROW_GROUP_ROWS: usize = 1 << 14;
 
 /// Write rows as one Parquet file, atomically (temporary name, then rename).
 pub fn write_table<R: TableRow>(path: &Path, rows: &[R]) -> Result<u64, StoreError> {
