@@ -99,10 +99,12 @@ mod error;
 mod load;
 pub mod ospa;
 mod output;
+mod parts;
 mod read;
 mod results;
 mod rules;
 mod track_metrics;
+mod track_results;
 mod usage;
 
 pub use error::MetricsError;
@@ -117,7 +119,8 @@ use read::list_parquet;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use track_metrics::{RunInput, TargetTally, TargetTruth, TrackLife};
+use track_metrics::TargetTally;
+use track_results::{TrackResults, track_results_by_parts, track_results_whole};
 
 /// Decides whether a truth is scorable: `(t_s, position ECEF (m), altitude (m)) → bool`.
 pub type ScorablePredicate = Box<dyn Fn(f64, DVec3, f64) -> bool + Send + Sync>;
@@ -244,62 +247,28 @@ fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
 /// Score the tables of `input` with `opts`. See the crate docs for every definition.
 pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsError> {
     opts.validate()?;
-    let truth = load_truth(&input.truth)?;
-    if let Some(t_end) = truth.t_end.values().copied().reduce(f64::max)
-        && t_end / opts.interval_s > MAX_SCORING_TIMES
-    {
-        return Err(MetricsError::InvalidOption {
-            option: "interval_s",
-            value: opts.interval_s.to_string(),
-            expected: "at least the run's last truth time / 10^7 (at most 10^7 scoring times per run)",
-        });
-    }
-    let run_set: BTreeSet<u32> = truth.runs.iter().copied().collect();
-    let tracks = load_tracks(&input.tracks, &run_set)?;
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
     } else {
         opts.threads
     };
-    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;
-
-    // Per-run track metrics, runs in parallel.
-    let empty_tracks: Vec<TrackLife> = Vec::new();
-    let empty_targets: Vec<TargetTruth> = Vec::new();
-    let run_inputs: Vec<RunInput<'_>> = truth
-        .runs
-        .iter()
-        .map(|&run| RunInput {
-            run,
-            n_times: track_metrics::n_scoring_times(truth.t_end.get(&run).copied().unwrap_or(0.0), opts.interval_s),
-            interval_s: opts.interval_s,
-            gate_m: opts.gate_m,
-            ospa_c_m: opts.ospa_c_m,
-            ospa_p: opts.ospa_p,
-            targets: truth.per_run.get(&run).unwrap_or(&empty_targets),
-            target_names: &truth.target_names,
-            tracks: tracks.get(&run).unwrap_or(&empty_tracks),
-            scorable: &*input.scorable,
-        })
-        .collect();
-    let threads = threads.clamp(1, run_inputs.len().max(1));
-    let outputs = run_parallel(&run_inputs, threads);
-
-    let mut track_metrics = Vec::new();
-    let mut assignments = Vec::new();
-    let mut tally = vec![TargetTally::default(); truth.target_names.len()];
-    let mut n_scorable: BTreeMap<u32, Vec<u32>> = BTreeMap::new();
-    for (inp, out) in run_inputs.iter().zip(outputs) {
-        n_scorable.insert(inp.run, out.rows.iter().map(|r| r.n_scorable).collect());
-        track_metrics.extend(out.rows);
-        assignments.extend(out.assignments);
-        for (acc, t) in tally.iter_mut().zip(out.tally) {
-            acc.scorable += t.scorable;
-            acc.assigned += t.assigned;
-            acc.breaks += t.breaks;
-            acc.switches += t.switches;
+    // Part by part when the files allow it (memory follows one run per thread); any error there
+    // is reported by the whole-recording path, so that it names the same file and row as ever.
+    let by_parts = parts::split(&input.truth, &input.tracks)
+        .and_then(|split| split.map(|s| track_results_by_parts(&s, input, opts, threads)).transpose());
+    let tr = match by_parts {
+        Ok(Some(tr)) => tr,
+        Ok(None) => track_results_whole(input, opts, threads)?,
+        Err(e) => {
+            let whole = track_results_whole(input, opts, threads);
+            // Only bad input may fail here, and the whole read must find it too.
+            debug_assert!(whole.is_err(), "scoring by parts failed ({e}) on input the whole read accepts");
+            whole?
         }
-    }
+    };
+    let run_set: BTreeSet<u32> = tr.runs.iter().copied().collect();
+    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;
+    let TrackResults { runs, target_names, track_metrics, assignments, tally, n_scorable } = tr;
     let track_metrics_mean = mean_over_runs(&track_metrics)?;
 
     // Usage.
@@ -309,13 +278,13 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     usage::sort_radars(&mut radars);
     let u = usage::usage(
         dwell_sums,
-        &usage::UsageInput { interval_s: opts.interval_s, runs: &truth.runs, radars: &radars, n_scorable: &n_scorable },
+        &usage::UsageInput { interval_s: opts.interval_s, runs: &runs, radars: &radars, n_scorable: &n_scorable },
     )?;
 
-    let summary = summarize(opts, &truth, &track_metrics, &tally, &u)?;
+    let summary = summarize(opts, &runs, &target_names, &track_metrics, &tally, &u)?;
     Ok(Score {
         options: opts.clone(),
-        runs: truth.runs.clone(),
+        runs,
         radars,
         track_metrics,
         track_metrics_mean,
@@ -326,37 +295,6 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         usage_run: u.per_run,
         summary,
     })
-}
-
-fn run_parallel(inputs: &[RunInput<'_>], threads: usize) -> Vec<track_metrics::RunOutput> {
-    if threads <= 1 || inputs.len() <= 1 {
-        return inputs.iter().map(track_metrics::score_run).collect();
-    }
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<(usize, track_metrics::RunOutput)> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..threads)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut done = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(inp) = inputs.get(i) else { break };
-                        done.push((i, track_metrics::score_run(inp)));
-                    }
-                    done
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| match h.join() {
-                Ok(v) => v,
-                Err(panic) => std::panic::resume_unwind(panic),
-            })
-            .collect()
-    });
-    results.sort_by_key(|(i, _)| *i);
-    results.into_iter().map(|(_, o)| o).collect()
 }
 
 /// Average the per-run rows over runs at each scoring time (polars group-by on `k`).
@@ -421,19 +359,20 @@ fn mean_over_runs(rows: &[TrackMetricsRow]) -> Result<Vec<TrackMetricsMeanRow>, 
 
 fn summarize(
     opts: &ScoreOptions,
-    truth: &Truth,
+    runs: &[u32],
+    target_names: &[String],
     rows: &[TrackMetricsRow],
     tally: &[TargetTally],
     u: &usage::UsageOutput,
 ) -> Result<Summary, MetricsError> {
-    let n_runs = truth.runs.len().max(1) as f64;
+    let n_runs = runs.len().max(1) as f64;
     let pooled_rmse = |rows: &[&TrackMetricsRow], sq: fn(&TrackMetricsRow) -> f64| {
         let n: u64 = rows.iter().map(|r| u64::from(r.n_assigned)).sum();
         (n > 0).then(|| (rows.iter().map(|r| sq(r)).sum::<f64>() / n as f64).sqrt())
     };
     let all: Vec<&TrackMetricsRow> = rows.iter().collect();
     // Rows and usage grouped by run once (linear in the number of runs).
-    let mut by_run: BTreeMap<u32, Vec<&TrackMetricsRow>> = truth.runs.iter().map(|&r| (r, Vec::new())).collect();
+    let mut by_run: BTreeMap<u32, Vec<&TrackMetricsRow>> = runs.iter().map(|&r| (r, Vec::new())).collect();
     for r in rows {
         by_run.entry(r.run).or_default().push(r);
     }
@@ -450,8 +389,8 @@ fn summarize(
         completeness,
         redundant_ratio: mean(all.iter().filter_map(|r| r.redundant_ratio)),
         spurious_ratio: mean(all.iter().filter_map(|r| r.spurious_ratio)),
-        breaks: truth.runs.iter().map(|&r| f64::from(per_run_breaks(r))).sum::<f64>() / n_runs,
-        switches: truth.runs.iter().map(|&r| f64::from(per_run_switches(r))).sum::<f64>() / n_runs,
+        breaks: runs.iter().map(|&r| f64::from(per_run_breaks(r))).sum::<f64>() / n_runs,
+        switches: runs.iter().map(|&r| f64::from(per_run_switches(r))).sum::<f64>() / n_runs,
         position_rmse_m: pooled_rmse(&all, |r| r.position_sq_sum_m2),
         velocity_rmse_mps: pooled_rmse(&all, |r| r.velocity_sq_sum_m2ps2),
     };
@@ -478,8 +417,7 @@ fn summarize(
         ta_energy_j: u.per_radar.iter().map(|r| r.ta_energy_j).sum(),
         per_radar,
     };
-    let per_run = truth
-        .runs
+    let per_run = runs
         .iter()
         .map(|&run| {
             let rr = run_rows(run);
@@ -509,8 +447,7 @@ fn summarize(
         })
         .collect();
     let per_target = NamedList(
-        truth
-            .target_names
+        target_names
             .iter()
             .zip(tally)
             .map(|(name, t)| {
@@ -528,7 +465,7 @@ fn summarize(
     );
     Ok(Summary {
         scenario: opts.scenario.clone(),
-        runs: truth.runs.len() as u32,
+        runs: runs.len() as u32,
         interval_s: opts.interval_s,
         gate_m: opts.gate_m,
         track,
@@ -550,7 +487,7 @@ fn summarize(
             mean_m: mean(all.iter().filter_map(|r| r.gospa_m)),
         },
         scoring: ScoringInfo {
-            run_ids: truth.runs.clone(),
+            run_ids: runs.to_vec(),
             scoring_times: rows.iter().map(|r| r.k).max().unwrap_or(0),
             assignment: "exact gated one-to-one assignment on ECEF position distance: maximum number of pairs, then minimum total distance",
             undefined_values: "null: a figure with no defined value (no scorable truth, no track) is null and left out of averages",

@@ -866,3 +866,66 @@ fn usage_does_not_depend_on_how_the_dwells_are_split_into_files() {
         assert!(rel(r.energy_j, e / f64::from(runs)), "{r:?}");
     }
 }
+
+/// The track metrics are the same however truth and tracks are spread over files: one file per
+/// run (scored part by part, one run at a time), everything in one file (scored at once), and a
+/// mix of files sharing runs, with an empty tracks file, and a target (`C`) that only one run
+/// has. The summary's per-target tallies merge the parts by name.
+#[test]
+fn track_metrics_do_not_depend_on_how_truth_and_tracks_are_split_into_files() {
+    let c0 = DVec3::new(6_400_000.0, -30_000.0, 0.0);
+    let runs = 4u32;
+    let mut truth: Vec<Vec<TruthRow>> = Vec::new();
+    let mut tracks: Vec<Vec<TrackRow>> = Vec::new();
+    for run in 0..runs {
+        let mut t = truth_line(run, "A", A0, VA, 0.0, 20.0);
+        let mut k = follow(run, 1, A0, VA, DVec3::new(30.0, 0.0, 0.0), 1.0, 20.0, false);
+        if run < 3 {
+            t.extend(truth_line(run, "B", B0, VB, 0.0, 15.0));
+            // Run r's track on B drops at 6 + r s and a new one picks it up 2 s later.
+            let cut = 6.0 + f64::from(run);
+            k.extend(follow(run, 2, B0, VB, DVec3::ZERO, 2.0, cut, true));
+            k.extend(follow(run, 3, B0, VB, DVec3::new(0.0, 50.0, 0.0), cut + 2.0, 15.0, false));
+        } else {
+            t.extend(truth_line(run, "C", c0, VB, 0.0, 12.0));
+            k.extend(follow(run, 4, c0, VB, DVec3::ZERO, 4.0, 12.0, false));
+        }
+        truth.push(t);
+        tracks.push(k);
+    }
+    let opts = ScoreOptions { scenario: "split".into(), ..ScoreOptions::default() };
+    // Files as lists of runs: (truth files, tracks files).
+    let score_with = |truth_files: &[&[u32]], tracks_files: &[&[u32]]| -> Score {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let pick = |rows: &[Vec<TruthRow>], f: &[u32]| f.iter().flat_map(|&r| rows[r as usize].clone()).collect();
+        for (i, f) in truth_files.iter().enumerate() {
+            let rows: Vec<TruthRow> = pick(&truth, f);
+            write(&dir.path().join(format!("truth/run-{i:04}.parquet")), truth_frame(&rows));
+        }
+        for (i, f) in tracks_files.iter().enumerate() {
+            let rows: Vec<TrackRow> = f.iter().flat_map(|&r| tracks[r as usize].clone()).collect();
+            write(&dir.path().join(format!("tracks/run-{i:04}.parquet")), tracks_frame(&rows));
+        }
+        write(&dir.path().join("dwells/run-0000.parquet"), dwells_frame(&default_dwells()));
+        score_dir(&dir, always_scorable(), &opts).expect("score")
+    };
+    let one_per_run = score_with(&[&[0], &[1], &[2], &[3]], &[&[0], &[1], &[2], &[3]]);
+    let all_in_one = score_with(&[&[0, 1, 2, 3]], &[&[0, 1, 2, 3]]);
+    let mixed = score_with(&[&[3], &[0, 1], &[2]], &[&[], &[1, 2], &[3], &[0]]);
+    for other in [&all_in_one, &mixed] {
+        assert_eq!(one_per_run.runs, other.runs);
+        assert_eq!(one_per_run.track_metrics, other.track_metrics);
+        assert_eq!(one_per_run.track_metrics_mean, other.track_metrics_mean);
+        assert_eq!(one_per_run.assignments, other.assignments);
+        assert_eq!(one_per_run.summary, other.summary);
+    }
+    // The hand count: runs 0–2 each break B once and switch it once; C is run 3's alone.
+    let s = &one_per_run.summary;
+    assert_eq!(one_per_run.runs, vec![0, 1, 2, 3]);
+    let names: Vec<&str> = s.per_target.0.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["A", "B", "C"]);
+    let b = &s.per_target.0[1].1;
+    assert!(close(b.breaks, 3.0 / 4.0) && close(b.switches, 3.0 / 4.0), "B: {b:?}");
+    let c = &s.per_target.0[2].1;
+    assert_eq!(c.scorable_times, 12);
+}
