@@ -13,6 +13,11 @@
 //! cluster; `merged` is set when any primitive of it is merged; `target_hint` is the strongest
 //! primitive's.
 //!
+//! Two primitives of one channel never share a range cell except the two halves of a two-target
+//! fit (docs/model.md §4.9), which both carry the cluster's peak cell: a primitive with the same
+//! range cell as the previous one starts a new measurement, so each half is a measurement of its
+//! own.
+//!
 //! Output order, and so the `meas_id`s (`first_meas_id`, `first_meas_id + 1`, …), follows the
 //! sort by `(run, dwell_id, rx, tx)` then range cell, so it does not depend on the input order
 //! (except between primitives identical in those keys and in `range_m`).
@@ -45,6 +50,7 @@ pub fn measurements_from_primitives(primitives: &[PrimitiveRow], first_meas_id: 
         while j < sorted.len()
             && same_channel(sorted[j - 1], sorted[j])
             && sorted[j].range_cell - sorted[j - 1].range_cell <= CLUSTER_CELLS
+            && sorted[j].range_cell != sorted[j - 1].range_cell
         {
             j += 1;
         }
