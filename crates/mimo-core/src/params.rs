@@ -309,7 +309,7 @@ pub struct Fidelity {
     pub polarization: bool,
     /// Rung of the fidelity ladder (docs/model.md §4.8); default auto.
     pub level: FidelityLevel,
-    /// Fit two point targets to wide clusters at the voltage rung (docs/model.md §4.9): an
+    /// Fit two point targets to each cluster of crossings at the voltage rung (docs/model.md §4.9): an
     /// unresolved pair 1–2 range cells apart gives two measurements. Default off.
     pub two_target: bool,
 }

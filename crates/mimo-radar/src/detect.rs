@@ -22,6 +22,9 @@
 //!   cells wide, or the other neighbour of the peak also crossing.
 //! * Estimates with `|û − u_b| > θ_u` or `|v̂ − v_b| > θ_v` lie outside the linear region of the
 //!   monopulse curve and are rejected (no primitive).
+//! * Option `two_target` (§4.9): clusters one sub-threshold cell apart form a region, and a region
+//!   whose two-target fit ([`crate::two_target`]) passes the order test is reported as the two
+//!   members instead of its local maxima.
 
 use crate::monopulse::{MERGE_T_THRESHOLD, ml_bias_factor, monopulse};
 use crate::pattern::Antenna;
@@ -181,7 +184,7 @@ pub struct ChannelInfo<'a> {
     pub threshold: f64,
     /// Predicted mean SNR of the return the dwell aims at (for the ML bias factor), if any.
     pub predicted_snr: Option<f64>,
-    /// Fit two targets to wide clusters (`fidelity.two_target`, docs/model.md §4.9).
+    /// Fit two targets to each region of crossings (`fidelity.two_target`, docs/model.md §4.9).
     pub two_target: bool,
 }
 
@@ -239,7 +242,6 @@ pub fn detect(cells: &[Cell], info: &ChannelInfo, hint: &dyn Fn(usize) -> Option
         }
         let (first, last) = (clusters[ci].0, clusters[cj - 1].1 - 1);
         if info.two_target
-            && cells[last].k > cells[first].k
             && let Some(peak) = peak
             && let Some(pair) = two_target::split(samples(cells, first, last), cells[peak].k, c, info, hint)
         {
@@ -251,10 +253,19 @@ pub fn detect(cells: &[Cell], info: &ChannelInfo, hint: &dyn Fn(usize) -> Option
     out
 }
 
-/// The cells `first..=last` and one adjacent cell each side when it was simulated (§4.9).
+/// The cells `first..=last` and one adjacent cell each side (two for a one-cell region), as far
+/// as they were simulated (§4.9).
 fn samples(cells: &[Cell], first: usize, last: usize) -> &[Cell] {
-    let lo = if first > 0 && cells[first - 1].k + 1 == cells[first].k { first - 1 } else { first };
-    let hi = if last + 1 < cells.len() && cells[last + 1].k == cells[last].k + 1 { last + 1 } else { last };
+    let margin = if cells[last].k > cells[first].k { 1 } else { 2 };
+    let (mut lo, mut hi) = (first, last);
+    for _ in 0..margin {
+        if lo > 0 && cells[lo - 1].k + 1 == cells[lo].k {
+            lo -= 1;
+        }
+        if hi + 1 < cells.len() && cells[hi + 1].k == cells[hi].k + 1 {
+            hi += 1;
+        }
+    }
     &cells[lo..=hi]
 }
 

@@ -1,8 +1,8 @@
 //! Two-target (joint-bin) range–angle estimator for an unresolved pair (docs/model.md §4.9),
 //! an option of the voltage rung (`fidelity.two_target`).
 //!
-//! Model (§4.1–§4.2): over the samples `k ∈ K` of a wide cluster (its crossing cells and one cell
-//! each side), `Σ_k = a₁ p(k − x₁) + a₂ p(k − x₂) + n_k` with `p(d) = max(0, 1 − |d|)` and the
+//! Model (§4.1–§4.2): over the samples `k ∈ K` of a region of crossings (its cells and one cell
+//! each side, two for a one-cell region), `Σ_k = a₁ p(k − x₁) + a₂ p(k − x₂) + n_k` with `p(d) = max(0, 1 − |d|)` and the
 //! delays `x_i = ρ_i/ΔR` in cells; likewise `Δa_k`, `Δe_k` with amplitudes `b_i`. For given delays
 //! the amplitudes are a linear least-squares solve `â = (HᵀH)⁻¹Hᵀ Σ` (`H` real, `n × 2`), so the
 //! sum-channel residual `r₂(x₁, x₂) = ‖Σ‖² − ΣᴴH(HᵀH)⁻¹HᵀΣ` depends on the delays only; it is
@@ -28,7 +28,7 @@ use mimo_core::records::PrimitiveRow;
 use num_complex::Complex64;
 
 /// Threshold on `Λ = 2(r₁ − r₂)`: keep two targets above it (Monte Carlo, §4.9).
-pub const ORDER_THRESHOLD: f64 = 12.0;
+pub const ORDER_THRESHOLD: f64 = 16.0;
 /// Each fitted peak amplitude must reach this fraction of the detection threshold `γ` in `|â_i|²`.
 pub const AMPLITUDE_FLOOR_FRACTION: f64 = 0.5;
 /// The two delays are at least this far apart (cells): closer, the fit is ill-conditioned.
@@ -237,7 +237,7 @@ fn delay_variances(x: [f64; 2], a: [Complex64; 2], k_lo: i64, n: usize) -> Optio
     (inv[0][0] > 0.0 && inv[1][1] > 0.0).then_some([inv[0][0], inv[1][1]])
 }
 
-/// Result of a two-target fit on one cluster (cell units).
+/// Result of a two-target fit on one region of crossings (cell units).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairFit {
     /// Delays `x_i = ρ_i/ΔR` (cells, absolute), `x₁ < x₂`.
@@ -293,7 +293,7 @@ pub fn accept(fit: &PairFit, threshold: f64) -> bool {
     fit.order_stat > ORDER_THRESHOLD && fit.sum.iter().all(|a| a.norm_sqr() >= AMPLITUDE_FLOOR_FRACTION * threshold)
 }
 
-/// Two primitives from the samples `cells` (a cluster and one cell each side, consecutive `k`)
+/// Two primitives from the samples `cells` (a region of crossings and its neighbours, consecutive `k`)
 /// when the pair passes the order test and both estimates lie in the monopulse's linear region;
 /// `None` keeps the one-target primitives. Both carry `range_cell = peak_k` (the convention that
 /// keeps them apart in [`crate::measure`]); `merged` is the imaginary-part test of each (§2.7).
