@@ -309,6 +309,9 @@ pub struct Fidelity {
     pub polarization: bool,
     /// Rung of the fidelity ladder (docs/model.md §4.8); default auto.
     pub level: FidelityLevel,
+    /// Fit two point targets to each cluster of crossings at the voltage rung (docs/model.md §4.9): an
+    /// unresolved pair 1–2 range cells apart gives two measurements. Default off.
+    pub two_target: bool,
 }
 
 impl Default for Fidelity {
@@ -322,6 +325,7 @@ impl Default for Fidelity {
             truth_rate_hz: 10.0,
             polarization: false,
             level: FidelityLevel::Auto,
+            two_target: false,
         }
     }
 }

@@ -22,9 +22,13 @@
 //!   cells wide, or the other neighbour of the peak also crossing.
 //! * Estimates with `|û − u_b| > θ_u` or `|v̂ − v_b| > θ_v` lie outside the linear region of the
 //!   monopulse curve and are rejected (no primitive).
+//! * Option `two_target` (§4.9): clusters one sub-threshold cell apart form a region, and a region
+//!   whose two-target fit ([`crate::two_target`]) passes the order test is reported as the two
+//!   members instead of its local maxima.
 
 use crate::monopulse::{MERGE_T_THRESHOLD, ml_bias_factor, monopulse};
 use crate::pattern::Antenna;
+use crate::two_target;
 use mimo_core::ids::RadarId;
 use mimo_core::records::PrimitiveRow;
 use num_complex::Complex64;
@@ -180,6 +184,8 @@ pub struct ChannelInfo<'a> {
     pub threshold: f64,
     /// Predicted mean SNR of the return the dwell aims at (for the ML bias factor), if any.
     pub predicted_snr: Option<f64>,
+    /// Fit two targets to each region of crossings (`fidelity.two_target`, docs/model.md §4.9).
+    pub two_target: bool,
 }
 
 /// Detect, centroid and estimate DOA on one channel's cells (sorted by `k`, unique). `hint` maps
@@ -189,32 +195,78 @@ pub fn detect(cells: &[Cell], info: &ChannelInfo, hint: &dyn Fn(usize) -> Option
     let gamma = info.threshold;
     let n = cells.len();
     let c = ml_bias_factor(info.predicted_snr);
+    // Clusters [i, j): runs of adjacent crossing cells (§4.5).
+    let mut clusters: Vec<(usize, usize)> = Vec::new();
     let mut i = 0;
     while i < n {
         if cells[i].sum.norm_sqr() <= gamma {
             i += 1;
             continue;
         }
-        // Cluster [i, j): adjacent crossing cells.
         let mut j = i + 1;
         while j < n && cells[j].k == cells[j - 1].k + 1 && cells[j].sum.norm_sqr() > gamma {
             j += 1;
         }
-        let wide = j - i >= 3;
-        for m in i..j {
-            let p = cells[m].sum.norm_sqr();
-            let left_ok = m == i || p > cells[m - 1].sum.norm_sqr();
-            let right_ok = m + 1 == j || p >= cells[m + 1].sum.norm_sqr();
-            if left_ok
-                && right_ok
-                && let Some(row) = primitive(cells, m, wide, c, info, hint)
-            {
-                out.push(row);
-            }
-        }
+        clusters.push((i, j));
         i = j;
     }
+    let mut ci = 0;
+    while ci < clusters.len() {
+        // With the two-target option, clusters one sub-threshold cell apart form one region (§4.9).
+        let mut cj = ci + 1;
+        while info.two_target
+            && cj < clusters.len()
+            && clusters[cj].0 == clusters[cj - 1].1 + 1
+            && cells[clusters[cj].0].k == cells[clusters[cj - 1].1 - 1].k + 2
+            && cells[clusters[cj - 1].1].k == cells[clusters[cj - 1].1 - 1].k + 1
+        {
+            cj += 1;
+        }
+        let mut region = Vec::new();
+        let mut peak: Option<usize> = None;
+        for &(i, j) in &clusters[ci..cj] {
+            let wide = j - i >= 3;
+            for m in i..j {
+                let p = cells[m].sum.norm_sqr();
+                let left_ok = m == i || p > cells[m - 1].sum.norm_sqr();
+                let right_ok = m + 1 == j || p >= cells[m + 1].sum.norm_sqr();
+                if left_ok && right_ok {
+                    if peak.is_none_or(|q| p > cells[q].sum.norm_sqr()) {
+                        peak = Some(m);
+                    }
+                    if let Some(row) = primitive(cells, m, wide, c, info, hint) {
+                        region.push(row);
+                    }
+                }
+            }
+        }
+        let (first, last) = (clusters[ci].0, clusters[cj - 1].1 - 1);
+        if info.two_target
+            && let Some(peak) = peak
+            && let Some(pair) = two_target::split(samples(cells, first, last), cells[peak].k, c, info, hint)
+        {
+            region = pair.to_vec();
+        }
+        out.extend(region);
+        ci = cj;
+    }
     out
+}
+
+/// The cells `first..=last` and one adjacent cell each side (two for a one-cell region), as far
+/// as they were simulated (§4.9).
+fn samples(cells: &[Cell], first: usize, last: usize) -> &[Cell] {
+    let margin = if cells[last].k > cells[first].k { 1 } else { 2 };
+    let (mut lo, mut hi) = (first, last);
+    for _ in 0..margin {
+        if lo > 0 && cells[lo - 1].k + 1 == cells[lo].k {
+            lo -= 1;
+        }
+        if hi + 1 < cells.len() && cells[hi + 1].k == cells[hi].k + 1 {
+            hi += 1;
+        }
+    }
+    &cells[lo..=hi]
 }
 
 fn primitive(

@@ -283,6 +283,7 @@ pub fn detect_channel(d: &Dwell, ch: &Channel, targets: &[Target]) -> Vec<Primit
         range_cell_m: rx.params.range_cell_m(),
         threshold: rx.params.threshold(),
         predicted_snr: rx.predicted_snr,
+        two_target: d.fidelity.two_target,
     };
     let hint = |t: usize| targets.get(t).map(|x| x.id.to_string());
     detect(&ch.cells, &info, &hint)

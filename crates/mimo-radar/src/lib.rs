@@ -14,6 +14,7 @@
 //! | [`range`] | `ρ = R_B/2`, cell grid, triangular response, straddle loss | §4.1 |
 //! | [`dwell`] | per-channel voltages: explicit cells near returns, §4.4 false-alarm shortcut, waveform leakage | §2.4, §2.7, §4.2, §4.4, §5.2, §5.3 |
 //! | [`detect`] | threshold, clusters, two-point range centroid, ML monopulse, variances, merged flag | §2.5–§2.7, §4.3, §4.5, §4.6 |
+//! | [`two_target`] | option: two point targets fitted to a wide cluster (joint-bin range and angles, order test, Fisher covariance) | §4.9 |
 //! | [`ladder`] | which rung of the fidelity ladder evaluates a channel (`voltage`, `measurement`, `auto`) | §4.8 |
 //! | [`statistical`] | the measurement rung: detections drawn from the voltage level's statistics, no cells | §4.8 |
 //! | [`measure`] | primitives → measurements (the only implementation, used online and offline) | §4.5 |
@@ -82,6 +83,7 @@ pub mod quiet;
 pub mod range;
 mod returns;
 pub mod statistical;
+pub mod two_target;
 
 pub use detect::{Cell, Source};
 pub use dwell::{Channel, Dwell, DwellOutput, RangeWindow, Receiver, Target, Transmitter, evaluate};

@@ -13,6 +13,11 @@
 //! cluster; `merged` is set when any primitive of it is merged; `target_hint` is the strongest
 //! primitive's.
 //!
+//! Two primitives of one channel never share a range cell except the two halves of a two-target
+//! fit (docs/model.md §4.9), which both carry the cluster's peak cell: a primitive with the same
+//! range cell as the previous one starts a new measurement, so each half is a measurement of its
+//! own.
+//!
 //! Output order, and so the `meas_id`s (`first_meas_id`, `first_meas_id + 1`, …), follows the
 //! sort by `(run, dwell_id, rx, tx)` then range cell, so it does not depend on the input order
 //! (except between primitives identical in those keys and in `range_m`).
@@ -45,6 +50,7 @@ pub fn measurements_from_primitives(primitives: &[PrimitiveRow], first_meas_id: 
         while j < sorted.len()
             && same_channel(sorted[j - 1], sorted[j])
             && sorted[j].range_cell - sorted[j - 1].range_cell <= CLUSTER_CELLS
+            && sorted[j].range_cell != sorted[j - 1].range_cell
         {
             j += 1;
         }
@@ -132,5 +138,24 @@ mod tests {
         rev.reverse();
         assert_eq!(measurements_from_primitives(&rev, 10), m);
         assert!(measurements_from_primitives(&[], 0).is_empty());
+    }
+
+    /// The two halves of a two-target fit share the peak cell (docs/model.md §4.9): each is a
+    /// measurement of its own, and a primitive two cells further joins the second half.
+    #[test]
+    fn split_halves_sharing_a_cell_stay_apart() {
+        let mut a = prim(7, 100, 20.0, false);
+        a.range_m = 3000.0;
+        let mut b = prim(7, 100, 18.0, false);
+        b.range_m = 3040.0;
+        let c = prim(7, 102, 25.0, false);
+        let m = measurements_from_primitives(&[c.clone(), b.clone(), a.clone()], 0);
+        assert_eq!(m.len(), 2);
+        assert_eq!((m[0].range_m, m[0].n_primitives, m[0].meas_id), (3000.0, 1, 0));
+        assert_eq!((m[1].range_m, m[1].n_primitives, m[1].meas_id), (c.range_m, 2, 1));
+        assert_eq!(
+            measurements_from_primitives(&[a, b], 5).iter().map(|m| m.range_m).collect::<Vec<_>>(),
+            [3000.0, 3040.0]
+        );
     }
 }

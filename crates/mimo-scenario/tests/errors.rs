@@ -309,6 +309,17 @@ fn polarimetry_loads_scales_and_is_checked() {
     );
 }
 
+/// `[fidelity] two_target` (docs/model.md §4.9) defaults to off, reads `true`, and is on in every
+/// standard scenario.
+#[test]
+fn two_target_is_read_and_on_in_the_standard_scenarios() {
+    assert!(!load(BASE).expect("valid").fidelity.two_target);
+    assert!(load(&format!("{BASE}\n[fidelity]\ntwo_target = true\n")).expect("valid").fidelity.two_target);
+    for n in 1..=7 {
+        assert!(load_standard(n).expect("standard").fidelity.two_target, "scenario {n}");
+    }
+}
+
 /// `[fidelity] level` reads each rung of the ladder (docs/model.md §4.8), defaults to `auto`, and
 /// an unknown rung is a one-line error naming the field.
 #[test]
