@@ -156,6 +156,8 @@ pub struct Engine<'a> {
     stats: RunStats,
     /// The targets at the current dwell's mid-time (a buffer reused by every dwell).
     targets: Vec<mimo_radar::Target<'a>>,
+    /// Every radar's constant part of the quiet-dwell tests (indexed by radar).
+    quiet_radars: Vec<mimo_radar::quiet::QuietRadar>,
 }
 
 impl<'a> Engine<'a> {
@@ -187,6 +189,7 @@ impl<'a> Engine<'a> {
             next_dwell_id: 0,
             stats: RunStats::default(),
             targets: Vec::new(),
+            quiet_radars: quiet::quiet_radars(world),
         }
     }
 
@@ -493,7 +496,8 @@ impl<'a> Engine<'a> {
         // A quiet search dwell the test article does not want to hear of: its row only.
         if g.requested_by == Requester::Radar
             && !self.subscription.wants(g.requested_by, 0)
-            && let Some(row) = quiet::quiet_search_row(self.world, &keys, gid, &g, t0, &mut self.targets)
+            && let Some(row) =
+                quiet::quiet_search_row(self.world, &self.quiet_radars, &keys, gid, &g, t0, &mut self.targets)
         {
             self.stats.dwells += 1;
             self.stats.search_dwells += 1;
