@@ -26,6 +26,7 @@ use crate::pattern::Antenna;
 use crate::range::cell_window;
 use mimo_core::DVec3;
 use mimo_core::params::{PatternModel, RadarParams};
+use mimo_core::rng::ZeroBinomial;
 
 /// A ball that certainly holds a target during a dwell (ECEF centre, radius in m).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,19 +74,23 @@ pub struct QuietRadar {
     /// The fixed window `[ρ_min, ρ_max]` (m) of a search dwell and its cells.
     window_m: (f64, f64),
     cells: Option<(i64, i64)>,
+    /// The false-alarm test of that window (`K ~ Binomial(cells, P_FA)` is zero).
+    no_false_alarm: ZeroBinomial,
 }
 
 impl QuietRadar {
     /// The constant part of the quiet tests for a radar with `params` under `pattern`.
     pub fn new(params: &RadarParams, pattern: PatternModel) -> QuietRadar {
         let window_m = (params.min_range_m, params.instrumented_range_m);
+        let cells = cell_window(window_m.0, window_m.1, params.range_cell_m());
         QuietRadar {
             params_addr: std::ptr::from_ref(params) as usize,
             pattern,
             ant: Antenna::new(params, pattern),
             clear: clearance(params, pattern),
             window_m,
-            cells: cell_window(window_m.0, window_m.1, params.range_cell_m()),
+            cells,
+            no_false_alarm: ZeroBinomial::new(cells.map_or(0, cell_count), params.pfa),
         }
     }
 
@@ -140,12 +145,27 @@ impl QuietRadar {
         let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
         let same_window =
             mine && lo.to_bits() == self.window_m.0.to_bits() && hi.to_bits() == self.window_m.1.to_bits();
-        let cells = if same_window { self.cells } else { cell_window(lo, hi, rx.params.range_cell_m()) };
-        let Some((k_min, k_max)) = cells else { return true };
-        let m = (k_max - k_min + 1).max(0) as u64;
+        let (cells, fresh_test);
+        let no_false_alarm = if same_window {
+            cells = self.cells;
+            &self.no_false_alarm
+        } else {
+            cells = cell_window(lo, hi, rx.params.range_cell_m());
+            fresh_test = ZeroBinomial::new(cells.map_or(0, cell_count), rx.params.pfa);
+            &fresh_test
+        };
+        if cells.is_none() {
+            return true;
+        }
         let mut fa = stream(d, &[KEY_FALSE_ALARM, tx.radar.0 as u64, rx.radar.0 as u64]);
-        fa.binomial(m, rx.params.pfa) == 0
+        // `fa.binomial(m, P_FA) == 0`, mostly without its two logarithms (same draw, same answer).
+        fa.binomial_is_zero(no_false_alarm)
     }
+}
+
+/// The number of cells `[k_min, k_max]`.
+fn cell_count((k_min, k_max): (i64, i64)) -> u64 {
+    (k_max - k_min + 1).max(0) as u64
 }
 
 /// The ball test's sine-space distance beyond which the pattern gate drops a target (see
