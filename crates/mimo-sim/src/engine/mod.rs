@@ -158,6 +158,9 @@ pub struct Engine<'a> {
     targets: Vec<mimo_radar::Target<'a>>,
     /// Every radar's constant part of the quiet-dwell tests (indexed by radar).
     quiet_radars: Vec<mimo_radar::quiet::QuietRadar>,
+    /// The parts vector of the last quiet search group, reused by the next search group (no
+    /// allocation and free per search dwell).
+    spare_parts: Vec<Part>,
 }
 
 impl<'a> Engine<'a> {
@@ -190,6 +193,7 @@ impl<'a> Engine<'a> {
             stats: RunStats::default(),
             targets: Vec::new(),
             quiet_radars: quiet::quiet_radars(world),
+            spare_parts: Vec::new(),
         }
     }
 
@@ -433,19 +437,22 @@ impl<'a> Engine<'a> {
         }
         let n = tl.raster.len();
         self.timelines[r].cursor = (self.timelines[r].cursor + 1) % n;
+        let mut parts = std::mem::take(&mut self.spare_parts);
+        parts.clear();
+        parts.push(Part {
+            radar,
+            role: Role::Txrx,
+            face: beam.face,
+            beam_u: beam.u,
+            beam_v: beam.v,
+            n_pulses: beam.n_pulses,
+            waveform: 0,
+        });
         let group = Group {
             kind: DwellKind::Search,
             requested_by: Requester::Radar,
             aim: None,
-            parts: vec![Part {
-                radar,
-                role: Role::Txrx,
-                face: beam.face,
-                beam_u: beam.u,
-                beam_v: beam.v,
-                n_pulses: beam.n_pulses,
-                waveform: 0,
-            }],
+            parts,
             duration_s,
             window_half_m: None,
             predicted_snr: None,
@@ -505,6 +512,7 @@ impl<'a> Engine<'a> {
             for p in &g.parts {
                 self.push(end, Ev::Decide(p.radar.0));
             }
+            self.spare_parts = g.parts;
             return Ok(());
         }
         let ex = execute(self.world, &keys, gid, &g, t0, &mut self.targets);
