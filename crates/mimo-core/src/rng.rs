@@ -176,6 +176,65 @@ impl Stream {
     }
 }
 
+/// A prepared test of "a `Binomial(n, p)` draw is zero" ([`Stream::binomial_is_zero`]): the
+/// threshold `(1 − p)^n` on the first uniform draw of [`Stream::binomial`], so that nearly every
+/// test is one comparison instead of two logarithms. Near the threshold (within 1e-9 relative)
+/// the answer is computed exactly as [`Stream::binomial`] computes it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ZeroBinomial {
+    n: u64,
+    p: f64,
+    log_q: f64,
+    /// A first draw below this certainly gives zero, above `u_hi` certainly not.
+    u_lo: f64,
+    u_hi: f64,
+}
+
+impl ZeroBinomial {
+    /// The test for `Binomial(n, p)`.
+    pub fn new(n: u64, p: f64) -> ZeroBinomial {
+        // The expression of `Stream::binomial`, so the exact path gives its answer bit for bit.
+        let log_q = (1.0 - p).ln();
+        let x = n as f64 * log_q;
+        // (1 − p)^n, with a margin far above the rounding of ln, exp and the division for
+        // |n ln(1 − p)| ≤ 1e6; beyond that (or for a NaN) every test takes the exact path.
+        let (u_lo, u_hi) = if x.abs() <= 1e6 {
+            let u_star = x.exp();
+            (u_star * (1.0 - 1e-9), u_star * (1.0 + 1e-9))
+        } else {
+            (-1.0, f64::INFINITY)
+        };
+        ZeroBinomial { n, p, log_q, u_lo, u_hi }
+    }
+}
+
+impl Stream {
+    /// Whether [`Stream::binomial`]`(n, p)` would return 0, for the `n` and `p` of `z`, drawing
+    /// the same numbers up to the answer (when it is `false`, `binomial` would go on drawing: the
+    /// stream's state then differs from the one `binomial` leaves).
+    pub fn binomial_is_zero(&mut self, z: &ZeroBinomial) -> bool {
+        let (n, p) = (z.n, z.p);
+        if n == 0 || p <= 0.0 {
+            return true;
+        }
+        // p > 1/2, p ≥ 1 or NaN: as `binomial` does.
+        if p > 0.5 || p.is_nan() {
+            return self.binomial(n, p) == 0;
+        }
+        // `binomial`'s first step: zero iff the first gap ⌊ln U / ln(1 − p)⌋ is not finite or at
+        // least n, i.e. iff U ≤ (1 − p)^n up to rounding.
+        let u = self.uniform_open0();
+        if u < z.u_lo {
+            return true;
+        }
+        if u > z.u_hi {
+            return false;
+        }
+        let gap = (u.ln() / z.log_q).floor();
+        !gap.is_finite() || gap >= n as f64
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -213,6 +272,42 @@ mod tests {
         assert!((m2 / nf - 1.0).abs() < 4.5 * (2.0 / nf).sqrt());
         // Exp(1) mean: std error 1/sqrt(n).
         assert!((e / nf - 1.0).abs() < 4.5 / nf.sqrt());
+    }
+
+    #[test]
+    fn binomial_is_zero_answers_as_binomial() {
+        let cases: [(u64, f64); 12] = [
+            (0, 0.3),
+            (5, 0.0),
+            (3000, 1e-6),
+            (3000, 1e-4),
+            (20, 0.03),
+            (7, 0.2),
+            (2, 0.5),
+            (3, 0.7),
+            (4, 1.0),
+            (10, f64::NAN),
+            (1_000_000, 1e-300),
+            (1_500_000, 0.5),
+        ];
+        let (mut zero, mut not_zero) = (0, 0);
+        for (c, &(n, p)) in cases.iter().enumerate() {
+            let z = ZeroBinomial::new(n, p);
+            // |n ln(1 − p)| > 1e6 (every test exact) makes `binomial` loop n p times: few draws.
+            let draws = if n > 1_000_000 { 10 } else { 4000u64 };
+            for k in 0..draws {
+                let mut a = Stream::new(3, &[domain::TEST, c as u64, k]);
+                let mut b = a.clone();
+                let want = a.binomial(n, p) == 0;
+                assert_eq!(b.binomial_is_zero(&z), want, "n {n} p {p} draw {k}");
+                if want {
+                    zero += 1;
+                } else {
+                    not_zero += 1;
+                }
+            }
+        }
+        assert!(zero > 10_000 && not_zero > 10_000, "zero {zero}, not zero {not_zero}");
     }
 
     #[test]

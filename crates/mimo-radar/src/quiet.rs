@@ -15,13 +15,18 @@
 //!
 //! The horizon gate (§1.7) is not applied here (it needs geodetic heights): a target above both
 //! floors but below the horizon makes the dwell "unsure", which is only slower.
+//!
+//! What the tests need of a radar that is the same for every dwell (its antenna, the clearance
+//! of the ball test, the cells of its fixed search window) is a [`QuietRadar`], made once per
+//! radar by the caller; [`beam_clear`] and [`is_quiet`] make one per call.
 
 use crate::dwell::{Dwell, KEY_FALSE_ALARM, PATTERN_FLOOR, SNR_FLOOR, Target, stream};
 use crate::equation::snr1;
 use crate::pattern::Antenna;
 use crate::range::cell_window;
 use mimo_core::DVec3;
-use mimo_core::params::PatternModel;
+use mimo_core::params::{PatternModel, RadarParams};
+use mimo_core::rng::ZeroBinomial;
 
 /// A ball that certainly holds a target during a dwell (ECEF centre, radius in m).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,28 +54,135 @@ pub struct TargetBall {
 /// lengthen vectors.
 pub fn beam_clear(d: &Dwell, balls: impl IntoIterator<Item = TargetBall>) -> bool {
     let [tx] = d.transmitters else { return false };
-    if d.fidelity.pattern != PatternModel::Gaussian {
-        return false;
+    QuietRadar::new(tx.params, d.fidelity.pattern).beam_clear(d, balls)
+}
+
+/// What [`beam_clear`] and [`is_quiet`] need of one radar that does not change from dwell to
+/// dwell, computed once: its antenna, the ball test's sine-space clearance and the cells of its
+/// fixed (search) range window. Each value comes from the expression the per-dwell code used,
+/// so the answers and the random draws are the same bit for bit. A dwell whose transmitter has
+/// other parameters (another `RadarParams` value), another pattern model or another window is
+/// answered by computing them afresh.
+#[derive(Debug, Clone, Copy)]
+pub struct QuietRadar {
+    /// Address of the `RadarParams` this was made from (identity only, never dereferenced).
+    params_addr: usize,
+    pattern: PatternModel,
+    ant: Antenna,
+    /// The ball test's clearance in sine space; `None` when it answers "unsure" whatever the balls.
+    clear: Option<f64>,
+    /// The fixed window `[ρ_min, ρ_max]` (m) of a search dwell and its cells.
+    window_m: (f64, f64),
+    cells: Option<(i64, i64)>,
+    /// The false-alarm test of that window (`K ~ Binomial(cells, P_FA)` is zero).
+    no_false_alarm: ZeroBinomial,
+}
+
+impl QuietRadar {
+    /// The constant part of the quiet tests for a radar with `params` under `pattern`.
+    pub fn new(params: &RadarParams, pattern: PatternModel) -> QuietRadar {
+        let window_m = (params.min_range_m, params.instrumented_range_m);
+        let cells = cell_window(window_m.0, window_m.1, params.range_cell_m());
+        QuietRadar {
+            params_addr: std::ptr::from_ref(params) as usize,
+            pattern,
+            ant: Antenna::new(params, pattern),
+            clear: clearance(params, pattern),
+            window_m,
+            cells,
+            no_false_alarm: ZeroBinomial::new(cells.map_or(0, cell_count), params.pfa),
+        }
     }
-    let ant = Antenna::new(tx.params, PatternModel::Gaussian);
+
+    fn made_for(&self, params: &RadarParams, pattern: PatternModel) -> bool {
+        std::ptr::from_ref(params) as usize == self.params_addr && pattern == self.pattern
+    }
+
+    /// [`beam_clear`] of dwell `d` (its transmitter made with this radar's parameters).
+    pub fn beam_clear(&self, d: &Dwell, balls: impl IntoIterator<Item = TargetBall>) -> bool {
+        let [tx] = d.transmitters else { return false };
+        let clear = if self.made_for(tx.params, d.fidelity.pattern) {
+            self.clear
+        } else {
+            clearance(tx.params, d.fidelity.pattern)
+        };
+        let Some(clear) = clear else { return false };
+        balls.into_iter().all(|b| {
+            let l = tx.frame.face_from_ecef * (b.center_ecef - tx.frame.origin_ecef);
+            let range_m = l.length();
+            if !(b.radius_m >= 0.0 && range_m >= 2.0 * b.radius_m && range_m > 0.0) {
+                return false;
+            }
+            let (du, dv) = (l.x / range_m - tx.beam_u, l.y / range_m - tx.beam_v);
+            let need = clear + 1.05 * b.radius_m / range_m;
+            du * du + dv * dv > need * need
+        })
+    }
+
+    /// [`is_quiet`] of dwell `d` (its transmitter made with this radar's parameters).
+    pub fn is_quiet(&self, d: &Dwell, targets: &[Target]) -> bool {
+        let ([tx], [rx]) = (d.transmitters, d.receivers) else { return false };
+        let monostatic = tx.radar == rx.radar
+            && std::ptr::eq(tx.params, rx.params)
+            && tx.frame == rx.frame
+            && tx.beam_u == rx.beam_u
+            && tx.beam_v == rx.beam_v;
+        if !monostatic || d.simulate_all_cells || d.fidelity.refraction || d.fidelity.polarization {
+            return false;
+        }
+        let mine = self.made_for(tx.params, d.fidelity.pattern);
+        let fresh;
+        let ant = if mine {
+            &self.ant
+        } else {
+            fresh = Antenna::new(tx.params, d.fidelity.pattern);
+            &fresh
+        };
+        if targets.iter().any(|tg| may_return(d, ant, tg)) {
+            return false;
+        }
+        // No return, no leakage (one transmitter): every cell of the window is a shortcut cell.
+        let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
+        let same_window =
+            mine && lo.to_bits() == self.window_m.0.to_bits() && hi.to_bits() == self.window_m.1.to_bits();
+        let (cells, fresh_test);
+        let no_false_alarm = if same_window {
+            cells = self.cells;
+            &self.no_false_alarm
+        } else {
+            cells = cell_window(lo, hi, rx.params.range_cell_m());
+            fresh_test = ZeroBinomial::new(cells.map_or(0, cell_count), rx.params.pfa);
+            &fresh_test
+        };
+        if cells.is_none() {
+            return true;
+        }
+        let mut fa = stream(d, &[KEY_FALSE_ALARM, tx.radar.0 as u64, rx.radar.0 as u64]);
+        // `fa.binomial(m, P_FA) == 0`, mostly without its two logarithms (same draw, same answer).
+        fa.binomial_is_zero(no_false_alarm)
+    }
+}
+
+/// The number of cells `[k_min, k_max]`.
+fn cell_count((k_min, k_max): (i64, i64)) -> u64 {
+    (k_max - k_min + 1).max(0) as u64
+}
+
+/// The ball test's sine-space distance beyond which the pattern gate drops a target (see
+/// [`beam_clear`]); `None` for a pattern model other than the Gaussian or a degenerate antenna.
+fn clearance(params: &RadarParams, pattern: PatternModel) -> Option<f64> {
+    if pattern != PatternModel::Gaussian {
+        return None;
+    }
+    let ant = Antenna::new(params, PatternModel::Gaussian);
     let k2 = ant.slope() * ant.slope();
     let r0_sq = (2.0 * (k2 / std::f64::consts::E).max(1.0) / PATTERN_FLOOR).ln() / (8.0 * std::f64::consts::LN_2 - 1.0);
     let theta = ant.theta_u().max(ant.theta_v());
     if !(r0_sq.is_finite() && theta.is_finite() && theta > 0.0) {
-        return false;
+        return None;
     }
     // Sine-space distance beyond which the gate drops a target, with 1 % for rounding.
-    let clear = 1.01 * r0_sq.sqrt() * theta;
-    balls.into_iter().all(|b| {
-        let l = tx.frame.face_from_ecef * (b.center_ecef - tx.frame.origin_ecef);
-        let range_m = l.length();
-        if !(b.radius_m >= 0.0 && range_m >= 2.0 * b.radius_m && range_m > 0.0) {
-            return false;
-        }
-        let (du, dv) = (l.x / range_m - tx.beam_u, l.y / range_m - tx.beam_v);
-        let need = clear + 1.05 * b.radius_m / range_m;
-        du * du + dv * dv > need * need
-    })
+    Some(1.01 * r0_sq.sqrt() * theta)
 }
 
 /// Could target `tg` give a return in the monostatic dwell `d` (one transmitter, one receiver,
@@ -105,23 +217,6 @@ fn may_return(d: &Dwell, ant: &Antenna, tg: &Target) -> bool {
 /// refraction, no polarization) that no target reaches and whose false-alarm draw is zero. `false` means "evaluate
 /// it" (see the module docs).
 pub fn is_quiet(d: &Dwell, targets: &[Target]) -> bool {
-    let ([tx], [rx]) = (d.transmitters, d.receivers) else { return false };
-    let monostatic = tx.radar == rx.radar
-        && std::ptr::eq(tx.params, rx.params)
-        && tx.frame == rx.frame
-        && tx.beam_u == rx.beam_u
-        && tx.beam_v == rx.beam_v;
-    if !monostatic || d.simulate_all_cells || d.fidelity.refraction || d.fidelity.polarization {
-        return false;
-    }
-    let ant = Antenna::new(tx.params, d.fidelity.pattern);
-    if targets.iter().any(|tg| may_return(d, &ant, tg)) {
-        return false;
-    }
-    // No return, no leakage (one transmitter): every cell of the window is a shortcut cell.
-    let (lo, hi) = rx.window.limits(tx.frame.origin_ecef, rx.frame.origin_ecef);
-    let Some((k_min, k_max)) = cell_window(lo, hi, rx.params.range_cell_m()) else { return true };
-    let m = (k_max - k_min + 1).max(0) as u64;
-    let mut fa = stream(d, &[KEY_FALSE_ALARM, tx.radar.0 as u64, rx.radar.0 as u64]);
-    fa.binomial(m, rx.params.pfa) == 0
+    let [tx] = d.transmitters else { return false };
+    QuietRadar::new(tx.params, d.fidelity.pattern).is_quiet(d, targets)
 }

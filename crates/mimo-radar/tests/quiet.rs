@@ -10,7 +10,7 @@ use mimo_core::params::{Fidelity, PatternModel, RadarParams};
 use mimo_core::rng::{Stream, domain};
 use mimo_radar::dwell::{Dwell, Target, evaluate};
 use mimo_radar::geometry::visible;
-use mimo_radar::quiet::{TargetBall, beam_clear, is_quiet};
+use mimo_radar::quiet::{QuietRadar, TargetBall, beam_clear, is_quiet};
 
 /// The dwell of both tests: run 5 at t = 1 s, one transmitter and one receiver, cells only
 /// near the returns.
@@ -142,4 +142,69 @@ fn a_clear_beam_gets_no_return_from_any_target_in_its_ball() {
         }
     }
     assert!(clear > 200 && unsure > 200, "clear {clear}, unsure {unsure}");
+}
+
+/// A [`QuietRadar`] made once and used for many dwells answers as the per-dwell functions do,
+/// for its own radar (cached antenna, clearance and window cells) and for dwells it was not made
+/// for (other parameters, another pattern model, another window: computed afresh).
+#[test]
+fn a_radar_made_once_answers_as_each_dwell_alone() {
+    let p = RadarParams { pfa: 1e-4, ..RadarParams::default() };
+    let other = RadarParams { pfa: 2e-4, ..RadarParams::default() };
+    let made = QuietRadar::new(&p, PatternModel::Gaussian);
+    let (mut quiet, mut clear, mut loud) = (0, 0, 0);
+    for case in 0..900u64 {
+        let mut s = Stream::new(SEED, &[domain::TEST, 11, case]);
+        let params = if case % 7 == 0 { &other } else { &p };
+        let fid = Fidelity {
+            pattern: if case % 5 == 0 { PatternModel::UniformAperture } else { PatternModel::Gaussian },
+            ..Fidelity::default()
+        };
+        let ship = Ship::new(0, 36.0, -70.0, params);
+        let face = (case % 4) as usize;
+        let (bu, bv) = (0.6 * s.uniform() - 0.3, 0.3 * s.uniform() - 0.05);
+        let (th_u, th_v) = (params.beamwidth_u(), params.beamwidth_v());
+        let window = if case % 3 == 0 {
+            (params.min_range_m, 0.5 * params.instrumented_range_m)
+        } else {
+            (params.min_range_m, params.instrumented_range_m)
+        };
+        let ids: Vec<String> = (0..3).map(|i| format!("T{i}")).collect();
+        let mut balls = Vec::new();
+        let targets: Vec<Target> = (0..3)
+            .map(|i| {
+                let (du, dv) = ((s.uniform() - 0.5) * 10.0 * th_u, (s.uniform() - 0.5) * 10.0 * th_v);
+                let r = 10e3 + s.uniform() * 200e3;
+                let pos = ship.point(face, r, bu + du, bv + dv);
+                let off = mimo_core::DVec3::new(s.uniform() - 0.5, s.uniform() - 0.5, s.uniform() - 0.5) * 3e3;
+                balls.push(TargetBall { center_ecef: pos + off, radius_m: off.length() * (1.0 + s.uniform()) });
+                let snr = 10f64.powf(s.uniform() * 3.0 - 1.0);
+                Target {
+                    id: &ids[i],
+                    index: i as u32,
+                    pos_ecef: pos,
+                    rcs_m2: rcs_for_snr(params, snr, r, 1.0),
+                    pol: None,
+                }
+            })
+            .collect();
+        let txs = [ship.tx(params, face, bu, bv, 2)];
+        let rxs = [ship.rx(params, case, face, bu, bv, window)];
+        let keys = [5, case];
+        let d = dwell(&keys, &txs, &rxs, &fid, false);
+        let c = beam_clear(&d, balls.iter().copied());
+        assert_eq!(made.beam_clear(&d, balls.iter().copied()), c, "case {case}");
+        for tg in [&targets[..], &[]] {
+            let q = is_quiet(&d, tg);
+            assert_eq!(made.is_quiet(&d, tg), q, "case {case}");
+            if q {
+                quiet += 1;
+            } else {
+                loud += 1;
+            }
+        }
+        clear += usize::from(c);
+    }
+    // Every branch is taken often enough for the comparisons to bite.
+    assert!(quiet > 200 && loud > 100 && clear > 100, "quiet {quiet}, loud {loud}, clear {clear}");
 }

@@ -175,6 +175,33 @@ const DELTA_COLUMNS: &[&str] = &["dwell_id", "group_id", "meas_id", "primitive_i
 /// the byte-stream split, so that the compressor sees their slowly varying high bytes together.
 const SPLIT_COLUMNS: &[&str] = &["t_s", "aim_x_m", "aim_y_m", "aim_z_m"];
 
+/// Columns whose values zstd cannot shrink (measured: their compressed pages were as large as
+/// the plain ones): written uncompressed, which costs the writer nothing and the file a few bytes
+/// of frame headers less. `(table, column)`.
+const PLAIN_COLUMNS: &[(&str, &str)] = &[
+    ("truth", "x_m"),
+    ("truth", "y_m"),
+    ("truth", "z_m"),
+    ("truth", "vx_mps"),
+    ("truth", "vy_mps"),
+    ("truth", "vz_mps"),
+    ("truth", "lat_deg"),
+    ("truth", "lon_deg"),
+    ("measurements", "range_m"),
+    ("measurements", "u"),
+    ("measurements", "v"),
+    ("measurements", "snr_db"),
+    ("measurements", "var_u"),
+    ("measurements", "var_v"),
+    ("primitives", "range_m"),
+    ("primitives", "u"),
+    ("primitives", "v"),
+    ("primitives", "snr_db"),
+    ("primitives", "eta_q"),
+    ("primitives", "var_u"),
+    ("primitives", "var_v"),
+];
+
 /// The zstd level of every table's pages: −5, one of zstd's fast levels (valid levels run from
 /// −131 072 to 22). Against level 1 (the Parquet writer's default) it takes 5.5 % fewer
 /// instructions to simulate scenario 7 and 3 % fewer to score it, for 9 % more bytes
@@ -184,19 +211,26 @@ const ZSTD_LEVEL: i32 = -5;
 /// Writer properties for a table of `schema`: fixed so that identical rows give identical bytes.
 ///
 /// The physical encoding only (docs/design.md §3: the columns and their logical types are the
-/// contract): zstd pages at a fast level ([`ZSTD_LEVEL`]); no dictionary on any column
+/// contract): zstd pages at a fast level ([`ZSTD_LEVEL`]), except the columns zstd cannot shrink
+/// ([`PLAIN_COLUMNS`]); no dictionary on any column, the covariance's list items included
 /// (interning each value costs the writer more than zstd spends on the plain values, which it
-/// compresses nearly as well: the few
-/// distinct strings of `radar`, `kind`, … are runs zstd folds away) and no page statistics on the
-/// strings; delta encoding for ids, the byte-stream split for distinct floats, plain values for
-/// every other number (docs/DECISIONS.md, "Table encoding"). Every Parquet reader (polars,
-/// pyarrow, DuckDB, arrow-rs) reads them.
+/// compresses nearly as well: the few distinct strings of `radar`, `kind`, … are runs zstd folds
+/// away); page statistics (min/max) only on the integer columns and `t_s`, the columns a reader
+/// may filter on (no reader of mimo uses them; computing them for every float was 2 % of
+/// `mimo simulate`); delta encoding for ids, the byte-stream split for distinct floats, plain
+/// values for every other number (docs/DECISIONS.md, "Table encoding"). Every Parquet reader
+/// (polars, pyarrow, DuckDB, arrow-rs) reads them.
 pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
+    use arrow::datatypes::DataType;
+    use parquet::file::properties::EnabledStatistics;
+    let table = schema.metadata().get(schema::META_TABLE).map(String::as_str).unwrap_or_default();
     let mut b = WriterProperties::builder()
         .set_compression(Compression::ZSTD(parquet::basic::ZstdLevel::try_new(ZSTD_LEVEL).unwrap_or_default()))
         .set_created_by(format!("mimo {}", env!("CARGO_PKG_VERSION")))
         .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
-        .set_data_page_row_count_limit(PAGE_ROWS);
+        .set_data_page_row_count_limit(PAGE_ROWS)
+        .set_dictionary_enabled(false)
+        .set_statistics_enabled(EnabledStatistics::None);
     for field in schema.fields() {
         let name = field.name().as_str();
         let path = parquet::schema::types::ColumnPath::from(name);
@@ -207,10 +241,20 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
         } else {
             None
         };
-        let strings = matches!(field.data_type(), arrow::datatypes::DataType::Utf8);
-        b = b.set_column_dictionary_enabled(path.clone(), false);
-        if strings {
-            b = b.set_column_statistics_enabled(path.clone(), parquet::file::properties::EnabledStatistics::None);
+        let integer = matches!(
+            field.data_type(),
+            DataType::UInt8
+                | DataType::UInt32
+                | DataType::UInt64
+                | DataType::Int32
+                | DataType::Int64
+                | DataType::Boolean
+        );
+        if integer || name == "t_s" {
+            b = b.set_column_statistics_enabled(path.clone(), EnabledStatistics::Page);
+        }
+        if PLAIN_COLUMNS.iter().any(|&(t, c)| t == table && c == name) {
+            b = b.set_column_compression(path.clone(), Compression::UNCOMPRESSED);
         }
         if let Some(e) = encoding {
             b = b.set_column_encoding(path, e);

@@ -238,12 +238,12 @@ fn u8s<R>(rows: &[R], f: impl Fn(&R) -> u8) -> ArrayRef {
 fn bools<R>(rows: &[R], f: impl Fn(&R) -> bool) -> ArrayRef {
     Arc::new(BooleanArray::from_iter(rows.iter().map(|r| Some(f(r)))))
 }
-fn strs<R>(rows: &[R], f: impl Fn(&R) -> String) -> ArrayRef {
-    Arc::new(StringArray::from_iter_values(rows.iter().map(f)))
+fn strs<'a, R>(rows: &'a [R], f: impl Fn(&'a R) -> &'a str) -> ArrayRef {
+    str_column(rows, f)
 }
 /// A column of fixed labels (no string made per row).
 fn labels<R>(rows: &[R], f: impl Fn(&R) -> &'static str) -> ArrayRef {
-    Arc::new(StringArray::from_iter_values(rows.iter().map(f)))
+    str_column(rows, f)
 }
 /// A column of radar ids, each id's text made once.
 fn radars<R>(rows: &[R], f: impl Fn(&R) -> RadarId) -> ArrayRef {
@@ -255,7 +255,11 @@ fn radars<R>(rows: &[R], f: impl Fn(&R) -> RadarId) -> ArrayRef {
         }
         names[i].get_or_insert_with(|| f(r).to_string());
     }
-    Arc::new(StringArray::from_iter_values(rows.iter().map(|r| names[f(r).index()].as_deref().unwrap_or_default())))
+    str_column(rows, |r| names[f(r).index()].as_deref().unwrap_or_default())
+}
+/// A non-null utf8 column.
+fn str_column<'a, R, S: AsRef<str>>(rows: &'a [R], f: impl Fn(&'a R) -> S) -> ArrayRef {
+    Arc::new(StringArray::from_iter_values(rows.iter().map(f)))
 }
 fn opt_strs<R>(rows: &[R], f: impl Fn(&R) -> Option<&str>) -> ArrayRef {
     Arc::new(StringArray::from_iter(rows.iter().map(f)))
@@ -267,7 +271,7 @@ impl TableRow for TruthRow {
         vec![
             u32s(rows, |r| r.run),
             f64s(rows, |r| r.t_s),
-            strs(rows, |r| r.target.clone()),
+            strs(rows, |r| r.target.as_str()),
             f64s(rows, |r| r.x_m),
             f64s(rows, |r| r.y_m),
             f64s(rows, |r| r.z_m),
@@ -531,7 +535,7 @@ impl TableRow for TrackRow {
             u32s(rows, |r| r.run),
             f64s(rows, |r| r.t_s),
             u64s(rows, |r| r.track_id),
-            strs(rows, |r| r.status.as_str().to_string()),
+            labels(rows, |r| r.status.as_str()),
             f64s(rows, |r| r.x_m),
             f64s(rows, |r| r.y_m),
             f64s(rows, |r| r.z_m),

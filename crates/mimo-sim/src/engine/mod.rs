@@ -156,6 +156,11 @@ pub struct Engine<'a> {
     stats: RunStats,
     /// The targets at the current dwell's mid-time (a buffer reused by every dwell).
     targets: Vec<mimo_radar::Target<'a>>,
+    /// Every radar's constant part of the quiet-dwell tests (indexed by radar).
+    quiet_radars: Vec<mimo_radar::quiet::QuietRadar>,
+    /// The parts vector of the last quiet search group, reused by the next search group (no
+    /// allocation and free per search dwell).
+    spare_parts: Vec<Part>,
 }
 
 impl<'a> Engine<'a> {
@@ -187,6 +192,8 @@ impl<'a> Engine<'a> {
             next_dwell_id: 0,
             stats: RunStats::default(),
             targets: Vec::new(),
+            quiet_radars: quiet::quiet_radars(world),
+            spare_parts: Vec::new(),
         }
     }
 
@@ -430,19 +437,22 @@ impl<'a> Engine<'a> {
         }
         let n = tl.raster.len();
         self.timelines[r].cursor = (self.timelines[r].cursor + 1) % n;
+        let mut parts = std::mem::take(&mut self.spare_parts);
+        parts.clear();
+        parts.push(Part {
+            radar,
+            role: Role::Txrx,
+            face: beam.face,
+            beam_u: beam.u,
+            beam_v: beam.v,
+            n_pulses: beam.n_pulses,
+            waveform: 0,
+        });
         let group = Group {
             kind: DwellKind::Search,
             requested_by: Requester::Radar,
             aim: None,
-            parts: vec![Part {
-                radar,
-                role: Role::Txrx,
-                face: beam.face,
-                beam_u: beam.u,
-                beam_v: beam.v,
-                n_pulses: beam.n_pulses,
-                waveform: 0,
-            }],
+            parts,
             duration_s,
             window_half_m: None,
             predicted_snr: None,
@@ -493,7 +503,8 @@ impl<'a> Engine<'a> {
         // A quiet search dwell the test article does not want to hear of: its row only.
         if g.requested_by == Requester::Radar
             && !self.subscription.wants(g.requested_by, 0)
-            && let Some(row) = quiet::quiet_search_row(self.world, &keys, gid, &g, t0, &mut self.targets)
+            && let Some(row) =
+                quiet::quiet_search_row(self.world, &self.quiet_radars, &keys, gid, &g, t0, &mut self.targets)
         {
             self.stats.dwells += 1;
             self.stats.search_dwells += 1;
@@ -501,6 +512,7 @@ impl<'a> Engine<'a> {
             for p in &g.parts {
                 self.push(end, Ev::Decide(p.radar.0));
             }
+            self.spare_parts = g.parts;
             return Ok(());
         }
         let ex = execute(self.world, &keys, gid, &g, t0, &mut self.targets);

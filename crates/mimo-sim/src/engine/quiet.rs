@@ -2,10 +2,11 @@
 //!
 //! A search dwell that no target reaches and whose false-alarm count is zero produces one dwell
 //! row and nothing else. [`quiet_search_row`] recognises it with
-//! [`mimo_radar::quiet::is_quiet`] (same gates, same random stream as the full model) and
+//! [`mimo_radar::quiet::QuietRadar::is_quiet`] (same gates, same random stream as the full model) and
 //! returns that row without building the dwell's vectors (and, when the beam is far from a
 //! ball holding each target over the current epoch, without the targets' exact positions:
-//! [`mimo_radar::quiet::beam_clear`]); any other dwell goes through
+//! [`mimo_radar::quiet::QuietRadar::beam_clear`]; the radar's constant part of both tests is made
+//! once per run, [`quiet_radars`]); any other dwell goes through
 //! [`super::execute::execute`], so the recorded tables are byte-identical either way.
 
 use super::execute::{RunKeys, receiver, transmitter};
@@ -15,7 +16,7 @@ use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::records::DwellRow;
 use mimo_radar::energy::dwell_energy_j;
-use mimo_radar::quiet::{TargetBall, beam_clear, is_quiet};
+use mimo_radar::quiet::{QuietRadar, TargetBall};
 
 /// The aim of a search beam: its direction at half the instrumented range.
 pub(super) fn search_aim(world: &World, g: &Group, frame: &FaceFrame) -> DVec3 {
@@ -54,11 +55,17 @@ pub(super) fn dwell_row(world: &World, run: u32, gid: u64, g: &Group, i: usize, 
     }
 }
 
+/// Every radar's [`QuietRadar`] (indexed by radar), made once per run.
+pub(super) fn quiet_radars(world: &World) -> Vec<QuietRadar> {
+    world.radar_ids().into_iter().map(|r| QuietRadar::new(world.params(r), world.scenario.fidelity.pattern)).collect()
+}
+
 /// The one row of search group `gid` (started at `t0_s`) when the dwell is quiet; `None` when it
 /// must be evaluated in full (a target may be in the beam, a false alarm was drawn, or the group
-/// is not a one-radar search dwell).
+/// is not a one-radar search dwell). `radars` are [`quiet_radars`].
 pub(super) fn quiet_search_row<'w>(
     world: &'w World,
+    radars: &[QuietRadar],
     keys: &RunKeys,
     gid: u64,
     g: &Group,
@@ -69,6 +76,7 @@ pub(super) fn quiet_search_row<'w>(
     if g.aim.is_some() || g.window_half_m.is_some() || !p.role.transmits() || !p.receives() {
         return None;
     }
+    let quiet_radar = radars.get(p.radar.index())?;
     let t_mid = t0_s + 0.5 * g.duration_s;
     let frame = world.face_at(p.radar, p.face, t_mid)?;
     let aim = search_aim(world, g, &frame);
@@ -80,13 +88,14 @@ pub(super) fn quiet_search_row<'w>(
     // A beam far from every target's ball gates every target out whatever its exact position:
     // the positions are then not computed (the answer and the random draws are the same).
     let clear = world.target_balls_at(t_mid).is_some_and(|balls| {
-        beam_clear(&dwell, balls.iter().map(|b| TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m }))
+        quiet_radar
+            .beam_clear(&dwell, balls.iter().map(|b| TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m }))
     });
     let quiet = if clear {
-        is_quiet(&dwell, &[])
+        quiet_radar.is_quiet(&dwell, &[])
     } else {
         world.radar_targets_into(t_mid, targets);
-        is_quiet(&dwell, targets)
+        quiet_radar.is_quiet(&dwell, targets)
     };
     if !quiet {
         return None;
