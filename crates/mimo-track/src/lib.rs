@@ -117,6 +117,7 @@ pub mod measurement;
 pub mod motion;
 pub mod partner;
 pub mod policy;
+mod pregate;
 mod queries;
 pub mod tracker;
 pub mod update;

@@ -193,6 +193,12 @@ pub trait Predictor: Send + Sync {
     fn position_trace_convex(&self, _prior: &Gaussian) -> bool {
         false
     }
+    /// The trace of the position block of [`Predictor::predict`]'s covariance, computed without
+    /// the full prediction (equal to it up to rounding), for the pre-gate (docs/model.md §6.5).
+    /// The default, `None`, means "not offered": the pre-gate then never skips a pair.
+    fn position_trace(&self, _prior: &Gaussian, _dt: f64) -> Option<f64> {
+        None
+    }
 }
 
 /// EKF prediction with a motion model: `x⁻ = f(x)`, `P⁻ = F P Fᵀ + Q` (symmetrized).
@@ -232,6 +238,21 @@ impl<M: MotionModel> Predictor for KalmanPredictor<M> {
 
     fn position_trace_convex(&self, prior: &Gaussian) -> bool {
         self.model.position_trace_convex() && (3..6).all(|i| prior.p[i][i] >= 0.0)
+    }
+
+    fn position_trace(&self, prior: &Gaussian, dt: f64) -> Option<f64> {
+        // The position rows of `F P Fᵀ + Q` only: Σ_{i<3} F_i P F_iᵀ + Q_ii.
+        if dt == 0.0 {
+            return Some((0..3).map(|i| prior.p[i][i]).sum());
+        }
+        let f = self.model.jacobian(&prior.x, dt);
+        let q = self.model.process_noise(&prior.x, dt);
+        let mut tr = 0.0;
+        for i in 0..3 {
+            let fp = crate::linalg::mul_vec(&prior.p, &f[i]);
+            tr += crate::linalg::dot(&f[i], &fp) + q[i][i];
+        }
+        Some(tr)
     }
 }
 
