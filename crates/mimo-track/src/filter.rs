@@ -189,9 +189,17 @@ impl TrackFilter for SingleModelFilter {
     }
 
     fn prediction_bound(&self, state: &FilterState, dt: f64) -> Option<PredictionBound> {
-        let g = state.combined();
-        let position_trace = self.predictor.position_trace(&g, dt)?;
-        Some(PredictionBound { mean: self.predictor.predict_mean(&g, dt), position_trace })
+        // `combined()` of one mode is that mode: no copy.
+        let combined;
+        let g = match state.modes.as_slice() {
+            [g] => g,
+            _ => {
+                combined = state.combined();
+                &combined
+            }
+        };
+        let position_trace = self.predictor.position_trace(g, dt)?;
+        Some(PredictionBound { mean: self.predictor.predict_mean(g, dt), position_trace })
     }
 
     fn update(
