@@ -43,8 +43,10 @@ pub(crate) struct BoundCache {
 impl PreGate {
     /// The pre-gate of a tracker's gate and initiation exclusion.
     pub(crate) fn new(gater: &dyn Gater, excl: &InitiationExclusion) -> PreGate {
-        let nis_max = gater.nis_limit().map(|g| g.max(excl.nis)).filter(|x| x.is_finite());
-        PreGate { nis_max, cell_rb_m: 2.0 * excl.range_cell_m * (1.0 + CELL_MARGIN) + CELL_MARGIN }
+        let cell_rb_m = 2.0 * excl.range_cell_m * (1.0 + CELL_MARGIN) + CELL_MARGIN;
+        // A NaN cell width (a bad configuration) disables the pre-gate rather than skip pairs.
+        let nis_max = gater.nis_limit().map(|g| g.max(excl.nis)).filter(|x| x.is_finite() && !cell_rb_m.is_nan());
+        PreGate { nis_max, cell_rb_m }
     }
 
     /// Whether the pair of `track` and `m` is sure to fail the gate, the exclusion NIS and the
@@ -73,8 +75,7 @@ impl PreGate {
         if !(tr.is_finite() && tr >= 0.0 && s_rr_max > 0.0 && s_rr_max.is_finite() && nu_rb.is_finite()) {
             return false;
         }
-        // `!(a <= b)` keeps a NaN cell width from skipping anything.
-        let outside_cell = !(nu_rb.abs() <= self.cell_rb_m);
+        let outside_cell = nu_rb.abs() > self.cell_rb_m;
         outside_cell && nu_rb * nu_rb > NIS_MARGIN * nis_max * s_rr_max
     }
 }
