@@ -4,8 +4,9 @@
 //! needs the track predicted to the dwell's time. Most tracks are far from every limit, so each
 //! track carries a certificate: the span of times since its last update over which no rule can
 //! fire, found once per change of the track (update, status, misses) from the deleter's
-//! [`QuietSpan`] and the predicted position covariance's trace at two or a few times. A check inside the span is skipped; every other check runs
-//! exactly as before, so the tracks and their deletions are the same, bit for bit.
+//! [`QuietSpan`] and the predicted position covariance's trace at two or a few times. A check
+//! inside the span is skipped; every other check runs exactly as before, so the tracks and their
+//! deletions are the same, bit for bit.
 //!
 //! The covariance limit is certified by convexity: when the filter says the trace of the
 //! predicted position covariance is convex in `dt ≥ 0` ([`TrackFilter::position_trace_convex`]),
