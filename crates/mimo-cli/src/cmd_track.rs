@@ -56,16 +56,7 @@ pub fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, CliError> {
 
 /// The replay's keys of the store's key columns.
 fn dwell_keys(k: &mimo_store::dwell_keys::DwellKeys) -> Vec<DwellKey> {
-    (0..k.len())
-        .map(|i| DwellKey {
-            run: k.run[i],
-            dwell_id: k.dwell_id[i],
-            group_id: k.group_id[i],
-            radar: k.radar[i],
-            face: k.face[i],
-            requested_by: k.requested_by[i],
-        })
-        .collect()
+    DwellKey::from_columns(&k.run, &k.dwell_id, &k.group_id, &k.radar, &k.face, &k.requested_by)
 }
 
 fn run_file(dir: &Path, table: &str, run: u32) -> PathBuf {

@@ -11,7 +11,7 @@
 
 use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
-use arrow::array::RecordBatch;
+use arrow::array::{BooleanArray, RecordBatch};
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
 use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
@@ -50,6 +50,10 @@ impl DwellKeys {
         self.run.is_empty()
     }
 }
+
+/// Gaps of at most this many rows between rows asked for are read and dropped rather than
+/// skipped (a skip and a new read cost about as much as decoding a few rows in every column).
+const READ_THROUGH_GAP_ROWS: usize = 16;
 
 const KEY_COLUMNS: [&str; 7] = ["run", "dwell_id", "group_id", "radar", "face", "requested_by", "t_s"];
 /// The columns of a dwells row that are not keys.
@@ -138,14 +142,19 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
     {
         return Err(bad(last, "row asked for past the end of the file"));
     }
-    // Consecutive positions as ranges.
+    // Positions as ranges; a short gap between two positions is read through and its rows
+    // dropped after the read (decoding a few rows costs less than a skip and a new read in every
+    // column).
     let mut ranges: Vec<std::ops::Range<usize>> = Vec::new();
     for &r in rows {
         match ranges.last_mut() {
-            Some(last) if last.end == r => last.end = r + 1,
+            Some(last) if r <= last.end + READ_THROUGH_GAP_ROWS => last.end = r + 1,
             _ => ranges.push(r..r + 1),
         }
     }
+    // The file positions of the rows the reader returns, in order, and which were asked for.
+    let mut positions = ranges.clone().into_iter().flatten();
+    let mut asked = rows.iter().peekable();
     let selection = RowSelection::from_consecutive_ranges(ranges.into_iter(), n_rows);
     // Selectors (skip runs of rows), not a mask over decoded rows: the rows asked for are few.
     let mask = ProjectionMask::columns(builder.parquet_schema(), REST_COLUMNS);
@@ -159,6 +168,23 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
     let mut at = rows.iter();
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+        let keep: Vec<bool> = (0..batch.num_rows())
+            .map(|_| {
+                let p = positions.next();
+                let wanted = p.is_some() && asked.peek().copied().copied() == p;
+                if wanted {
+                    asked.next();
+                }
+                wanted
+            })
+            .collect();
+        // Only the rows asked for are checked and delivered, as if the gaps had been skipped.
+        let batch = if keep.iter().all(|&k| k) {
+            batch
+        } else {
+            arrow::compute::filter_record_batch(&batch, &BooleanArray::from(keep))
+                .map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?
+        };
         let b = Batch { batch: &batch, file: path, spec };
         // The checks of `DwellRow::from_batch`, column by column, on the rows read.
         let role = b.parsed("role", Role::parse, "tx, rx, txrx")?;
@@ -253,6 +279,25 @@ mod tests {
         assert_eq!(got, want);
         assert!(read_dwell_rows(&path, &k, &[3, 2]).is_err());
         assert!(read_dwell_rows(&path, &k, &[n as usize]).is_err());
+    }
+
+    /// Rows asked for across read-through gaps (shorter than `READ_THROUGH_GAP_ROWS`), skipped
+    /// gaps and batch and row-group boundaries come back exactly, and only they.
+    #[test]
+    fn rows_across_read_through_gaps_round_trip() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let n = crate::ROW_GROUP_ROWS + 3000;
+        let rows: Vec<DwellRow> = (0..n as u64).map(row).collect();
+        crate::write_table(&path, &rows).expect("write");
+        let k = read_dwell_keys(&path).expect("keys");
+        let gap = READ_THROUGH_GAP_ROWS;
+        // Every third row for a while, then gaps at and just past the read-through length.
+        let mut pick: Vec<usize> = (0..3000).step_by(3).collect();
+        pick.extend([3000 + gap, 3001 + 2 * gap, 3003 + 3 * gap + 1, n - 2000, n - 1]);
+        let got = read_dwell_rows(&path, &k, &pick).expect("rows");
+        let want: Vec<DwellRow> = pick.iter().map(|&i| rows[i].clone()).collect();
+        assert_eq!(got, want);
     }
 
     /// The keys pass refuses what `read_table` refuses, with the same message.

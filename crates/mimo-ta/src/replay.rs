@@ -109,6 +109,33 @@ impl DwellKey {
             requested_by: d.requested_by,
         }
     }
+
+    /// The keys of the dwells table's key columns, row by row (the columns have one length; a
+    /// longer column's extra values are ignored). Built here, in an optimised crate, since a
+    /// replay does it for every row of the table.
+    pub fn from_columns(
+        run: &[u32],
+        dwell_id: &[u64],
+        group_id: &[u64],
+        radar: &[RadarId],
+        face: &[u8],
+        requested_by: &[Requester],
+    ) -> Vec<DwellKey> {
+        let n = [run.len(), dwell_id.len(), group_id.len(), radar.len(), face.len(), requested_by.len()]
+            .into_iter()
+            .min()
+            .unwrap_or(0);
+        (0..n)
+            .map(|i| DwellKey {
+                run: run[i],
+                dwell_id: dwell_id[i],
+                group_id: group_id[i],
+                radar: radar[i],
+                face: face[i],
+                requested_by: requested_by[i],
+            })
+            .collect()
+    }
 }
 
 /// Whole dwells rows by position in the key list (positions ascending, rows in that order); the
@@ -309,4 +336,28 @@ pub fn replay_selected(
     let reply = ta.on_finish(cfg.duration_s).map_err(|f| fault(ta, f))?;
     take(reply, &mut stats, sink)?;
     Ok(stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Keys built from columns are the keys of the rows the columns came from.
+    #[test]
+    fn keys_from_columns_are_the_rows_keys() {
+        let keys = [
+            DwellKey { run: 2, dwell_id: 7, group_id: 3, radar: RadarId(1), face: 2, requested_by: Requester::Radar },
+            DwellKey { run: 2, dwell_id: 9, group_id: 4, radar: RadarId(0), face: 0, requested_by: Requester::Ta },
+        ];
+        let built = DwellKey::from_columns(
+            &keys.map(|k| k.run),
+            &keys.map(|k| k.dwell_id),
+            &keys.map(|k| k.group_id),
+            &keys.map(|k| k.radar),
+            &keys.map(|k| k.face),
+            &keys.map(|k| k.requested_by),
+        );
+        assert_eq!(built, keys.to_vec());
+        assert!(DwellKey::from_columns(&[1], &[], &[], &[], &[], &[]).is_empty());
+    }
 }

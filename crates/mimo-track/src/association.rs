@@ -145,8 +145,22 @@ impl Associator for GnnAssociator {
         // treat it as "never miss when a gated measurement exists".
         let mc = self.cost.miss_cost();
         let mc = if mc.is_finite() { mc } else { 1e9 };
-        let miss = vec![mc; n];
-        mimo_core::assign::assign_with_miss(&cost, n, m, &miss)
+        // A track with no finite pairing can only miss, and leaves the others' assignment as it
+        // is (docs/DECISIONS.md, "GNN over the tracks that gate"): solve for the others alone.
+        let rows: Vec<usize> = (0..n).filter(|&t| cost[t * m..(t + 1) * m].iter().any(|c| c.is_finite())).collect();
+        let mut out = vec![None; n];
+        if rows.is_empty() {
+            return out;
+        }
+        if rows.len() == n {
+            return mimo_core::assign::assign_with_miss(&cost, n, m, &vec![mc; n]);
+        }
+        let sub: Vec<f64> = rows.iter().flat_map(|&t| cost[t * m..(t + 1) * m].iter().copied()).collect();
+        let sol = mimo_core::assign::assign_with_miss(&sub, rows.len(), m, &vec![mc; rows.len()]);
+        for (&t, a) in rows.iter().zip(sol) {
+            out[t] = a;
+        }
+        out
     }
 }
 
@@ -223,6 +237,22 @@ mod tests {
         assert_eq!(GnnAssociator { cost }.associate(&t), vec![None, Some(0)]);
         assert_eq!(GnnAssociator { cost }.associate(&HypothesisTable::new(2, 0)), vec![None, None]);
         assert!(GnnAssociator { cost }.associate(&HypothesisTable::new(0, 3)).is_empty());
+    }
+
+    /// Tracks with nothing in their gate are left out of the assignment; the others' result
+    /// is the full problem's (a hand-made case with a tie between two measurements).
+    #[test]
+    fn gnn_without_the_empty_rows_is_the_full_assignment() {
+        let inf = f64::INFINITY;
+        let t = table(&[&[inf, inf, inf], &[2.0, 2.0, inf], &[inf, inf, inf], &[1.0, 3.0, 5.0], &[inf, 4.0, 4.0]]);
+        let cost = AssociationCost::Nis { miss_cost: 11.34 };
+        let out = GnnAssociator { cost }.associate(&t);
+        assert_eq!(out, vec![None, Some(1), None, Some(0), Some(2)]);
+        // The same as solving the full matrix with its miss options.
+        let full: Vec<f64> = t.entries.iter().map(|e| e.map_or(inf, |h| h.nis)).collect();
+        let direct = mimo_core::assign::assign_with_miss(&full, 5, 3, &[11.34; 5]);
+        assert_eq!(out, direct);
+        assert_eq!(GnnAssociator { cost }.associate(&table(&[&[inf], &[inf]])), vec![None, None]);
     }
 
     #[test]

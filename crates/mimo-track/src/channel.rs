@@ -9,6 +9,7 @@ use crate::filter::{FilterPrediction, TrackFilter};
 use crate::jpda::{AssociationProbabilities, combine};
 use crate::measurement::{MeasurementModel, PreparedMeasurement};
 use crate::partner::PartnerMode;
+use crate::pregate::{BoundCache, PreGate};
 use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::records::TrackStatus;
 use std::collections::BTreeSet;
@@ -51,9 +52,15 @@ impl MultiTargetTracker {
         let excl = self.config.initiation_exclusion;
         let cell_uv = excl.beam_fraction * self.config.revisit.beamwidth;
         let mut near = vec![false; n_m];
+        // Pairs that cannot gate are skipped before their prediction (docs/model.md §6.5).
+        let pregate = PreGate::new(&*self.c.gater, &excl);
         for (i, id) in ids.iter().enumerate() {
             let track = &self.tracks[id];
+            let mut bound = BoundCache::default();
             for (j, m) in list.iter().enumerate() {
+                if pregate.excludes(filter, track, m, &mut bound) {
+                    continue;
+                }
                 let pred = caches[i].get(filter, track, m.t_s);
                 if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r) {
                     if self.c.gater.accepts(&h) {

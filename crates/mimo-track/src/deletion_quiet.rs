@@ -4,8 +4,9 @@
 //! needs the track predicted to the dwell's time. Most tracks are far from every limit, so each
 //! track carries a certificate: the span of times since its last update over which no rule can
 //! fire, found once per change of the track (update, status, misses) from the deleter's
-//! [`QuietSpan`] and two predictions. A check inside the span is skipped; every other check runs
-//! exactly as before, so the tracks and their deletions are the same, bit for bit.
+//! [`QuietSpan`] and the predicted position covariance's trace at two or a few times. A check
+//! inside the span is skipped; every other check runs exactly as before, so the tracks and their
+//! deletions are the same, bit for bit.
 //!
 //! The covariance limit is certified by convexity: when the filter says the trace of the
 //! predicted position covariance is convex in `dt ≥ 0` ([`TrackFilter::position_trace_convex`]),
@@ -102,9 +103,22 @@ fn quiet_dt_s(filter: &dyn TrackFilter, deleter: &dyn Deleter, t: &Track) -> f64
         return NEVER;
     }
     let limit = span.max_position_trace_m2 * (1.0 - TRACE_MARGIN);
-    let below = |dt: f64| {
-        let g = filter.predict(&t.state, dt).combined;
-        g.is_finite() && trace(&g.pos_cov()) <= limit
+    // The trace comes from the filter's prediction bound when it offers one (no full prediction;
+    // equal to the prediction's up to rounding, far inside `TRACE_MARGIN`). Convexity is only
+    // promised by the constant-velocity model, whose prediction of a finite prior is finite when
+    // its mean and position trace are (every other entry is bounded by them and the prior).
+    let prior_finite = t.state.is_finite();
+    let below = |dt: f64| match filter.prediction_bound(&t.state, dt) {
+        Some(b) => {
+            prior_finite
+                && b.mean.iter().all(|x| x.is_finite())
+                && b.position_trace.is_finite()
+                && b.position_trace <= limit
+        }
+        None => {
+            let g = filter.predict(&t.state, dt).combined;
+            g.is_finite() && trace(&g.pos_cov()) <= limit
+        }
     };
     if !below(0.0) {
         return NEVER;

@@ -82,6 +82,17 @@ pub struct FilterUpdate {
     pub jitter: bool,
 }
 
+/// The predicted mean and a bound of the predicted position covariance, without the full
+/// prediction (see [`TrackFilter::prediction_bound`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PredictionBound {
+    /// The combined predicted mean (`predict(..).combined.x`, bit for bit).
+    pub mean: [f64; 6],
+    /// `tr P⁻_pos` of the combined prediction (up to rounding), an upper bound of its largest
+    /// eigenvalue.
+    pub position_trace: f64,
+}
+
 /// A recursive estimator for one track.
 pub trait TrackFilter: Send + Sync {
     /// Name for manifests ("ekf-ncv", "imm-cv2").
@@ -119,6 +130,14 @@ pub trait TrackFilter: Send + Sync {
         z: &Vec3,
         r: &Mat3,
     ) -> Result<Innovation, UpdateError>;
+
+    /// What the pre-gate needs of [`TrackFilter::predict`] (docs/model.md §6.5): the combined
+    /// predicted mean, bit for bit, and the trace of the predicted position covariance, when
+    /// [`TrackFilter::hypothesis`] is the combined prediction's innovation. The default, `None`,
+    /// means the tracker computes every pairing in full.
+    fn prediction_bound(&self, _state: &FilterState, _dt: f64) -> Option<PredictionBound> {
+        None
+    }
 
     /// Gating and association statistics of a measurement (see [`Hypothesis`]). The default is
     /// the combined prediction's innovation.
@@ -167,6 +186,20 @@ impl TrackFilter for SingleModelFilter {
 
     fn position_trace_convex(&self, state: &FilterState) -> bool {
         self.predictor.position_trace_convex(&state.combined())
+    }
+
+    fn prediction_bound(&self, state: &FilterState, dt: f64) -> Option<PredictionBound> {
+        // `combined()` of one mode is that mode: no copy.
+        let combined;
+        let g = match state.modes.as_slice() {
+            [g] => g,
+            _ => {
+                combined = state.combined();
+                &combined
+            }
+        };
+        let position_trace = self.predictor.position_trace(g, dt)?;
+        Some(PredictionBound { mean: self.predictor.predict_mean(g, dt), position_trace })
     }
 
     fn update(

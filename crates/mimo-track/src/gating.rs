@@ -11,6 +11,12 @@ pub trait Gater: Send + Sync {
     fn gate_probability(&self) -> f64;
     /// The NIS threshold (used as the miss cost of the simple NIS-cost GNN).
     fn threshold(&self) -> f64;
+    /// The largest NIS the gate accepts, when it accepts a pairing on its NIS alone (lets the
+    /// tracker skip pairs whose NIS is sure to be above it, docs/model.md §6.5). The default,
+    /// `None`, means the tracker computes every pairing.
+    fn nis_limit(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// Ellipsoidal χ² gate on the NIS: `νᵀ S⁻¹ ν ≤ γ_G`.
@@ -47,6 +53,10 @@ impl Gater for ChiSquareGate {
 
     fn threshold(&self) -> f64 {
         self.threshold
+    }
+
+    fn nis_limit(&self) -> Option<f64> {
+        Some(self.threshold)
     }
 }
 

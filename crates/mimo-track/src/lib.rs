@@ -39,7 +39,8 @@
 //!    the tracking frame as `z = (R_B = 2ρ, u, v)` with `R = diag(4σ_ρ², σ_u², σ_v²)`,
 //!    inflated for `merged` rows (docs/model.md §2.7).
 //! 2. Per receive channel (tx, rx), in a fixed order: every track is predicted to the
-//!    measurement time, gated on its NIS, and the channel's measurements are assigned by GNN
+//!    measurement time, gated on its NIS (pairs that cannot gate are recognised first from a
+//!    bound and skipped, with the same result), and the channel's measurements are assigned by GNN
 //!    (exact assignment with a miss option); a `merged` measurement may also update a gated
 //!    track that GNN left empty. Assigned tracks are updated (iterated EKF for the first
 //!    updates). With `association_method = jpda` ([`jpda`]) each track is instead updated with
@@ -117,6 +118,7 @@ pub mod measurement;
 pub mod motion;
 pub mod partner;
 pub mod policy;
+mod pregate;
 mod queries;
 pub mod tracker;
 pub mod update;

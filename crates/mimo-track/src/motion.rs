@@ -31,6 +31,18 @@ pub trait MotionModel: Send + Sync {
     fn position_trace_convex(&self) -> bool {
         false
     }
+    /// `tr` of the position block of `F P Fᵀ + Q` (the prediction's covariance before
+    /// symmetrizing), up to rounding. The default multiplies out the three position rows.
+    fn position_trace(&self, x: &Vec6, p: &Mat6, dt: f64) -> f64 {
+        let f = self.jacobian(x, dt);
+        let q = self.process_noise(x, dt);
+        let mut tr = 0.0;
+        for i in 0..3 {
+            let fp = crate::linalg::mul_vec(p, &f[i]);
+            tr += crate::linalg::dot(&f[i], &fp) + q[i][i];
+        }
+        tr
+    }
 }
 
 /// Discretization of the white-noise acceleration.
@@ -52,16 +64,21 @@ pub enum ProcessNoise {
 }
 
 impl ProcessNoise {
-    /// The 6×6 `Q` over `dt` (uses `|dt|`).
-    pub fn q(&self, dt: f64) -> Mat6 {
+    /// The per-axis position, position–velocity and velocity entries of `Q` over `dt` (uses `|dt|`).
+    fn blocks(&self, dt: f64) -> (f64, f64, f64) {
         let t = dt.abs();
-        let (pp, pv, vv) = match *self {
+        match *self {
             ProcessNoise::Dwna { sigma_a_mps2: s } => {
                 let s2 = s * s;
                 (s2 * t.powi(4) / 4.0, s2 * t.powi(3) / 2.0, s2 * t * t)
             }
             ProcessNoise::Cwna { q_m2ps3: q } => (q * t.powi(3) / 3.0, q * t * t / 2.0, q * t),
-        };
+        }
+    }
+
+    /// The 6×6 `Q` over `dt` (uses `|dt|`).
+    pub fn q(&self, dt: f64) -> Mat6 {
+        let (pp, pv, vv) = self.blocks(dt);
         let mut m = [[0.0; 6]; 6];
         for i in 0..3 {
             m[i][i] = pp;
@@ -118,6 +135,15 @@ impl MotionModel for Ncv {
 
     /// `tr P⁻_pos(dt) = tr P_pp + 2 dt tr P_pv + dt² tr P_vv + 3 Q_pp(dt)`: a quadratic with a
     /// non-negative leading term plus `σ² dt⁴/4` or `q̃ dt³/3`, convex for `dt ≥ 0`.
+    /// `Σ_i (P_ii + dt (P_i,i+3 + P_i+3,i) + dt² P_i+3,i+3) + 3 Q_pp(dt)`, without `F`.
+    fn position_trace(&self, _x: &Vec6, p: &Mat6, dt: f64) -> f64 {
+        let mut tr = 3.0 * self.noise.blocks(dt).0;
+        for i in 0..3 {
+            tr += p[i][i] + dt * (p[i][i + 3] + p[i + 3][i]) + dt * dt * p[i + 3][i + 3];
+        }
+        tr
+    }
+
     fn position_trace_convex(&self) -> bool {
         match self.noise {
             ProcessNoise::Dwna { sigma_a_mps2 } => sigma_a_mps2.is_finite(),
@@ -193,6 +219,12 @@ pub trait Predictor: Send + Sync {
     fn position_trace_convex(&self, _prior: &Gaussian) -> bool {
         false
     }
+    /// The trace of the position block of [`Predictor::predict`]'s covariance, computed without
+    /// the full prediction (equal to it up to rounding), for the pre-gate (docs/model.md §6.5).
+    /// The default, `None`, means "not offered": the pre-gate then never skips a pair.
+    fn position_trace(&self, _prior: &Gaussian, _dt: f64) -> Option<f64> {
+        None
+    }
 }
 
 /// EKF prediction with a motion model: `x⁻ = f(x)`, `P⁻ = F P Fᵀ + Q` (symmetrized).
@@ -233,6 +265,14 @@ impl<M: MotionModel> Predictor for KalmanPredictor<M> {
     fn position_trace_convex(&self, prior: &Gaussian) -> bool {
         self.model.position_trace_convex() && (3..6).all(|i| prior.p[i][i] >= 0.0)
     }
+
+    fn position_trace(&self, prior: &Gaussian, dt: f64) -> Option<f64> {
+        if dt == 0.0 {
+            // `ekf_predict` returns the prior itself.
+            return Some((0..3).map(|i| prior.p[i][i]).sum());
+        }
+        Some(self.model.position_trace(&prior.x, &prior.p, dt))
+    }
 }
 
 #[cfg(test)]
@@ -252,6 +292,53 @@ mod tests {
         assert!((q[1][1] - 8.0).abs() < 1e-12);
         assert!((q[1][4] - 6.0).abs() < 1e-12);
         assert!((q[4][4] - 6.0).abs() < 1e-12);
+    }
+
+    /// The position trace without the prediction: NCV's closed form and the generic rows agree
+    /// with the trace of the full prediction (a correlated prior, forwards and backwards).
+    #[test]
+    fn position_trace_matches_the_prediction() {
+        let mut p = [[0.0; 6]; 6];
+        for i in 0..3 {
+            p[i][i] = 400.0 * (i + 1) as f64;
+            p[i + 3][i + 3] = 90.0;
+            p[i][i + 3] = -150.0;
+            p[i + 3][i] = -150.0;
+        }
+        p[0][1] = 30.0;
+        p[1][0] = 30.0;
+        let prior = Gaussian { x: [1e4, -2e4, 5e3, 200.0, -50.0, 3.0], p };
+        for model in [Ncv::dwna(15.0), Ncv { noise: ProcessNoise::Cwna { q_m2ps3: 4.0 } }] {
+            let pred = KalmanPredictor::new(model);
+            for dt in [-0.7, 0.0, 0.4, 2.5, 30.0] {
+                let full = pred.predict(&prior, dt).p;
+                let want: f64 = (0..3).map(|i| full[i][i]).sum();
+                let closed = pred.position_trace(&prior, dt).expect("offered");
+                let rows = ekf_rows_trace(&model, &prior, dt);
+                assert!((closed - want).abs() <= 1e-12 * want, "dt {dt}: {closed} vs {want}");
+                assert!((rows - want).abs() <= 1e-12 * want, "dt {dt}: {rows} vs {want}");
+            }
+        }
+    }
+
+    /// The default `MotionModel::position_trace` (multiplied-out rows), for comparison.
+    fn ekf_rows_trace(model: &Ncv, prior: &Gaussian, dt: f64) -> f64 {
+        struct Generic<'a>(&'a Ncv);
+        impl MotionModel for Generic<'_> {
+            fn name(&self) -> String {
+                self.0.name()
+            }
+            fn propagate(&self, x: &Vec6, dt: f64) -> Vec6 {
+                self.0.propagate(x, dt)
+            }
+            fn jacobian(&self, x: &Vec6, dt: f64) -> Mat6 {
+                self.0.jacobian(x, dt)
+            }
+            fn process_noise(&self, x: &Vec6, dt: f64) -> Mat6 {
+                self.0.process_noise(x, dt)
+            }
+        }
+        Generic(model).position_trace(&prior.x, &prior.p, dt)
     }
 
     #[test]

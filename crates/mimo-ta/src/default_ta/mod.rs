@@ -133,7 +133,7 @@ impl DefaultTa {
             Vec::new()
         };
         let tracks = st.tracker.tracks();
-        for info in tracks.iter().cloned() {
+        for info in &tracks {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
@@ -143,7 +143,7 @@ impl DefaultTa {
                 // the tracker wants it again at its shortest revisit.
                 let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
                 let trouble = info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min;
-                let planned = planner::plan(rm, &st.tracker, &st.geom, now, &info, &over_budget, &busy_rx, trouble);
+                let planned = planner::plan(rm, &st.tracker, &st.geom, now, info, &over_budget, &busy_rx, trouble);
                 if let Some((mut req, unresolved)) = planned {
                     if unresolved {
                         self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);

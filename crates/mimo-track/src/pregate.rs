@@ -1,0 +1,175 @@
+//! The pre-gate: track–measurement pairs that cannot pass the gate, recognised without the full
+//! prediction and innovation (docs/model.md §6.5).
+//!
+//! For a positive-definite `S` and any component `k`, `νᵀ S⁻¹ ν ≥ ν_k² / S_kk` (the smallest
+//! quadratic form with `ν_k` fixed is the marginal's). With `k` the range sum `R_B`:
+//! `S_RR = gᵀ P⁻_pos g + R_RR` with `g = ∂R_B/∂p`, the sum of two unit vectors, `|g| ≤ 2`, so
+//! `S_RR ≤ 4 λ_max(P⁻_pos) + R_RR ≤ 4 tr P⁻_pos + R_RR`. The channel loop uses a pair's NIS
+//! twice: against the gate and against the initiation exclusion's NIS, and its range-sum
+//! residual against the exclusion's resolution cell. A pair whose lower bound lies above both
+//! NIS limits by [`NIS_MARGIN`] (far above any rounding of the NIS) and whose residual lies
+//! outside the cell is skipped; every other pair is computed exactly as before, so the gated
+//! table, the association and the tracks are the same, bit for bit. The prediction itself is
+//! left to the channel's cache, which computes it only when a pair or an update needs it.
+
+use crate::config::InitiationExclusion;
+use crate::filter::{PredictionBound, TrackFilter};
+use crate::gating::Gater;
+use crate::measurement::PreparedMeasurement;
+use crate::tracker::Track;
+use mimo_core::DVec3;
+
+/// Factor between the NIS lower bound and the largest limit before a pair is skipped.
+pub(crate) const NIS_MARGIN: f64 = 2.0;
+
+/// Relative slack on the resolution cell's range-sum half-width.
+const CELL_MARGIN: f64 = 1e-6;
+
+/// The limits one channel checks a pair against.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PreGate {
+    /// The largest NIS that matters (gate or exclusion); `None` disables the pre-gate.
+    nis_max: Option<f64>,
+    /// Half-width of the exclusion cell in range sum (m), with slack.
+    cell_rb_m: f64,
+}
+
+/// A track's bound at one time (the channel's measurements usually share one time).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct BoundCache {
+    entry: Option<(f64, Option<PredictionBound>)>,
+}
+
+impl PreGate {
+    /// The pre-gate of a tracker's gate and initiation exclusion.
+    pub(crate) fn new(gater: &dyn Gater, excl: &InitiationExclusion) -> PreGate {
+        let cell_rb_m = 2.0 * excl.range_cell_m * (1.0 + CELL_MARGIN) + CELL_MARGIN;
+        // A NaN cell width (a bad configuration) disables the pre-gate rather than skip pairs.
+        let nis_max = gater.nis_limit().map(|g| g.max(excl.nis)).filter(|x| x.is_finite() && !cell_rb_m.is_nan());
+        PreGate { nis_max, cell_rb_m }
+    }
+
+    /// Whether the pair of `track` and `m` is sure to fail the gate, the exclusion NIS and the
+    /// exclusion cell (then the channel may skip it).
+    pub(crate) fn excludes(
+        &self,
+        filter: &dyn TrackFilter,
+        track: &Track,
+        m: &PreparedMeasurement,
+        cache: &mut BoundCache,
+    ) -> bool {
+        let Some(nis_max) = self.nis_max else { return false };
+        let bound = match cache.entry {
+            Some((t_s, b)) if t_s == m.t_s => b,
+            _ => {
+                let b = filter.prediction_bound(&track.state, m.t_s - track.t_s);
+                cache.entry = Some((m.t_s, b));
+                b
+            }
+        };
+        let Some(b) = bound else { return false };
+        let tr = b.position_trace;
+        let s_rr_max = 4.0 * tr + m.r[0][0];
+        let p = DVec3::new(b.mean[0], b.mean[1], b.mean[2]);
+        let nu_rb = m.z[0] - m.model.h_pos(p)[0];
+        if !(tr.is_finite() && tr >= 0.0 && s_rr_max > 0.0 && s_rr_max.is_finite() && nu_rb.is_finite()) {
+            return false;
+        }
+        let outside_cell = nu_rb.abs() > self.cell_rb_m;
+        outside_cell && nu_rb * nu_rb > NIS_MARGIN * nis_max * s_rr_max
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::components::Components;
+    use crate::config::TrackerConfig;
+    use crate::frame::Gaussian;
+    use crate::linalg::identity;
+    use crate::measurement::BistaticRuv;
+    use mimo_core::ids::RadarId;
+    use mimo_core::records::TrackStatus;
+
+    fn track(filter: &dyn TrackFilter, x: [f64; 6], var_m2: f64) -> Track {
+        let mut p: [[f64; 6]; 6] = identity();
+        for (i, row) in p.iter_mut().enumerate() {
+            row[i] = if i < 3 { var_m2 } else { 100.0 };
+        }
+        Track {
+            id: 1,
+            status: TrackStatus::Confirmed,
+            state: filter.init(Gaussian { x, p }),
+            t_s: 0.0,
+            t_init_s: 0.0,
+            n_updates: 5,
+            last_meas_id: None,
+            looks: vec![true],
+            consecutive_misses: 0,
+            next_due_s: 0.0,
+            last_face: None,
+            nis_sum: 0.0,
+            nis_count: 0,
+        }
+    }
+
+    fn meas(model: BistaticRuv, rb_m: f64, t_s: f64) -> PreparedMeasurement {
+        PreparedMeasurement {
+            meas_id: 1,
+            t_s,
+            tx: RadarId(0),
+            rx: RadarId(0),
+            rx_face: 0,
+            z: [rb_m, 0.0, 0.0],
+            r: [[100.0, 0.0, 0.0], [0.0, 1e-6, 0.0], [0.0, 0.0, 1e-6]],
+            model,
+            merged: false,
+            snr_db: 20.0,
+        }
+    }
+
+    /// Every pair the pre-gate skips has a computed NIS above the gate, and a pair well inside
+    /// the gate is never skipped: a sweep of range-sum offsets through the gate's edge.
+    #[test]
+    fn skips_only_pairs_whose_nis_is_above_the_gate() {
+        let config = TrackerConfig::default();
+        let c = Components::from_config(&config);
+        let filter = &*c.filter;
+        let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);
+        let model = BistaticRuv::monostatic(DVec3::ZERO, identity());
+        // A target on the face's boresight (z axis) at 50 km moving at 200 m/s along it.
+        let t = track(filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 200.0], 400.0);
+        let dt = 2.0;
+        let rb_true = 2.0 * (50_000.0 + 200.0 * dt);
+        let (mut skipped, mut kept) = (0, 0);
+        for k in -400..=400 {
+            let m = meas(model, rb_true + 10.0 * k as f64, dt);
+            let mut cache = BoundCache::default();
+            let pred = filter.predict(&t.state, dt);
+            let h = filter.hypothesis(&pred, &m.model, &m.z, &m.r).expect("finite");
+            if gate.excludes(filter, &t, &m, &mut cache) {
+                skipped += 1;
+                assert!(h.nis > NIS_MARGIN * config.gate.threshold, "skipped a pair with NIS {}", h.nis);
+            } else {
+                kept += 1;
+            }
+            if h.nis <= config.gate.threshold {
+                assert!(!gate.excludes(filter, &t, &m, &mut cache));
+            }
+        }
+        // The sweep crosses the gate: both kinds occur.
+        assert!(skipped > 100 && kept > 10, "skipped {skipped}, kept {kept}");
+    }
+
+    /// A filter without a bound (the IMM) and a gater without an NIS limit are never pre-gated.
+    #[test]
+    fn without_a_bound_nothing_is_skipped() {
+        let config = TrackerConfig::for_kind(crate::config::TrackerKind::Imm);
+        let c = Components::from_config(&config);
+        let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);
+        let model = BistaticRuv::monostatic(DVec3::ZERO, identity());
+        let t = track(&*c.filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 0.0], 400.0);
+        let m = meas(model, 300_000.0, 1.0);
+        assert!(!gate.excludes(&*c.filter, &t, &m, &mut BoundCache::default()));
+    }
+}
