@@ -267,7 +267,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         }
     };
     let run_set: BTreeSet<u32> = tr.runs.iter().copied().collect();
-    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s)?;
+    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s, threads)?;
     let TrackResults { runs, target_names, track_metrics, assignments, tally, n_scorable } = tr;
     let track_metrics_mean = mean_over_runs(&track_metrics)?;
 
