@@ -118,6 +118,7 @@ pub mod motion;
 pub mod partner;
 pub mod policy;
 mod queries;
+pub mod second_return;
 pub mod tracker;
 pub mod update;
 
