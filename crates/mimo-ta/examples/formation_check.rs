@@ -14,7 +14,8 @@
 //! member or a close neighbour; `clean` otherwise) and by whether its dominant target
 //! (`target_hint`) is the nearest truth; and ε is also given against the last measurement's
 //! dominant target ("followed"), which differs from the nearest truth when a track sits on one
-//! aircraft's range with another's cross-range (issue 13, sixth round).
+//! aircraft's range with another's cross-range (issue 13, sixth round), and against the truth
+//! nearest in the track's own metric (the smallest ε over the truths sampled within 2 s).
 
 use mimo_core::records::{DwellKind, MeasurementRow, TrackRow, TrackStatus, TruthRow, unpack_cov};
 use mimo_store::read_table_dir;
@@ -68,9 +69,13 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
     // (kind, hint is the nearest truth) -> fighter ε.
     let mut by_kind: BTreeMap<(&str, bool), Vec<f64>> = BTreeMap::new();
     let mut followed: Vec<f64> = Vec::new();
+    // Fighter rows: (ε against the nearest truth in position, ε against the nearest in the track's
+    // own metric, i.e. the smallest ε over the truths).
+    let mut metric_nearest: Vec<(f64, f64)> = Vec::new();
     for r in tracks.iter().filter(|r| r.status == TrackStatus::Confirmed && r.n_updates >= 3) {
         let last = r.last_meas_id.and_then(|id| kind_of.get(&(r.run, id))).copied();
         let mut at_hint: Option<[f64; 6]> = None;
+        let mut candidates: Vec<[f64; 6]> = Vec::new();
         let mut best: Option<(f64, [f64; 6], bool, &str)> = None;
         for ((run, name), samples) in &by_target {
             if *run != r.run {
@@ -95,6 +100,7 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             let dt = r.t_s - s.t_s;
             let x = [s.x_m + s.vx_mps * dt, s.y_m + s.vy_mps * dt, s.z_m + s.vz_mps * dt, s.vx_mps, s.vy_mps, s.vz_mps];
             let d2 = (x[0] - r.x_m).powi(2) + (x[1] - r.y_m).powi(2) + (x[2] - r.z_m).powi(2);
+            candidates.push(x);
             if last.and_then(|k| k.1) == Some(name.as_str()) {
                 at_hint = Some(x);
             }
@@ -115,6 +121,8 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             if let Some(xh) = at_hint {
                 followed.push(chol_mahalanobis(&l, &err(&xh)));
             }
+            let min = candidates.iter().map(|c| chol_mahalanobis(&l, &err(c))).fold(eps, f64::min);
+            metric_nearest.push((eps, min));
         }
     }
     println!("track NEES (6-state, χ²₆ mean 6):");
@@ -148,6 +156,21 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             "fighter NEES against the last measurement's dominant target: rows {}  mean {mean:.2}  median {:.2}",
             followed.len(),
             followed[followed.len() / 2]
+        );
+    }
+    if !metric_nearest.is_empty() {
+        let n = metric_nearest.len() as f64;
+        let total: f64 = metric_nearest.iter().map(|p| p.0).sum();
+        let other: Vec<f64> = metric_nearest.iter().filter(|p| p.1 < p.0).map(|p| p.0).collect();
+        let other_sum: f64 = other.iter().sum();
+        let same_mean = (total - other_sum) / (n - other.len() as f64).max(1.0);
+        println!(
+            "fighter NEES against the truth nearest in the track's metric (smallest ε): mean {:.2}; rows whose \
+             nearest truth in position is another: {} ({:.2} %), {:.1} % of the NEES sum; the other rows' mean {same_mean:.2}",
+            metric_nearest.iter().map(|p| p.1).sum::<f64>() / n,
+            other.len(),
+            100.0 * other.len() as f64 / n,
+            100.0 * other_sum / total.max(f64::MIN_POSITIVE),
         );
     }
     drop(tracks);
