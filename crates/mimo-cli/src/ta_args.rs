@@ -12,9 +12,10 @@ use std::path::PathBuf;
 /// Which test article runs, and its configuration.
 #[derive(Debug, Clone, clap::Args)]
 pub struct TaArgs {
-    /// Built-in test article: default (EKF tracker, GNN, adaptive revisit and energy, MIMO
-    /// dwells), imm (the same with an IMM), jpda and imm-jpda (the same with JPDA association),
-    /// cued (truth-cued fixed schedule, no tracking), none (background search only).
+    /// Built-in test article: default (IMM tracker, JPDA with second returns, adaptive revisit
+    /// and energy, MIMO dwells), gnn (the default before issue 13's sixth round: EKF tracker, GNN),
+    /// imm (gnn with an IMM), jpda and imm-jpda (gnn and imm with JPDA association), cued
+    /// (truth-cued fixed schedule, no tracking), none (background search only).
     #[arg(long, default_value = "default", value_name = "NAME", conflicts_with = "ta_cmd")]
     pub tracker: String,
     /// Run a test article in another process, in any language: the command is started once per

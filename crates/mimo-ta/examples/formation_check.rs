@@ -8,8 +8,16 @@
 //! truth nearest in position at that time (same run, within 5 km); the truth is moved to the row
 //! time along its sampled velocity. ε = (x̂ − x)ᵀ P⁻¹ (x̂ − x) over the 6-state [p; v] in ECEF,
 //! χ²₆ when the filter is consistent (mean 6). Targets named `F-…` are fighters.
+//!
+//! The fighter rows are also split by the kind of the row's last measurement (`merged`; `split`:
+//! another measurement of the same dwell and channel within 3 cells of range, a two-target
+//! member or a close neighbour; `clean` otherwise) and by whether its dominant target
+//! (`target_hint`) is the nearest truth; and ε is also given against the last measurement's
+//! dominant target ("followed"), which differs from the nearest truth when a track sits on one
+//! aircraft's range with another's cross-range (issue 13, sixth round), and against the truth
+//! nearest in the track's own metric (the smallest ε over the truths sampled within 2 s).
 
-use mimo_core::records::{DwellKind, TrackRow, TrackStatus, TruthRow, unpack_cov};
+use mimo_core::records::{DwellKind, MeasurementRow, TrackRow, TrackStatus, TruthRow, unpack_cov};
 use mimo_store::read_table_dir;
 use mimo_track::linalg::{chol_mahalanobis, cholesky};
 use std::collections::BTreeMap;
@@ -37,9 +45,38 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
     for v in by_target.values_mut() {
         v.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
     }
+    let measurements: Vec<MeasurementRow> = read_table_dir(dir, "measurements")?;
+    // (run, meas_id) -> (kind, dominant target).
+    let mut channel: BTreeMap<(u32, u64, String, String), Vec<&MeasurementRow>> = BTreeMap::new();
+    for m in &measurements {
+        channel.entry((m.run, m.dwell_id, m.rx.to_string(), m.tx.to_string())).or_default().push(m);
+    }
+    let mut kind_of: BTreeMap<(u32, u64), (&'static str, Option<&str>)> = BTreeMap::new();
+    for ms in channel.values() {
+        for m in ms {
+            let close = ms.iter().any(|o| o.meas_id != m.meas_id && (o.range_m - m.range_m).abs() < 90.0);
+            let kind = if m.merged {
+                "merged"
+            } else if close {
+                "split"
+            } else {
+                "clean"
+            };
+            kind_of.insert((m.run, m.meas_id), (kind, m.target_hint.as_deref()));
+        }
+    }
     let mut nees: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
+    // (kind, hint is the nearest truth) -> fighter ε.
+    let mut by_kind: BTreeMap<(&str, bool), Vec<f64>> = BTreeMap::new();
+    let mut followed: Vec<f64> = Vec::new();
+    // Fighter rows: (ε against the nearest truth in position, ε against the nearest in the track's
+    // own metric, i.e. the smallest ε over the truths).
+    let mut metric_nearest: Vec<(f64, f64)> = Vec::new();
     for r in tracks.iter().filter(|r| r.status == TrackStatus::Confirmed && r.n_updates >= 3) {
-        let mut best: Option<(f64, [f64; 6], bool)> = None;
+        let last = r.last_meas_id.and_then(|id| kind_of.get(&(r.run, id))).copied();
+        let mut at_hint: Option<[f64; 6]> = None;
+        let mut candidates: Vec<[f64; 6]> = Vec::new();
+        let mut best: Option<(f64, [f64; 6], bool, &str)> = None;
         for ((run, name), samples) in &by_target {
             if *run != r.run {
                 continue;
@@ -63,14 +100,30 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             let dt = r.t_s - s.t_s;
             let x = [s.x_m + s.vx_mps * dt, s.y_m + s.vy_mps * dt, s.z_m + s.vz_mps * dt, s.vx_mps, s.vy_mps, s.vz_mps];
             let d2 = (x[0] - r.x_m).powi(2) + (x[1] - r.y_m).powi(2) + (x[2] - r.z_m).powi(2);
+            candidates.push(x);
+            if last.and_then(|k| k.1) == Some(name.as_str()) {
+                at_hint = Some(x);
+            }
             if d2 < 5000.0f64.powi(2) && best.is_none_or(|b| d2 < b.0) {
-                best = Some((d2, x, name.starts_with("F-")));
+                best = Some((d2, x, name.starts_with("F-"), name.as_str()));
             }
         }
-        let Some((_, x, fighter)) = best else { continue };
-        let e = [r.x_m - x[0], r.y_m - x[1], r.z_m - x[2], r.vx_mps - x[3], r.vy_mps - x[4], r.vz_mps - x[5]];
+        let Some((_, x, fighter, nearest)) = best else { continue };
+        let err = |x: &[f64; 6]| {
+            [r.x_m - x[0], r.y_m - x[1], r.z_m - x[2], r.vx_mps - x[3], r.vy_mps - x[4], r.vz_mps - x[5]]
+        };
         let Some(l) = cholesky(&unpack_cov(&r.cov)) else { continue };
-        nees.entry(if fighter { "fighters" } else { "airliners" }).or_default().push(chol_mahalanobis(&l, &e));
+        let eps = chol_mahalanobis(&l, &err(&x));
+        nees.entry(if fighter { "fighters" } else { "airliners" }).or_default().push(eps);
+        if fighter {
+            let (kind, hint) = last.unwrap_or(("none", None));
+            by_kind.entry((kind, hint == Some(nearest))).or_default().push(eps);
+            if let Some(xh) = at_hint {
+                followed.push(chol_mahalanobis(&l, &err(&xh)));
+            }
+            let min = candidates.iter().map(|c| chol_mahalanobis(&l, &err(c))).fold(eps, f64::min);
+            metric_nearest.push((eps, min));
+        }
     }
     println!("track NEES (6-state, χ²₆ mean 6):");
     for (class, mut v) in nees {
@@ -86,8 +139,43 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             100.0 * inside
         );
     }
+    println!("fighter NEES by the last measurement (kind, its dominant target is the nearest truth):");
+    for ((kind, right), v) in &by_kind {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        let big = v.iter().filter(|&&x| x > 100.0).count();
+        println!(
+            "  {kind:6} {right:5}  rows {:6}  mean {mean:9.2}  sum {:11.0}  rows > 100: {big}",
+            v.len(),
+            mean * v.len() as f64
+        );
+    }
+    if !followed.is_empty() {
+        followed.sort_by(f64::total_cmp);
+        let mean = followed.iter().sum::<f64>() / followed.len() as f64;
+        println!(
+            "fighter NEES against the last measurement's dominant target: rows {}  mean {mean:.2}  median {:.2}",
+            followed.len(),
+            followed[followed.len() / 2]
+        );
+    }
+    if !metric_nearest.is_empty() {
+        let n = metric_nearest.len() as f64;
+        let total: f64 = metric_nearest.iter().map(|p| p.0).sum();
+        let other: Vec<f64> = metric_nearest.iter().filter(|p| p.1 < p.0).map(|p| p.0).collect();
+        let other_sum: f64 = other.iter().sum();
+        let same_mean = (total - other_sum) / (n - other.len() as f64).max(1.0);
+        println!(
+            "fighter NEES against the truth nearest in the track's metric (smallest ε): mean {:.2}; rows whose \
+             nearest truth in position is another: {} ({:.2} %), {:.1} % of the NEES sum; the other rows' mean {same_mean:.2}",
+            metric_nearest.iter().map(|p| p.1).sum::<f64>() / n,
+            other.len(),
+            100.0 * other.len() as f64 / n,
+            100.0 * other_sum / total.max(f64::MIN_POSITIVE),
+        );
+    }
     drop(tracks);
     drop(truth);
+    drop(measurements);
     let dwells: Vec<mimo_core::records::DwellRow> = read_table_dir(dir, "dwells")?;
     // (radar, run) -> search start times.
     let mut search: BTreeMap<(String, u32), Vec<f64>> = BTreeMap::new();

@@ -26,7 +26,12 @@ pub struct Builtin {
 pub const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "default",
-        about: "the baseline: EKF (NCV) tracker, GNN, adaptive revisit and energy, MIMO dwells",
+        about: "the baseline: IMM tracker, JPDA with second returns, adaptive revisit and energy, MIMO dwells",
+        tracks: true,
+    },
+    Builtin {
+        name: "gnn",
+        about: "the baseline before issue 13's sixth round: EKF (NCV) tracker, GNN, adaptive revisit and energy, MIMO dwells",
         tracks: true,
     },
     Builtin { name: "imm", about: "the baseline with an IMM (CV-low + CV-high) instead of the EKF", tracks: true },
@@ -64,11 +69,23 @@ fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -
     DefaultTaConfig { tracker, ..DefaultTaConfig::default() }
 }
 
+/// The default test article (issue 13, sixth round; docs/DECISIONS.md): the IMM with JPDA, whose
+/// initiation exclusion keeps the resolution cell but not the wide NIS gate, and where a return a
+/// track's gate holds besides the track's preferred one may start a track (β < 0.5,
+/// docs/model.md §6.4): the second aircraft of a pair the two-target estimator split.
+fn the_default_config() -> DefaultTaConfig {
+    let mut c = default_ta_config(TrackerKind::Imm, AssociationMethod::Jpda);
+    c.tracker.initiation_exclusion.nis = 0.0;
+    c.tracker.second_return_max_beta = 0.5;
+    c
+}
+
 /// A built-in test article's default configuration (what its manifest records without overrides).
 pub fn default_config(name: &str) -> Result<Value, ConfigError> {
     let b = builtin(name)?;
     let v = match b.name {
-        "default" => serde_json::to_value(default_ta_config(TrackerKind::Default, AssociationMethod::Gnn)),
+        "default" => serde_json::to_value(the_default_config()),
+        "gnn" => serde_json::to_value(default_ta_config(TrackerKind::Default, AssociationMethod::Gnn)),
         "imm" => serde_json::to_value(default_ta_config(TrackerKind::Imm, AssociationMethod::Gnn)),
         "jpda" => serde_json::to_value(default_ta_config(TrackerKind::Default, AssociationMethod::Jpda)),
         "imm-jpda" => serde_json::to_value(default_ta_config(TrackerKind::Imm, AssociationMethod::Jpda)),
@@ -83,7 +100,7 @@ pub fn default_config(name: &str) -> Result<Value, ConfigError> {
 pub fn resolve_config(name: &str, overrides: &Value) -> Result<Value, ConfigError> {
     let merged = merge(&default_config(name)?, overrides)?;
     match builtin(name)?.name {
-        "default" | "imm" | "jpda" | "imm-jpda" => {
+        "default" | "gnn" | "imm" | "jpda" | "imm-jpda" => {
             let c: DefaultTaConfig = parse(&merged)?;
             c.tracker.validate().map_err(|e| ConfigError::BadValue { key: "tracker".into(), why: e.to_string() })?;
             c.resource_manager.validate().map_err(|(key, why)| ConfigError::BadValue { key, why })?;
@@ -106,7 +123,7 @@ pub fn resolve_config(name: &str, overrides: &Value) -> Result<Value, ConfigErro
 /// the world's truth; every other built-in learns the ships from its `start` event only.
 pub fn build<'w>(name: &str, config: &Value, world: &'w World) -> Result<Box<dyn TestArticle + 'w>, ConfigError> {
     Ok(match builtin(name)?.name {
-        "default" | "imm" | "jpda" | "imm-jpda" => Box::new(DefaultTa::new(name, parse(config)?)),
+        "default" | "gnn" | "imm" | "jpda" | "imm-jpda" => Box::new(DefaultTa::new(name, parse(config)?)),
         "cued" => Box::new(Cued::new(world, parse(config)?)),
         _ => Box::new(Passive),
     })

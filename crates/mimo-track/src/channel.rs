@@ -73,8 +73,13 @@ impl MultiTargetTracker {
                 near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
             }
         }
+        let mut second = vec![false; n_m];
         let claimed = match self.c.associator.probabilities(&table) {
             Some(probs) => {
+                if self.config.second_return_max_beta > 0.0 {
+                    second =
+                        crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
+                }
                 self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
                 vec![false; n_m]
             }
@@ -89,7 +94,7 @@ impl MultiTargetTracker {
         // strongest first; a detection inside the gate of a track started in this dwell is taken
         // as the same target and skipped.
         let mut cand: Vec<usize> = (0..n_m)
-            .filter(|&j| !claimed[j] && !near[j] && (0..ids.len()).all(|i| table.get(i, j).is_none()))
+            .filter(|&j| !claimed[j] && !near[j] && (second[j] || (0..ids.len()).all(|i| table.get(i, j).is_none())))
             .collect();
         cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
         for j in cand {

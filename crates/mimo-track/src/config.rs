@@ -224,6 +224,10 @@ pub struct TrackerConfig {
     /// resolution cell it is in, moving by that track's correction (docs/model.md §6.5). Off by
     /// default.
     pub partner_update: PartnerUpdate,
+    /// Under JPDA, let a return inside a track's gate start a track when every track that gates
+    /// it prefers another return and gives it `β` below this (docs/model.md §6.4,
+    /// [`crate::second_return`]); 0, the default, disables.
+    pub second_return_max_beta: f64,
 }
 
 /// A detection never starts a track when it lies, for some existing track, inside the track's
@@ -298,6 +302,7 @@ impl Default for TrackerConfig {
             share_merged: true,
             merged_group_update: false,
             partner_update: PartnerUpdate::default(),
+            second_return_max_beta: 0.0,
         }
     }
 }
@@ -365,6 +370,9 @@ impl TrackerConfig {
         pos("revisit.sharpness_v0", self.revisit.sharpness_v0)?;
         if self.revisit.t_max_s < self.revisit.t_min_s {
             return Err(bad("revisit.t_max_s", "at least revisit.t_min_s", self.revisit.t_max_s));
+        }
+        if !(0.0..=1.0).contains(&self.second_return_max_beta) {
+            return Err(bad("second_return_max_beta", "a probability in [0, 1]", self.second_return_max_beta));
         }
         if !(self.beam_miss_fraction.is_finite() && self.beam_miss_fraction >= 0.0) {
             return Err(bad("beam_miss_fraction", "a finite number >= 0", self.beam_miss_fraction));

@@ -120,6 +120,7 @@ pub mod partner;
 pub mod policy;
 mod pregate;
 mod queries;
+pub mod second_return;
 pub mod tracker;
 pub mod update;
 
