@@ -240,7 +240,31 @@ pub struct ImmFilter {
     pub updater: Box<dyn Updater>,
 }
 
+/// Modes an IMM prediction mixes on the stack; more take the general (allocating) path.
+const MAX_STACK_MODES: usize = 4;
+
 impl ImmFilter {
+    /// [`TrackFilter::predict`] for any number of modes (the reference the stack path follows).
+    fn predict_general(&self, state: &FilterState, dt: f64) -> FilterPrediction {
+        let m = self.predictors.len();
+        let pi = self.transition_matrix(dt);
+        // c̄_j = Σ_i π_ij μ_i.
+        let cbar: Vec<f64> = (0..m).map(|j| (0..m).map(|i| pi[i][j] * state.mu[i]).sum()).collect();
+        let mut modes = Vec::with_capacity(m);
+        for j in 0..m {
+            // Mixing weights μ_{i|j} = π_ij μ_i / c̄_j.
+            let w: Vec<f64> = if cbar[j] > 1e-300 {
+                (0..m).map(|i| pi[i][j] * state.mu[i] / cbar[j]).collect()
+            } else {
+                (0..m).map(|i| if i == j { 1.0 } else { 0.0 }).collect()
+            };
+            let x0 = moment_match(&w, &state.modes);
+            modes.push(self.predictors[j].predict(&x0, dt));
+        }
+        let combined = moment_match(&cbar, &modes);
+        FilterPrediction { modes, cbar, combined }
+    }
+
     /// Mode transition matrix `Π(T)`, row `i` = from mode `i`.
     pub fn transition_matrix(&self, dt: f64) -> Vec<Vec<f64>> {
         let m = self.sojourn_s.len();
@@ -275,18 +299,33 @@ impl TrackFilter for ImmFilter {
 
     fn predict(&self, state: &FilterState, dt: f64) -> FilterPrediction {
         let m = self.predictors.len();
-        let pi = self.transition_matrix(dt);
+        if m > MAX_STACK_MODES {
+            return self.predict_general(state, dt);
+        }
+        // The same arithmetic as `predict_general`, on the stack (no allocation but the result's).
+        let mut pi = [[0.0; MAX_STACK_MODES]; MAX_STACK_MODES];
+        for (i, row) in pi.iter_mut().enumerate().take(m) {
+            let leave = if m > 1 { 1.0 - (-dt.abs() / self.sojourn_s[i]).exp() } else { 0.0 };
+            for (j, p) in row.iter_mut().enumerate().take(m) {
+                *p = if i == j { 1.0 - leave } else { leave / (m - 1) as f64 };
+            }
+        }
         // c̄_j = Σ_i π_ij μ_i.
         let cbar: Vec<f64> = (0..m).map(|j| (0..m).map(|i| pi[i][j] * state.mu[i]).sum()).collect();
         let mut modes = Vec::with_capacity(m);
+        let mut w = [0.0; MAX_STACK_MODES];
         for j in 0..m {
             // Mixing weights μ_{i|j} = π_ij μ_i / c̄_j.
-            let w: Vec<f64> = if cbar[j] > 1e-300 {
-                (0..m).map(|i| pi[i][j] * state.mu[i] / cbar[j]).collect()
-            } else {
-                (0..m).map(|i| if i == j { 1.0 } else { 0.0 }).collect()
-            };
-            let x0 = moment_match(&w, &state.modes);
+            for (i, wi) in w.iter_mut().enumerate().take(m) {
+                *wi = if cbar[j] > 1e-300 {
+                    pi[i][j] * state.mu[i] / cbar[j]
+                } else if i == j {
+                    1.0
+                } else {
+                    0.0
+                };
+            }
+            let x0 = moment_match(&w[..m], &state.modes);
             modes.push(self.predictors[j].predict(&x0, dt));
         }
         let combined = moment_match(&cbar, &modes);
@@ -443,5 +482,34 @@ mod tests {
         let w00 = pi[0][0] * 0.7 / c0;
         // The mixed mean of mode 0 at t+10 s is (1 − w00)·10 (zero velocity).
         assert!((pr.modes[0].x[0] - (1.0 - w00) * 10.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn stack_prediction_is_the_general_one_bit_for_bit() {
+        let imm_of = |m: usize| {
+            let mut f = imm();
+            f.predictors.push(Box::new(KalmanPredictor::new(Ncv::dwna(80.0))));
+            f.sojourn_s.push(5.0);
+            f.predictors.truncate(m);
+            f.sojourn_s.truncate(m);
+            f
+        };
+        let modes: Vec<Gaussian> = (0..3)
+            .map(|k| {
+                let mut g = Gaussian { x: [0.0; 6], p: identity() };
+                for (i, x) in g.x.iter_mut().enumerate() {
+                    *x = (1.0 + k as f64) * (i as f64 * 0.37 - 1.1) * 123.456;
+                    g.p[i][i] = 1.0 + 0.3 * (k * 6 + i) as f64;
+                }
+                g
+            })
+            .collect();
+        for (m, mu) in [(2, vec![0.62, 0.38]), (3, vec![0.5, 0.3, 0.2]), (3, vec![1.0, 0.0, 0.0])] {
+            let f = imm_of(m);
+            let st = FilterState { modes: modes[..m].to_vec(), mu };
+            for dt in [0.0, 0.25, 1.7, 40.0] {
+                assert_eq!(f.predict(&st, dt), f.predict_general(&st, dt), "{m} modes, dt {dt}");
+            }
+        }
     }
 }
