@@ -16,12 +16,44 @@
 //! dominant target ("followed"), which differs from the nearest truth when a track sits on one
 //! aircraft's range with another's cross-range (issue 13, sixth round), and against the truth
 //! nearest in the track's own metric (the smallest ε over the truths sampled within 2 s).
+//!
+//! When the run has been scored, ε is also given against the truth the score's assignment
+//! (docs/design.md §6, `score/assignments.parquet`) gives the track at the first scoring time
+//! at or after the row (within one interval, 1 s): the pairing every track metric uses. Rows of
+//! a track unassigned then are left out of that figure.
 
 use mimo_core::records::{DwellKind, MeasurementRow, TrackRow, TrackStatus, TruthRow, unpack_cov};
 use mimo_store::read_table_dir;
 use mimo_track::linalg::{chol_mahalanobis, cholesky};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// (run, track id) -> (scoring time, assigned truth), by time, from `score/assignments.parquet`;
+/// `None` when the run has not been scored.
+type Assigned = BTreeMap<(u32, u64), Vec<(f64, String)>>;
+
+fn assignments(dir: &Path) -> Option<Assigned> {
+    use arrow::array::{Array, Float64Array, StringArray, UInt32Array, UInt64Array};
+    let file = std::fs::File::open(dir.join("score").join("assignments.parquet")).ok()?;
+    let reader = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(file).ok()?.build().ok()?;
+    let mut out: Assigned = BTreeMap::new();
+    for batch in reader {
+        let b = batch.ok()?;
+        let run = b.column_by_name("run")?.as_any().downcast_ref::<UInt32Array>()?;
+        let t = b.column_by_name("t_s")?.as_any().downcast_ref::<Float64Array>()?;
+        let target = b.column_by_name("target")?.as_any().downcast_ref::<StringArray>()?;
+        let track = b.column_by_name("track_id")?.as_any().downcast_ref::<UInt64Array>()?;
+        for i in 0..b.num_rows() {
+            if !track.is_null(i) {
+                out.entry((run.value(i), track.value(i))).or_default().push((t.value(i), target.value(i).to_string()));
+            }
+        }
+    }
+    for v in out.values_mut() {
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    Some(out)
+}
 
 fn main() {
     let Some(dir) = std::env::args().nth(1).map(PathBuf::from) else {
@@ -72,9 +104,18 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
     // Fighter rows: (ε against the nearest truth in position, ε against the nearest in the track's
     // own metric, i.e. the smallest ε over the truths).
     let mut metric_nearest: Vec<(f64, f64)> = Vec::new();
+    let assigned = assignments(dir);
+    // Fighter rows' ε against the truth the score assigns the track; rows left unassigned.
+    let (mut by_assignment, mut unassigned): (Vec<f64>, usize) = (Vec::new(), 0);
     for r in tracks.iter().filter(|r| r.status == TrackStatus::Confirmed && r.n_updates >= 3) {
         let last = r.last_meas_id.and_then(|id| kind_of.get(&(r.run, id))).copied();
         let mut at_hint: Option<[f64; 6]> = None;
+        let assigned_to: Option<&str> = assigned.as_ref().and_then(|a| {
+            let v = a.get(&(r.run, r.track_id))?;
+            let k = v.partition_point(|(t, _)| *t < r.t_s);
+            v.get(k).filter(|(t, _)| *t - r.t_s <= 1.0 + 1e-9).map(|(_, name)| name.as_str())
+        });
+        let mut at_assigned: Option<([f64; 6], bool)> = None;
         let mut candidates: Vec<[f64; 6]> = Vec::new();
         let mut best: Option<(f64, [f64; 6], bool, &str)> = None;
         for ((run, name), samples) in &by_target {
@@ -104,6 +145,9 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             if last.and_then(|k| k.1) == Some(name.as_str()) {
                 at_hint = Some(x);
             }
+            if assigned_to == Some(name.as_str()) {
+                at_assigned = Some((x, name.starts_with("F-")));
+            }
             if d2 < 5000.0f64.powi(2) && best.is_none_or(|b| d2 < b.0) {
                 best = Some((d2, x, name.starts_with("F-"), name.as_str()));
             }
@@ -114,6 +158,11 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
         };
         let Some(l) = cholesky(&unpack_cov(&r.cov)) else { continue };
         let eps = chol_mahalanobis(&l, &err(&x));
+        match at_assigned {
+            Some((xa, true)) => by_assignment.push(chol_mahalanobis(&l, &err(&xa))),
+            Some((_, false)) => {}
+            None => unassigned += usize::from(fighter),
+        }
         nees.entry(if fighter { "fighters" } else { "airliners" }).or_default().push(eps);
         if fighter {
             let (kind, hint) = last.unwrap_or(("none", None));
@@ -172,6 +221,21 @@ fn run(dir: &std::path::Path) -> Result<(), mimo_store::StoreError> {
             100.0 * other.len() as f64 / n,
             100.0 * other_sum / total.max(f64::MIN_POSITIVE),
         );
+    }
+    match (&assigned, by_assignment.len()) {
+        (None, _) => {
+            println!("fighter NEES against the score's assignment: run not scored (no score/assignments.parquet)")
+        }
+        (Some(_), 0) => println!("fighter NEES against the score's assignment: no assigned fighter rows"),
+        (Some(_), n) => {
+            by_assignment.sort_by(f64::total_cmp);
+            println!(
+                "fighter NEES against the truth the score assigns the track: rows {n}  mean {:.2}  median {:.2}  \
+                 (fighter rows of tracks unassigned at the next scoring time: {unassigned})",
+                by_assignment.iter().sum::<f64>() / n as f64,
+                by_assignment[n / 2]
+            );
+        }
     }
     drop(tracks);
     drop(truth);
