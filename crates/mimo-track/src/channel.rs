@@ -5,6 +5,7 @@
 use crate::association::HypothesisTable;
 use crate::diagnostics::NisRecord;
 use crate::dwell::DwellContext;
+use crate::dwell_predictions::{Basis, DwellPredictions};
 use crate::filter::{FilterPrediction, TrackFilter};
 use crate::jpda::{AssociationProbabilities, combine};
 use crate::measurement::{MeasurementModel, PreparedMeasurement};
@@ -14,16 +15,30 @@ use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::records::TrackStatus;
 use std::collections::BTreeSet;
 
-/// Per-track cache of predictions within one channel (usually one time).
+/// Per-track cache of predictions within one channel (usually one time), seeded with the
+/// dwell's earlier predictions from the same state and handed back to them at the channel's end
+/// ([`DwellPredictions`]). Every prediction of a channel is made from the track's state at the
+/// channel's start (a track is updated at most once per channel, after its predictions).
 struct PredCache {
+    basis: Option<Basis>,
     entries: Vec<(f64, FilterPrediction)>,
 }
 
 impl PredCache {
+    fn seeded(store: &mut DwellPredictions, id: u64, track: &Track) -> PredCache {
+        match store.take(id, track.t_s, &track.state) {
+            Some((basis, entries)) => PredCache { basis: Some(basis), entries },
+            None => PredCache { basis: None, entries: Vec::new() },
+        }
+    }
+
     fn get(&mut self, filter: &dyn TrackFilter, track: &Track, t_s: f64) -> &FilterPrediction {
         let k = match self.entries.iter().position(|(t, _)| *t == t_s) {
             Some(k) => k,
             None => {
+                if self.basis.is_none() {
+                    self.basis = Some(Basis { t_s: track.t_s, state: track.state.clone() });
+                }
                 self.entries.push((t_s, filter.predict(&track.state, t_s - track.t_s)));
                 self.entries.len() - 1
             }
@@ -45,7 +60,8 @@ impl MultiTargetTracker {
         let ids: Vec<u64> = self.tracks.keys().copied().collect();
         let n_m = list.len();
         let filter = &*self.c.filter;
-        let mut caches: Vec<PredCache> = ids.iter().map(|_| PredCache { entries: Vec::new() }).collect();
+        let mut caches: Vec<PredCache> =
+            ids.iter().map(|id| PredCache::seeded(&mut self.preds, *id, &self.tracks[id])).collect();
         let mut table = HypothesisTable::new(ids.len(), n_m);
         // A measurement inside an existing track's resolution cell, or within its initiation
         // exclusion gate, never starts a track (docs/model.md §6.4).
@@ -85,6 +101,12 @@ impl MultiTargetTracker {
             }
             None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated, excused),
         };
+        // The channel's predictions, for the dwell's other channels and its deletion pass.
+        for (id, cache) in ids.iter().zip(caches) {
+            if let Some(basis) = cache.basis {
+                self.preds.put(*id, basis, cache.entries);
+            }
+        }
         let filter = &*self.c.filter;
 
         if !may_initiate {

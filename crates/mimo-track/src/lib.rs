@@ -106,6 +106,7 @@ pub mod deletion;
 mod deletion_quiet;
 pub mod diagnostics;
 pub mod dwell;
+mod dwell_predictions;
 pub mod filter;
 pub mod frame;
 pub mod gating;

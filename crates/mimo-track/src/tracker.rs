@@ -59,6 +59,8 @@ pub struct MultiTargetTracker {
     pub(crate) stats: TrackerStats,
     /// Deletion checks known to keep their track (docs/model.md §6.4).
     pub(crate) quiet: crate::deletion_quiet::QuietTracks,
+    /// Predictions made in the current dwell, for its other channels and its deletion pass.
+    pub(crate) preds: crate::dwell_predictions::DwellPredictions,
 }
 
 impl fmt::Debug for MultiTargetTracker {
@@ -95,6 +97,7 @@ impl MultiTargetTracker {
             nis_log: Vec::new(),
             stats: TrackerStats::default(),
             quiet: Default::default(),
+            preds: Default::default(),
         }
     }
 
@@ -203,6 +206,7 @@ impl MultiTargetTracker {
         }
         self.stats.dwells += 1;
         self.stats.measurements += meas.len() as u64;
+        self.preds.clear();
 
         // Validate and group by channel; order within a channel by measurement id so that the
         // result never depends on the caller's row order.
@@ -346,7 +350,10 @@ impl MultiTargetTracker {
             if !rejected.contains(id) && self.quiet.is_quiet(&*self.c.filter, &*self.c.deleter, t, t_s) {
                 continue;
             }
-            let g = self.c.filter.predict(&t.state, t_s - t.t_s).combined;
+            let g = match self.preds.find(*id, t.t_s, &t.state, t_s) {
+                Some(p) => p.combined,
+                None => self.c.filter.predict(&t.state, t_s - t.t_s).combined,
+            };
             let reason = if rejected.contains(id) {
                 Some(DeleteReason::Unconfirmed)
             } else if !g.is_finite() {
