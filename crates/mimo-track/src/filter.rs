@@ -332,6 +332,50 @@ impl TrackFilter for ImmFilter {
         FilterPrediction { modes, cbar, combined }
     }
 
+    fn predict_mean(&self, state: &FilterState, dt: f64) -> [f64; 6] {
+        let m = self.predictors.len();
+        if !(2..=MAX_STACK_MODES).contains(&m) || state.modes.len() != m || state.mu.len() != m {
+            return self.predict(state, dt).combined.x;
+        }
+        // `predict`'s arithmetic for the means alone: the mixed means (`moment_match`'s mean
+        // loop), each mode's predicted mean, and their combination with c̄ (the same loop).
+        let mut pi = [[0.0; MAX_STACK_MODES]; MAX_STACK_MODES];
+        for (i, row) in pi.iter_mut().enumerate().take(m) {
+            let leave = 1.0 - (-dt.abs() / self.sojourn_s[i]).exp();
+            for (j, p) in row.iter_mut().enumerate().take(m) {
+                *p = if i == j { 1.0 - leave } else { leave / (m - 1) as f64 };
+            }
+        }
+        let mut cbar = [0.0; MAX_STACK_MODES];
+        for (j, c) in cbar.iter_mut().enumerate().take(m) {
+            *c = (0..m).map(|i| pi[i][j] * state.mu[i]).sum();
+        }
+        let mut x = [0.0; 6];
+        let mut w = [0.0; MAX_STACK_MODES];
+        for j in 0..m {
+            for (i, wi) in w.iter_mut().enumerate().take(m) {
+                *wi = if cbar[j] > 1e-300 {
+                    pi[i][j] * state.mu[i] / cbar[j]
+                } else if i == j {
+                    1.0
+                } else {
+                    0.0
+                };
+            }
+            let mut x0 = [0.0; 6];
+            for (wi, gi) in w[..m].iter().zip(&state.modes) {
+                for (a, b) in x0.iter_mut().zip(&gi.x) {
+                    *a += wi * b;
+                }
+            }
+            let xj = self.predictors[j].predict_mean(&Gaussian { x: x0, p: [[0.0; 6]; 6] }, dt);
+            for (a, b) in x.iter_mut().zip(&xj) {
+                *a += cbar[j] * b;
+            }
+        }
+        x
+    }
+
     fn update(
         &self,
         pred: &FilterPrediction,
@@ -509,6 +553,33 @@ mod tests {
             let st = FilterState { modes: modes[..m].to_vec(), mu };
             for dt in [0.0, 0.25, 1.7, 40.0] {
                 assert_eq!(f.predict(&st, dt), f.predict_general(&st, dt), "{m} modes, dt {dt}");
+            }
+        }
+    }
+
+    #[test]
+    fn imm_mean_prediction_is_the_full_one_bit_for_bit() {
+        let mut f = imm();
+        f.predictors.push(Box::new(KalmanPredictor::new(Ncv::dwna(80.0))));
+        f.sojourn_s.push(5.0);
+        let modes: Vec<Gaussian> = (0..3)
+            .map(|k| {
+                let mut g = Gaussian { x: [0.0; 6], p: identity() };
+                for (i, x) in g.x.iter_mut().enumerate() {
+                    *x = (1.0 + k as f64) * (i as f64 * 0.37 - 1.1) * 123.456 + 6.4e6 * f64::from(i == 0);
+                }
+                g
+            })
+            .collect();
+        for mu in [vec![0.5, 0.3, 0.2], vec![1.0, 0.0, 0.0], vec![0.01, 0.98, 0.01]] {
+            let st = FilterState { modes: modes.clone(), mu };
+            for dt in [0.0, 0.05, 0.25, 1.7, 40.0] {
+                let full = f.predict(&st, dt).combined.x;
+                let mean = f.predict_mean(&st, dt);
+                assert!(
+                    full.iter().zip(&mean).all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "dt {dt}: {full:?} vs {mean:?}"
+                );
             }
         }
     }
