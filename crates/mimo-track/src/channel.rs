@@ -78,6 +78,9 @@ impl MultiTargetTracker {
                     continue;
                 }
                 let pred = caches[i].get(filter, track, m.t_s);
+                if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
+                    continue;
+                }
                 if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r) {
                     if self.c.gater.accepts(&h) {
                         table.set(i, j, Some(h));

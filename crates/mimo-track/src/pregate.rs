@@ -13,7 +13,7 @@
 //! left to the channel's cache, which computes it only when a pair or an update needs it.
 
 use crate::config::InitiationExclusion;
-use crate::filter::{PredictionBound, TrackFilter};
+use crate::filter::{FilterPrediction, PredictionBound, TrackFilter};
 use crate::gating::Gater;
 use crate::measurement::PreparedMeasurement;
 use crate::tracker::Track;
@@ -77,6 +77,34 @@ impl PreGate {
         }
         let outside_cell = nu_rb.abs() > self.cell_rb_m;
         outside_cell && nu_rb * nu_rb > NIS_MARGIN * nis_max * s_rr_max
+    }
+}
+
+impl PreGate {
+    /// Whether the pair of a track predicted as `pred` and `m` is sure to fail the gate, the
+    /// exclusion NIS and the exclusion cell, from the prediction itself: for a multiple-model
+    /// filter, whose gate statistic is the smallest mode NIS (and which offers no bound before
+    /// predicting), every mode's range-sum bound lies above both NIS limits by [`NIS_MARGIN`]
+    /// and the combined prediction's residual lies outside the cell. Skipping such a pair saves
+    /// its per-mode innovations; the gated table and the tracks are the same, bit for bit.
+    pub(crate) fn excludes_prediction(&self, pred: &FilterPrediction, m: &PreparedMeasurement) -> bool {
+        let Some(nis_max) = self.nis_max else { return false };
+        let nu_rb = |x: &[f64; 6]| m.z[0] - m.model.h_pos(DVec3::new(x[0], x[1], x[2]))[0];
+        let nu_c = nu_rb(&pred.combined.x);
+        if !(nu_c.is_finite() && nu_c.abs() > self.cell_rb_m) {
+            return false;
+        }
+        pred.modes.iter().all(|g| {
+            let tr = g.p[0][0] + g.p[1][1] + g.p[2][2];
+            let s_rr_max = 4.0 * tr + m.r[0][0];
+            let nu = nu_rb(&g.x);
+            tr.is_finite()
+                && tr >= 0.0
+                && s_rr_max > 0.0
+                && s_rr_max.is_finite()
+                && nu.is_finite()
+                && nu * nu > NIS_MARGIN * nis_max * s_rr_max
+        })
     }
 }
 
@@ -171,5 +199,33 @@ mod tests {
         let t = track(&*c.filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 0.0], 400.0);
         let m = meas(model, 300_000.0, 1.0);
         assert!(!gate.excludes(&*c.filter, &t, &m, &mut BoundCache::default()));
+    }
+
+    /// The IMM's pre-gate from its prediction: every pair it skips has a smallest-mode NIS above
+    /// the gate, and the sweep through the gate's edge skips and keeps pairs.
+    #[test]
+    fn the_imm_prediction_skips_only_pairs_whose_nis_is_above_the_gate() {
+        let config = TrackerConfig::for_kind(crate::config::TrackerKind::Imm);
+        let c = Components::from_config(&config);
+        let filter = &*c.filter;
+        let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);
+        let model = BistaticRuv::monostatic(DVec3::ZERO, identity());
+        let t = track(filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 200.0], 400.0);
+        let dt = 2.0;
+        let pred = filter.predict(&t.state, dt);
+        assert!(pred.modes.len() > 1);
+        let rb_true = 2.0 * (50_000.0 + 200.0 * dt);
+        let (mut skipped, mut kept) = (0, 0);
+        for k in -400..=400 {
+            let m = meas(model, rb_true + 10.0 * k as f64, dt);
+            let h = filter.hypothesis(&pred, &m.model, &m.z, &m.r).expect("finite");
+            if gate.excludes_prediction(&pred, &m) {
+                skipped += 1;
+                assert!(h.nis > config.gate.threshold, "skipped a pair with NIS {}", h.nis);
+            } else {
+                kept += 1;
+            }
+        }
+        assert!(skipped > 100 && kept > 10, "skipped {skipped}, kept {kept}");
     }
 }
