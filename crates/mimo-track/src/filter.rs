@@ -243,6 +243,31 @@ pub struct ImmFilter {
 /// Modes an IMM prediction mixes on the stack; more take the general (allocating) path.
 const MAX_STACK_MODES: usize = 4;
 
+/// `c̄_j = Σ_i π_ij μ_i`.
+fn cbar_of(pi: &[[f64; MAX_STACK_MODES]; MAX_STACK_MODES], mu: &[f64], j: usize) -> f64 {
+    (0..mu.len()).map(|i| pi[i][j] * mu[i]).sum()
+}
+
+/// Mixing weights `μ_{i|j} = π_ij μ_i / c̄_j` (mode `j` alone when `c̄_j` vanishes).
+fn mixing_weights(
+    pi: &[[f64; MAX_STACK_MODES]; MAX_STACK_MODES],
+    mu: &[f64],
+    cbar_j: f64,
+    j: usize,
+) -> [f64; MAX_STACK_MODES] {
+    let mut w = [0.0; MAX_STACK_MODES];
+    for (i, wi) in w.iter_mut().enumerate().take(mu.len()) {
+        *wi = if cbar_j > 1e-300 {
+            pi[i][j] * mu[i] / cbar_j
+        } else if i == j {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    w
+}
+
 impl ImmFilter {
     /// [`TrackFilter::predict`] for any number of modes (the reference the stack path follows).
     fn predict_general(&self, state: &FilterState, dt: f64) -> FilterPrediction {
@@ -263,6 +288,20 @@ impl ImmFilter {
         }
         let combined = moment_match(&cbar, &modes);
         FilterPrediction { modes, cbar, combined }
+    }
+
+    /// `Π(T)` on the stack (at most [`MAX_STACK_MODES`] modes), the same values as
+    /// [`ImmFilter::transition_matrix`].
+    fn transition_stack(&self, dt: f64) -> [[f64; MAX_STACK_MODES]; MAX_STACK_MODES] {
+        let m = self.predictors.len();
+        let mut pi = [[0.0; MAX_STACK_MODES]; MAX_STACK_MODES];
+        for (i, row) in pi.iter_mut().enumerate().take(m) {
+            let leave = if m > 1 { 1.0 - (-dt.abs() / self.sojourn_s[i]).exp() } else { 0.0 };
+            for (j, p) in row.iter_mut().enumerate().take(m) {
+                *p = if i == j { 1.0 - leave } else { leave / (m - 1) as f64 };
+            }
+        }
+        pi
     }
 
     /// Mode transition matrix `Π(T)`, row `i` = from mode `i`.
@@ -303,31 +342,17 @@ impl TrackFilter for ImmFilter {
             return self.predict_general(state, dt);
         }
         // The same arithmetic as `predict_general`, on the stack (no allocation but the result's).
-        let mut pi = [[0.0; MAX_STACK_MODES]; MAX_STACK_MODES];
-        for (i, row) in pi.iter_mut().enumerate().take(m) {
-            let leave = if m > 1 { 1.0 - (-dt.abs() / self.sojourn_s[i]).exp() } else { 0.0 };
-            for (j, p) in row.iter_mut().enumerate().take(m) {
-                *p = if i == j { 1.0 - leave } else { leave / (m - 1) as f64 };
-            }
+        if state.mu.len() != m {
+            return self.predict_general(state, dt);
         }
-        // c̄_j = Σ_i π_ij μ_i.
-        let cbar: Vec<f64> = (0..m).map(|j| (0..m).map(|i| pi[i][j] * state.mu[i]).sum()).collect();
-        let mut modes = Vec::with_capacity(m);
-        let mut w = [0.0; MAX_STACK_MODES];
-        for j in 0..m {
-            // Mixing weights μ_{i|j} = π_ij μ_i / c̄_j.
-            for (i, wi) in w.iter_mut().enumerate().take(m) {
-                *wi = if cbar[j] > 1e-300 {
-                    pi[i][j] * state.mu[i] / cbar[j]
-                } else if i == j {
-                    1.0
-                } else {
-                    0.0
-                };
-            }
-            let x0 = moment_match(&w[..m], &state.modes);
-            modes.push(self.predictors[j].predict(&x0, dt));
-        }
+        let pi = self.transition_stack(dt);
+        let cbar: Vec<f64> = (0..m).map(|j| cbar_of(&pi, &state.mu, j)).collect();
+        let modes: Vec<Gaussian> = (0..m)
+            .map(|j| {
+                let w = mixing_weights(&pi, &state.mu, cbar[j], j);
+                self.predictors[j].predict(&moment_match(&w[..m], &state.modes), dt)
+            })
+            .collect();
         let combined = moment_match(&cbar, &modes);
         FilterPrediction { modes, cbar, combined }
     }
@@ -339,29 +364,11 @@ impl TrackFilter for ImmFilter {
         }
         // `predict`'s arithmetic for the means alone: the mixed means (`moment_match`'s mean
         // loop), each mode's predicted mean, and their combination with c̄ (the same loop).
-        let mut pi = [[0.0; MAX_STACK_MODES]; MAX_STACK_MODES];
-        for (i, row) in pi.iter_mut().enumerate().take(m) {
-            let leave = 1.0 - (-dt.abs() / self.sojourn_s[i]).exp();
-            for (j, p) in row.iter_mut().enumerate().take(m) {
-                *p = if i == j { 1.0 - leave } else { leave / (m - 1) as f64 };
-            }
-        }
-        let mut cbar = [0.0; MAX_STACK_MODES];
-        for (j, c) in cbar.iter_mut().enumerate().take(m) {
-            *c = (0..m).map(|i| pi[i][j] * state.mu[i]).sum();
-        }
+        let pi = self.transition_stack(dt);
         let mut x = [0.0; 6];
-        let mut w = [0.0; MAX_STACK_MODES];
         for j in 0..m {
-            for (i, wi) in w.iter_mut().enumerate().take(m) {
-                *wi = if cbar[j] > 1e-300 {
-                    pi[i][j] * state.mu[i] / cbar[j]
-                } else if i == j {
-                    1.0
-                } else {
-                    0.0
-                };
-            }
+            let cbar_j = cbar_of(&pi, &state.mu, j);
+            let w = mixing_weights(&pi, &state.mu, cbar_j, j);
             let mut x0 = [0.0; 6];
             for (wi, gi) in w[..m].iter().zip(&state.modes) {
                 for (a, b) in x0.iter_mut().zip(&gi.x) {
@@ -370,7 +377,7 @@ impl TrackFilter for ImmFilter {
             }
             let xj = self.predictors[j].predict_mean(&Gaussian { x: x0, p: [[0.0; 6]; 6] }, dt);
             for (a, b) in x.iter_mut().zip(&xj) {
-                *a += cbar[j] * b;
+                *a += cbar_j * b;
             }
         }
         x
