@@ -106,7 +106,8 @@ pub(crate) struct Split {
 /// Read the `run` column of every truth and tracks file and group the files into parts
 /// ([`group`]); `None` when the recording is not worth splitting or cannot be split exactly.
 pub(crate) fn split(truth: &[PathBuf], tracks: &[PathBuf]) -> Result<Option<Split>, MetricsError> {
-    if truth.len() < 2 {
+    // No tracks file at all is an input error the whole read reports.
+    if truth.len() < 2 || tracks.is_empty() {
         return Ok(None);
     }
     let truth_runs = truth.iter().map(|p| file_runs("truth", p)).collect::<Result<Vec<_>, _>>()?;
