@@ -99,7 +99,13 @@ const BISECTIONS: u32 = 5;
 fn quiet_dt_s(filter: &dyn TrackFilter, deleter: &dyn Deleter, t: &Track) -> f64 {
     const NEVER: f64 = f64::NEG_INFINITY;
     let Some(span) = deleter.quiet_span(t.status, t.consecutive_misses, t.n_updates) else { return NEVER };
-    if !(span.max_dt_s.is_finite() && span.max_dt_s >= 0.0 && filter.position_trace_convex(&t.state)) {
+    if !(span.max_dt_s.is_finite() && span.max_dt_s >= 0.0) {
+        return NEVER;
+    }
+    // Either the trace itself is convex, or the filter offers a convex upper bound of it (the
+    // IMM with constant-velocity modes); without either nothing is promised.
+    let convex = filter.position_trace_convex(&t.state);
+    if !convex && filter.position_trace_upper_convex(&t.state, 0.0).is_none() {
         return NEVER;
     }
     let limit = span.max_position_trace_m2 * (1.0 - TRACE_MARGIN);
@@ -108,16 +114,33 @@ fn quiet_dt_s(filter: &dyn TrackFilter, deleter: &dyn Deleter, t: &Track) -> f64
     // promised by the constant-velocity model, whose prediction of a finite prior is finite when
     // its mean and position trace are (every other entry is bounded by them and the prior).
     let prior_finite = t.state.is_finite();
-    let below = |dt: f64| match filter.prediction_bound(&t.state, dt) {
+    let below_upper = |dt: f64| match filter.position_trace_upper_convex(&t.state, dt) {
+        // A finite prior with constant-velocity modes predicts finite means and covariances
+        // whenever the means and this bound are finite.
         Some(b) => {
             prior_finite
-                && b.mean.iter().all(|x| x.is_finite())
-                && b.position_trace.is_finite()
-                && b.position_trace <= limit
+                && b.is_finite()
+                && b <= limit
+                && filter.predict_mean(&t.state, dt).iter().all(|x| x.is_finite())
         }
-        None => {
-            let g = filter.predict(&t.state, dt).combined;
-            g.is_finite() && trace(&g.pos_cov()) <= limit
+        None => false,
+    };
+    let below = |dt: f64| {
+        if !convex {
+            below_upper(dt)
+        } else {
+            match filter.prediction_bound(&t.state, dt) {
+                Some(b) => {
+                    prior_finite
+                        && b.mean.iter().all(|x| x.is_finite())
+                        && b.position_trace.is_finite()
+                        && b.position_trace <= limit
+                }
+                None => {
+                    let g = filter.predict(&t.state, dt).combined;
+                    g.is_finite() && trace(&g.pos_cov()) <= limit
+                }
+            }
         }
     };
     if !below(0.0) {

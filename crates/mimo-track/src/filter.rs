@@ -113,6 +113,13 @@ pub trait TrackFilter: Send + Sync {
     fn position_trace_convex(&self, _state: &FilterState) -> bool {
         false
     }
+    /// An upper bound on the trace of the combined predicted position covariance at `dt`
+    /// (m²), convex in `dt ≥ 0` for this state, for deletion certificates when
+    /// [`TrackFilter::position_trace_convex`] cannot promise the trace itself (docs/model.md
+    /// §6.4). The default, `None`, offers none.
+    fn position_trace_upper_convex(&self, _state: &FilterState, _dt: f64) -> Option<f64> {
+        None
+    }
     /// Update a prediction with a measurement.
     fn update(
         &self,
@@ -357,6 +364,38 @@ impl TrackFilter for ImmFilter {
         FilterPrediction { modes, cbar, combined }
     }
 
+    /// With constant-velocity modes whose position traces are convex: every mixed prior is a
+    /// convex combination of the modes, so each mode's predicted position trace is at most
+    /// `max_{i,j} tr_pos(F P_i Fᵀ + Q_j) + S(dt)` with `S(dt) = max_{i,k} |F(x_i − x_k)|²_pos`
+    /// (the spread of the mixed means), and the combined trace adds at most `S(dt)` more (the
+    /// spread of the predicted means). Each term is convex in `dt`, so their sum is.
+    fn position_trace_upper_convex(&self, state: &FilterState, dt: f64) -> Option<f64> {
+        let m = self.predictors.len();
+        if state.modes.len() != m || m < 2 {
+            return None;
+        }
+        let mut covariance = f64::NEG_INFINITY;
+        for p in &self.predictors {
+            if !p.constant_velocity() {
+                return None;
+            }
+            for g in &state.modes {
+                if !p.position_trace_convex(g) {
+                    return None;
+                }
+                covariance = covariance.max(p.position_trace(g, dt)?);
+            }
+        }
+        let mut spread = 0.0f64;
+        for a in &state.modes {
+            for b in &state.modes {
+                let d2: f64 = (0..3).map(|k| ((a.x[k] - b.x[k]) + dt * (a.x[k + 3] - b.x[k + 3])).powi(2)).sum();
+                spread = spread.max(d2);
+            }
+        }
+        Some(covariance + 2.0 * spread)
+    }
+
     fn predict_mean(&self, state: &FilterState, dt: f64) -> [f64; 6] {
         let m = self.predictors.len();
         if !(2..=MAX_STACK_MODES).contains(&m) || state.modes.len() != m || state.mu.len() != m {
@@ -479,7 +518,7 @@ fn vscale_vec(v: &[f64], s: f64) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linalg::identity;
+    use crate::linalg::{identity, trace};
     use crate::motion::{KalmanPredictor, Ncv};
     use crate::update::EkfUpdater;
 
@@ -587,6 +626,36 @@ mod tests {
                     full.iter().zip(&mean).all(|(a, b)| a.to_bits() == b.to_bits()),
                     "dt {dt}: {full:?} vs {mean:?}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn the_imm_trace_bound_holds_and_is_convex() {
+        let f = imm();
+        for k in 0..20 {
+            let kf = k as f64;
+            let mut a = Gaussian { x: [0.0; 6], p: identity() };
+            let mut b = a;
+            for i in 0..6 {
+                a.x[i] = (i as f64 - 2.5) * 37.0 * (1.0 + kf);
+                b.x[i] = a.x[i] + (kf - 9.5) * (1.0 + i as f64) * 11.0;
+                a.p[i][i] = 10.0 + kf * i as f64;
+                b.p[i][i] = 500.0 / (1.0 + kf) + i as f64;
+            }
+            a.p[0][3] = 3.0;
+            a.p[3][0] = 3.0;
+            let mu = 0.05 + 0.045 * kf;
+            let st = FilterState { modes: vec![a, b], mu: vec![mu, 1.0 - mu] };
+            let bound = |dt: f64| f.position_trace_upper_convex(&st, dt).expect("CV modes");
+            let dts: Vec<f64> = (0..=40).map(|n| 0.25 * n as f64).collect();
+            for &dt in &dts {
+                let tr = trace(&f.predict(&st, dt).combined.pos_cov());
+                assert!(bound(dt) >= tr * (1.0 - 1e-12), "k {k} dt {dt}: bound {} < trace {tr}", bound(dt));
+            }
+            // Convex: no point above the chord of its neighbours.
+            for w in dts.windows(3) {
+                assert!(bound(w[1]) <= 0.5 * (bound(w[0]) + bound(w[2])) * (1.0 + 1e-12));
             }
         }
     }

@@ -31,6 +31,11 @@ pub trait MotionModel: Send + Sync {
     fn position_trace_convex(&self) -> bool {
         false
     }
+    /// Whether the mean moves at constant velocity, `p(dt) = p + dt·v`, `v(dt) = v` (the IMM's
+    /// deletion certificate bounds the spread of its modes' means with it). Default `false`.
+    fn constant_velocity(&self) -> bool {
+        false
+    }
     /// `tr` of the position block of `F P Fᵀ + Q` (the prediction's covariance before
     /// symmetrizing), up to rounding. The default multiplies out the three position rows.
     fn position_trace(&self, x: &Vec6, p: &Mat6, dt: f64) -> f64 {
@@ -150,6 +155,10 @@ impl MotionModel for Ncv {
             ProcessNoise::Cwna { q_m2ps3 } => q_m2ps3.is_finite() && q_m2ps3 >= 0.0,
         }
     }
+
+    fn constant_velocity(&self) -> bool {
+        true
+    }
 }
 
 /// Coordinated turn at a known, fixed rate `omega_radps` (positive = counter-clockwise seen from
@@ -219,6 +228,11 @@ pub trait Predictor: Send + Sync {
     fn position_trace_convex(&self, _prior: &Gaussian) -> bool {
         false
     }
+    /// Whether the predicted mean moves at constant velocity ([`MotionModel::constant_velocity`]).
+    /// The default, `false`, is always safe.
+    fn constant_velocity(&self) -> bool {
+        false
+    }
     /// The trace of the position block of [`Predictor::predict`]'s covariance, computed without
     /// the full prediction (equal to it up to rounding), for the pre-gate (docs/model.md §6.5).
     /// The default, `None`, means "not offered": the pre-gate then never skips a pair.
@@ -264,6 +278,10 @@ impl<M: MotionModel> Predictor for KalmanPredictor<M> {
 
     fn position_trace_convex(&self, prior: &Gaussian) -> bool {
         self.model.position_trace_convex() && (3..6).all(|i| prior.p[i][i] >= 0.0)
+    }
+
+    fn constant_velocity(&self) -> bool {
+        self.model.constant_velocity()
     }
 
     fn position_trace(&self, prior: &Gaussian, dt: f64) -> Option<f64> {
