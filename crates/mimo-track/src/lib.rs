@@ -112,6 +112,7 @@ pub mod frame;
 pub mod gating;
 pub mod geometry;
 pub mod group;
+mod imm;
 pub mod initiation;
 pub mod jpda;
 pub mod linalg;

@@ -156,37 +156,55 @@ mod tests {
         }
     }
 
-    /// Every pair the pre-gate skips has a computed NIS above the gate, and a pair well inside
-    /// the gate is never skipped: a sweep of range-sum offsets through the gate's edge.
-    #[test]
-    fn skips_only_pairs_whose_nis_is_above_the_gate() {
-        let config = TrackerConfig::default();
+    /// Whether a pre-gate skips a pair (gate, filter, track, its prediction, measurement).
+    type Skips = dyn Fn(&PreGate, &dyn TrackFilter, &Track, &FilterPrediction, &PreparedMeasurement) -> bool;
+
+    /// A sweep of range-sum offsets through the gate's edge for a track on the face's boresight
+    /// (z axis) at 50 km moving at 200 m/s along it, predicted 2 s: each pair's computed NIS and
+    /// whether `skips` skipped it.
+    fn sweep(kind: crate::config::TrackerKind, skips: &Skips) -> (f64, Vec<(f64, bool)>) {
+        let config = TrackerConfig::for_kind(kind);
         let c = Components::from_config(&config);
         let filter = &*c.filter;
         let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);
         let model = BistaticRuv::monostatic(DVec3::ZERO, identity());
-        // A target on the face's boresight (z axis) at 50 km moving at 200 m/s along it.
         let t = track(filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 200.0], 400.0);
         let dt = 2.0;
+        let pred = filter.predict(&t.state, dt);
         let rb_true = 2.0 * (50_000.0 + 200.0 * dt);
-        let (mut skipped, mut kept) = (0, 0);
-        for k in -400..=400 {
-            let m = meas(model, rb_true + 10.0 * k as f64, dt);
-            let mut cache = BoundCache::default();
-            let pred = filter.predict(&t.state, dt);
-            let h = filter.hypothesis(&pred, &m.model, &m.z, &m.r).expect("finite");
-            if gate.excludes(filter, &t, &m, &mut cache) {
-                skipped += 1;
-                assert!(h.nis > NIS_MARGIN * config.gate.threshold, "skipped a pair with NIS {}", h.nis);
-            } else {
-                kept += 1;
+        let pairs = (-400..=400)
+            .map(|k| {
+                let m = meas(model, rb_true + 10.0 * k as f64, dt);
+                let h = filter.hypothesis(&pred, &m.model, &m.z, &m.r).expect("finite");
+                (h.nis, skips(&gate, filter, &t, &pred, &m))
+            })
+            .collect();
+        (config.gate.threshold, pairs)
+    }
+
+    /// Both kinds occur: the sweep crosses the gate.
+    fn assert_both_kinds(pairs: &[(f64, bool)]) {
+        let skipped = pairs.iter().filter(|p| p.1).count();
+        let kept = pairs.len() - skipped;
+        assert!(skipped > 100 && kept > 10, "skipped {skipped}, kept {kept}");
+    }
+
+    /// Every pair the pre-gate skips has a computed NIS above the gate, and a pair well inside
+    /// the gate is never skipped.
+    #[test]
+    fn skips_only_pairs_whose_nis_is_above_the_gate() {
+        let (gate_nis, pairs) = sweep(crate::config::TrackerKind::Default, &|g, f, t, _, m| {
+            g.excludes(f, t, m, &mut BoundCache::default())
+        });
+        for &(nis, skipped) in &pairs {
+            if skipped {
+                assert!(nis > NIS_MARGIN * gate_nis, "skipped a pair with NIS {nis}");
             }
-            if h.nis <= config.gate.threshold {
-                assert!(!gate.excludes(filter, &t, &m, &mut cache));
+            if nis <= gate_nis {
+                assert!(!skipped);
             }
         }
-        // The sweep crosses the gate: both kinds occur.
-        assert!(skipped > 100 && kept > 10, "skipped {skipped}, kept {kept}");
+        assert_both_kinds(&pairs);
     }
 
     /// A filter without a bound (the IMM) and a gater without an NIS limit are never pre-gated.
@@ -205,27 +223,15 @@ mod tests {
     /// the gate, and the sweep through the gate's edge skips and keeps pairs.
     #[test]
     fn the_imm_prediction_skips_only_pairs_whose_nis_is_above_the_gate() {
-        let config = TrackerConfig::for_kind(crate::config::TrackerKind::Imm);
-        let c = Components::from_config(&config);
-        let filter = &*c.filter;
-        let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);
-        let model = BistaticRuv::monostatic(DVec3::ZERO, identity());
-        let t = track(filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 200.0], 400.0);
-        let dt = 2.0;
-        let pred = filter.predict(&t.state, dt);
-        assert!(pred.modes.len() > 1);
-        let rb_true = 2.0 * (50_000.0 + 200.0 * dt);
-        let (mut skipped, mut kept) = (0, 0);
-        for k in -400..=400 {
-            let m = meas(model, rb_true + 10.0 * k as f64, dt);
-            let h = filter.hypothesis(&pred, &m.model, &m.z, &m.r).expect("finite");
-            if gate.excludes_prediction(&pred, &m) {
-                skipped += 1;
-                assert!(h.nis > config.gate.threshold, "skipped a pair with NIS {}", h.nis);
-            } else {
-                kept += 1;
+        let (gate_nis, pairs) = sweep(crate::config::TrackerKind::Imm, &|g, _, _, pred, m| {
+            assert!(pred.modes.len() > 1);
+            g.excludes_prediction(pred, m)
+        });
+        for &(nis, skipped) in &pairs {
+            if skipped {
+                assert!(nis > gate_nis, "skipped a pair with NIS {nis}");
             }
         }
-        assert!(skipped > 100 && kept > 10, "skipped {skipped}, kept {kept}");
+        assert_both_kinds(&pairs);
     }
 }
