@@ -57,11 +57,12 @@ impl JpdaAssociator {
         // Clusters: tracks connected through shared gated measurements.
         let mut cluster = vec![usize::MAX; n];
         let mut n_clusters = 0;
+        let mut stack = Vec::new();
         for start in 0..n {
             if cluster[start] != usize::MAX {
                 continue;
             }
-            let mut stack = vec![start];
+            stack.push(start);
             cluster[start] = n_clusters;
             while let Some(t) = stack.pop() {
                 for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
@@ -75,41 +76,57 @@ impl JpdaAssociator {
             }
             n_clusters += 1;
         }
-        let gnn = GnnAssociator { cost: self.cost }.associate(table);
+        // The GNN assignment is the fallback of a cluster with too many (or no) joint events.
+        let mut gnn: Option<Vec<Option<usize>>> = None;
+        let mut tracks: Vec<usize> = Vec::new();
+        let mut options: Vec<(usize, f64)> = Vec::new();
+        let mut starts: Vec<usize> = Vec::new();
+        let mut used = vec![false; m];
+        let mut choice: Vec<usize> = Vec::new();
         for c in 0..n_clusters {
-            let tracks: Vec<usize> = (0..n).filter(|&t| cluster[t] == c).collect();
-            let options: Vec<Vec<(usize, f64)>> = tracks
-                .iter()
-                .map(|&t| {
-                    let mut o: Vec<(usize, f64)> = vec![(m, log_miss)];
-                    o.extend((0..m).filter_map(|j| self.log_pair(table, t, j).map(|l| (j, l))));
-                    o
-                })
-                .collect();
-            let mut ev = Enumeration {
-                options: &options,
-                used: vec![false; m],
-                choice: vec![0; tracks.len()],
-                events: Vec::new(),
-                limit: self.max_events,
-                overflow: false,
-            };
-            ev.walk(0, 0.0);
-            if ev.overflow || ev.events.is_empty() {
+            tracks.clear();
+            tracks.extend((0..n).filter(|&t| cluster[t] == c));
+            // Each track's options, one after another: "none", then its gated measurements.
+            options.clear();
+            starts.clear();
+            for &t in &tracks {
+                starts.push(options.len());
+                options.push((m, log_miss));
+                options.extend((0..m).filter_map(|j| self.log_pair(table, t, j).map(|l| (j, l))));
+            }
+            starts.push(options.len());
+            choice.clear();
+            choice.resize(tracks.len(), 0);
+            let mut ev = Enumeration { options: &options, starts: &starts, used: &mut used, choice: &mut choice };
+            // Pass 1: how many joint events, and the largest log weight. Pass 2 (below) visits
+            // the same events in the same order, so the sums are those of one stored list.
+            let mut count = 0usize;
+            let mut top = f64::NEG_INFINITY;
+            let limit = self.max_events;
+            let complete = ev.walk(0, 0.0, &mut |_, l| {
+                if count >= limit {
+                    return false;
+                }
+                count += 1;
+                top = top.max(l);
+                true
+            });
+            if !complete || count == 0 {
+                let gnn = gnn.get_or_insert_with(|| GnnAssociator { cost: self.cost }.associate(table));
                 for &t in &tracks {
                     beta[t][gnn.get(t).copied().flatten().filter(|&j| j < m).unwrap_or(m)] = 1.0;
                 }
                 continue;
             }
-            let top = ev.events.iter().map(|e| e.1).fold(f64::NEG_INFINITY, f64::max);
             let mut total = 0.0;
-            for (choice, l) in &ev.events {
+            ev.walk(0, 0.0, &mut |choice, l| {
                 let w = (l - top).exp();
                 total += w;
                 for (k, &t) in tracks.iter().enumerate() {
-                    beta[t][options[k][choice[k]].0] += w;
+                    beta[t][options[starts[k] + choice[k]].0] += w;
                 }
-            }
+                true
+            });
             for &t in &tracks {
                 let row = &mut beta[t];
                 row.iter_mut().for_each(|b| *b /= total);
@@ -127,32 +144,25 @@ impl JpdaAssociator {
 }
 
 /// Depth-first enumeration of the feasible joint events of one cluster: each track takes one of
-/// its options (a gated measurement not taken by another track, or none).
+/// its options (a gated measurement not taken by another track, or none). Track `k`'s options are
+/// `options[starts[k]..starts[k + 1]]`; an event is handed to the visitor as each track's option
+/// index and the event's log weight, in a fixed order, without being stored.
 struct Enumeration<'a> {
-    options: &'a [Vec<(usize, f64)>],
-    used: Vec<bool>,
-    choice: Vec<usize>,
-    events: Vec<(Vec<usize>, f64)>,
-    limit: usize,
-    overflow: bool,
+    options: &'a [(usize, f64)],
+    starts: &'a [usize],
+    used: &'a mut [bool],
+    choice: &'a mut [usize],
 }
 
 impl Enumeration<'_> {
-    fn walk(&mut self, k: usize, log_w: f64) {
-        if self.overflow {
-            return;
+    /// Visit every event from track `k` on; `false` when the visitor stopped the walk.
+    fn walk(&mut self, k: usize, log_w: f64, visit: &mut impl FnMut(&[usize], f64) -> bool) -> bool {
+        if k == self.choice.len() {
+            return visit(&*self.choice, log_w);
         }
-        if k == self.options.len() {
-            if self.events.len() >= self.limit {
-                self.overflow = true;
-                return;
-            }
-            self.events.push((self.choice.clone(), log_w));
-            return;
-        }
-        let n_opts = self.options[k].len();
-        for o in 0..n_opts {
-            let (j, l) = self.options[k][o];
+        let first = self.starts[k];
+        for o in 0..(self.starts[k + 1] - first) {
+            let (j, l) = self.options[first + o];
             let real = j < self.used.len();
             if real && self.used[j] {
                 continue;
@@ -161,11 +171,15 @@ impl Enumeration<'_> {
                 self.used[j] = true;
             }
             self.choice[k] = o;
-            self.walk(k + 1, log_w + l);
+            let go_on = self.walk(k + 1, log_w + l, visit);
             if real {
                 self.used[j] = false;
             }
+            if !go_on {
+                return false;
+            }
         }
+        true
     }
 }
 
