@@ -25,8 +25,8 @@ struct PredCache {
 }
 
 impl PredCache {
-    fn seeded(store: &mut DwellPredictions, id: u64, track: &Track) -> PredCache {
-        match store.take(id, track.t_s, &track.state) {
+    fn seeded(store: &mut DwellPredictions, track: &Track) -> PredCache {
+        match store.take(track) {
             Some((basis, entries)) => PredCache { basis: Some(basis), entries },
             None => PredCache { basis: None, entries: Vec::new() },
         }
@@ -37,7 +37,7 @@ impl PredCache {
             Some(k) => k,
             None => {
                 if self.basis.is_none() {
-                    self.basis = Some(Basis { t_s: track.t_s, state: track.state.clone() });
+                    self.basis = Some(Basis::of(track));
                 }
                 self.entries.push((t_s, filter.predict(&track.state, t_s - track.t_s)));
                 self.entries.len() - 1
@@ -61,7 +61,7 @@ impl MultiTargetTracker {
         let n_m = list.len();
         let filter = &*self.c.filter;
         let mut caches: Vec<PredCache> =
-            ids.iter().map(|id| PredCache::seeded(&mut self.preds, *id, &self.tracks[id])).collect();
+            ids.iter().map(|id| PredCache::seeded(&mut self.preds, &self.tracks[id])).collect();
         let mut table = HypothesisTable::new(ids.len(), n_m);
         // A measurement inside an existing track's resolution cell, or within its initiation
         // exclusion gate, never starts a track (docs/model.md §6.4).

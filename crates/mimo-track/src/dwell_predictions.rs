@@ -4,45 +4,69 @@
 //! Each receive channel of a dwell gates every track against its measurements, so a MIMO dwell
 //! with several channels predicted each track once per channel, and the deletion pass after the
 //! dwell predicted it once more. A prediction is a pure function of the track's state, the time
-//! of that state and the time predicted to, so one made from the same state (bit for bit) to the
-//! same time is the same prediction: the store hands it back instead of computing it again, and
-//! the tracks are the same, bit for bit. An interacting-multiple-model prediction (mixing, one
-//! prediction per mode, the combination) is the costly case.
+//! of that state and the time predicted to, so one made from the same state to the same time is
+//! the same prediction: the store hands it back instead of computing it again, and the tracks are
+//! the same, bit for bit. An interacting-multiple-model prediction (mixing, one prediction per
+//! mode, the combination) is the costly case.
+//!
+//! A track's state changes only in an update, which counts `n_updates` and sets `t_s`, so the
+//! track's id, update count and time name its state; debug builds (the tests) also keep the state
+//! and assert, bit for bit, that it is the one the predictions were made from.
 
-use crate::filter::{FilterPrediction, FilterState};
-use std::collections::BTreeMap;
+use crate::filter::FilterPrediction;
+#[cfg(debug_assertions)]
+use crate::filter::FilterState;
+use crate::tracker::Track;
 
 /// The state a track's predictions were made from.
 #[derive(Debug, Clone)]
 pub(crate) struct Basis {
     /// Time of the state (s).
-    pub t_s: f64,
-    /// The state itself.
-    pub state: FilterState,
+    t_s: f64,
+    /// The track's update count at that state.
+    n_updates: u32,
+    /// The state itself (debug builds: the promise above is checked).
+    #[cfg(debug_assertions)]
+    state: FilterState,
 }
 
 impl Basis {
-    /// Whether `t_s` and `state` are this basis, bit for bit (so that a prediction made from it
-    /// is the one they would give).
-    pub(crate) fn is(&self, t_s: f64, state: &FilterState) -> bool {
-        let bits =
-            |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
-        self.t_s.to_bits() == t_s.to_bits()
-            && bits(&self.state.mu, &state.mu)
-            && self.state.modes.len() == state.modes.len()
-            && self
-                .state
-                .modes
-                .iter()
-                .zip(&state.modes)
-                .all(|(a, b)| bits(&a.x, &b.x) && a.p.iter().zip(&b.p).all(|(ra, rb)| bits(ra, rb)))
+    /// The basis of `track` as it is now.
+    pub(crate) fn of(track: &Track) -> Basis {
+        Basis {
+            t_s: track.t_s,
+            n_updates: track.n_updates,
+            #[cfg(debug_assertions)]
+            state: track.state.clone(),
+        }
+    }
+
+    /// Whether `track` is still at this basis (so that a prediction made from it is the one its
+    /// state would give).
+    pub(crate) fn is(&self, track: &Track) -> bool {
+        let same = self.t_s.to_bits() == track.t_s.to_bits() && self.n_updates == track.n_updates;
+        #[cfg(debug_assertions)]
+        debug_assert!(!same || same_bits(&self.state, &track.state), "track {} changed without an update", track.id);
+        same
     }
 }
 
-/// Predictions by track, made in the current dwell.
+/// Bit-for-bit equality of two states.
+#[cfg(debug_assertions)]
+fn same_bits(a: &FilterState, b: &FilterState) -> bool {
+    let bits = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+    bits(&a.mu, &b.mu)
+        && a.modes.len() == b.modes.len()
+        && a.modes.iter().zip(&b.modes).all(|(p, q)| bits(&p.x, &q.x) && p.p.iter().zip(&q.p).all(|(r, s)| bits(r, s)))
+}
+
+/// A track's predictions in one dwell: `(time predicted to, prediction)`.
+pub(crate) type Entries = Vec<(f64, FilterPrediction)>;
+
+/// Predictions by track, made in the current dwell (a few tracks: a list searched by id).
 #[derive(Debug, Default)]
 pub(crate) struct DwellPredictions {
-    by_track: BTreeMap<u64, (Basis, Vec<(f64, FilterPrediction)>)>,
+    by_track: Vec<(u64, Basis, Entries)>,
 }
 
 impl DwellPredictions {
@@ -51,28 +75,25 @@ impl DwellPredictions {
         self.by_track.clear();
     }
 
-    /// Take the predictions of track `id` made from `state` at `t_s` (none if it changed since).
-    pub(crate) fn take(
-        &mut self,
-        id: u64,
-        t_s: f64,
-        state: &FilterState,
-    ) -> Option<(Basis, Vec<(f64, FilterPrediction)>)> {
-        match self.by_track.remove(&id) {
-            Some((basis, entries)) if basis.is(t_s, state) => Some((basis, entries)),
-            _ => None,
-        }
+    /// Take the predictions of `track` made from its current state (none if it changed since).
+    pub(crate) fn take(&mut self, track: &Track) -> Option<(Basis, Entries)> {
+        let k = self.by_track.iter().position(|(id, _, _)| *id == track.id)?;
+        let (_, basis, entries) = self.by_track.swap_remove(k);
+        basis.is(track).then_some((basis, entries))
     }
 
     /// Keep the predictions of track `id` made from `basis` (replacing older ones).
-    pub(crate) fn put(&mut self, id: u64, basis: Basis, entries: Vec<(f64, FilterPrediction)>) {
-        self.by_track.insert(id, (basis, entries));
+    pub(crate) fn put(&mut self, id: u64, basis: Basis, entries: Entries) {
+        match self.by_track.iter_mut().find(|(i, _, _)| *i == id) {
+            Some(slot) => *slot = (id, basis, entries),
+            None => self.by_track.push((id, basis, entries)),
+        }
     }
 
-    /// The prediction of track `id` from `state` at `t_s` to `to_s`, if one was made.
-    pub(crate) fn find(&self, id: u64, t_s: f64, state: &FilterState, to_s: f64) -> Option<&FilterPrediction> {
-        let (basis, entries) = self.by_track.get(&id)?;
-        if !basis.is(t_s, state) {
+    /// The prediction of `track` from its current state to `to_s`, if one was made.
+    pub(crate) fn find(&self, track: &Track, to_s: f64) -> Option<&FilterPrediction> {
+        let (_, basis, entries) = self.by_track.iter().find(|(id, _, _)| *id == track.id)?;
+        if !basis.is(track) {
             return None;
         }
         entries.iter().find(|(t, _)| t.to_bits() == to_s.to_bits()).map(|(_, p)| p)
@@ -82,44 +103,72 @@ impl DwellPredictions {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::filter::FilterState;
     use crate::frame::Gaussian;
     use crate::linalg::identity;
+    use mimo_core::records::TrackStatus;
 
-    fn state(x0: f64) -> FilterState {
-        let mut g = Gaussian { x: [0.0; 6], p: identity() };
-        g.x[0] = x0;
-        FilterState { modes: vec![g, g], mu: vec![0.5, 0.5] }
+    fn track(id: u64, t_s: f64, n_updates: u32) -> Track {
+        let g = Gaussian { x: [0.0; 6], p: identity() };
+        Track {
+            id,
+            status: TrackStatus::Confirmed,
+            state: FilterState { modes: vec![g, g], mu: vec![0.5, 0.5] },
+            t_s,
+            t_init_s: 0.0,
+            n_updates,
+            last_meas_id: None,
+            looks: vec![true],
+            consecutive_misses: 0,
+            next_due_s: 0.0,
+            last_face: None,
+            nis_sum: 0.0,
+            nis_count: 0,
+        }
     }
 
     fn pred(x0: f64) -> FilterPrediction {
-        let g = state(x0).modes[0];
+        let mut g = Gaussian { x: [0.0; 6], p: identity() };
+        g.x[0] = x0;
         FilterPrediction { modes: vec![g, g], cbar: vec![0.5, 0.5], combined: g }
     }
 
     #[test]
     fn a_prediction_is_found_only_from_the_same_state_and_times() {
         let mut store = DwellPredictions::default();
-        store.put(7, Basis { t_s: 10.0, state: state(1.0) }, vec![(12.5, pred(3.0))]);
-        assert_eq!(store.find(7, 10.0, &state(1.0), 12.5), Some(&pred(3.0)));
-        // Another target time, another state time, another state, another track.
-        assert!(store.find(7, 10.0, &state(1.0), 12.0).is_none());
-        assert!(store.find(7, 10.5, &state(1.0), 12.5).is_none());
-        assert!(store.find(7, 10.0, &state(1.0 + 1e-12), 12.5).is_none());
-        assert!(store.find(8, 10.0, &state(1.0), 12.5).is_none());
-        // −0 and +0 are different bits: not the same state.
-        assert!(store.find(7, 10.0, &state(1.0), 12.5).is_some());
-        let mut z = state(1.0);
-        z.modes[1].x[3] = -0.0;
-        assert!(store.find(7, 10.0, &z, 12.5).is_none());
-        // Taking moves the entries out; a changed state takes nothing.
-        assert!(store.take(7, 10.0, &state(2.0)).is_none());
-        store.put(7, Basis { t_s: 10.0, state: state(1.0) }, vec![(12.5, pred(3.0))]);
-        let (b, e) = store.take(7, 10.0, &state(1.0)).expect("same state");
-        assert!(b.is(10.0, &state(1.0)));
+        let t = track(7, 10.0, 3);
+        store.put(7, Basis::of(&t), vec![(12.5, pred(3.0))]);
+        assert_eq!(store.find(&t, 12.5), Some(&pred(3.0)));
+        // Another target time, another state time, another update, another track.
+        assert!(store.find(&t, 12.0).is_none());
+        assert!(store.find(&track(7, 10.5, 3), 12.5).is_none());
+        assert!(store.find(&track(7, 10.0, 4), 12.5).is_none());
+        assert!(store.find(&track(8, 10.0, 3), 12.5).is_none());
+        // Taking moves the entries out; a changed track takes nothing.
+        assert!(store.take(&track(7, 11.0, 4)).is_none());
+        store.put(7, Basis::of(&t), vec![(12.5, pred(3.0))]);
+        let (b, e) = store.take(&t).expect("same state");
+        assert!(b.is(&t));
         assert_eq!(e.len(), 1);
-        assert!(store.find(7, 10.0, &state(1.0), 12.5).is_none());
+        assert!(store.find(&t, 12.5).is_none());
         store.put(7, b, e);
+        // Putting again replaces; clearing forgets.
+        store.put(7, Basis::of(&t), vec![(12.5, pred(4.0))]);
+        assert_eq!(store.find(&t, 12.5), Some(&pred(4.0)));
         store.clear();
-        assert!(store.find(7, 10.0, &state(1.0), 12.5).is_none());
+        assert!(store.find(&t, 12.5).is_none());
+    }
+
+    /// Debug builds catch a state that changed without an update.
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "changed without an update")]
+    fn a_state_changed_without_an_update_is_caught() {
+        let mut store = DwellPredictions::default();
+        let t = track(7, 10.0, 3);
+        store.put(7, Basis::of(&t), vec![(12.5, pred(3.0))]);
+        let mut moved = t.clone();
+        moved.state.modes[0].x[0] = -0.0;
+        let _ = store.find(&moved, 12.5);
     }
 }

@@ -350,7 +350,7 @@ impl MultiTargetTracker {
             if !rejected.contains(id) && self.quiet.is_quiet(&*self.c.filter, &*self.c.deleter, t, t_s) {
                 continue;
             }
-            let g = match self.preds.find(*id, t.t_s, &t.state, t_s) {
+            let g = match self.preds.find(t, t_s) {
                 Some(p) => p.combined,
                 None => self.c.filter.predict(&t.state, t_s - t.t_s).combined,
             };
