@@ -14,7 +14,7 @@
 //! takes the dense sandwich. Then the same `symmetrize`. (NaN results may differ in payload,
 //! which Rust leaves unspecified.)
 
-use crate::linalg::{Mat6, dot, sandwich, symmetrize};
+use crate::linalg::{Mat6, add, dot, mul, mul_t, symmetrize};
 use crate::motion::cv_transition;
 
 /// `0 < |x| ≤ f64::MAX` (false for zeros, infinities and NaN), without branches.
@@ -24,10 +24,41 @@ fn nonzero_finite(x: f64) -> bool {
 }
 
 /// `sandwich(&cv_transition(dt), p)`, bit for bit, with a quarter of the multiplications.
+#[cfg(test)]
 pub fn cv_sandwich(dt: f64, p: &Mat6) -> Mat6 {
+    symmetrize(&cv_product(dt, p))
+}
+
+/// The predicted covariance `symmetrize(add(sandwich(F, P), Q))` of `ekf_predict` for
+/// `F = cv_transition(dt)`, bit for bit. When `Q` is symmetric bit for bit (as
+/// [`crate::motion::ProcessNoise::q`] builds it), `sandwich(F, P) + Q` is too, so the second
+/// `symmetrize` maps each entry `x` to `0.5·(x + x)`: both passes fold into one over the upper
+/// triangle.
+pub fn cv_predicted_covariance(dt: f64, p: &Mat6, q: &Mat6) -> Mat6 {
+    let t = cv_product(dt, p);
+    let symmetric_q = (0..6).all(|i| (i + 1..6).all(|j| q[i][j].to_bits() == q[j][i].to_bits()));
+    if !symmetric_q {
+        return symmetrize(&add(&symmetrize(&t), q));
+    }
+    let mut out = [[0.0; 6]; 6];
+    for i in 0..6 {
+        out[i][i] = t[i][i] + q[i][i];
+        for j in (i + 1)..6 {
+            let x = 0.5 * (t[i][j] + t[j][i]) + q[i][j];
+            let y = 0.5 * (x + x);
+            out[i][j] = y;
+            out[j][i] = y;
+        }
+    }
+    out
+}
+
+/// `mul_t(mul(F, P), F)` for `F = cv_transition(dt)`, bit for bit (before `symmetrize`).
+fn cv_product(dt: f64, p: &Mat6) -> Mat6 {
     if dt == 0.0 {
         // `mul` skips the `dt` terms altogether.
-        return sandwich(&cv_transition(dt), p);
+        let f = cv_transition(dt);
+        return mul_t(&mul(&f, p), &f);
     }
     // M = F P as `mul` accumulates it: from +0, `1·P_ij` (= P_ij), then `dt·P_i+3,j`.
     let mut m = [[0.0; 6]; 6];
@@ -57,13 +88,13 @@ pub fn cv_sandwich(dt: f64, p: &Mat6) -> Mat6 {
             }
         }
     }
-    symmetrize(&t)
+    t
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linalg::{mul, mul_t};
+    use crate::motion::ProcessNoise;
 
     /// SplitMix64: a small deterministic generator for the property tests.
     struct Rng(u64);
@@ -181,5 +212,27 @@ mod tests {
         let want = dense(3.0, &p);
         assert!(want[1][1].is_infinite());
         assert!(same_bits(&cv_sandwich(3.0, &p), &want));
+    }
+
+    #[test]
+    fn the_fused_predicted_covariance_is_the_two_pass_one_bit_for_bit() {
+        let mut rng = Rng(0xC0DE);
+        for n in 0..20_000 {
+            let p: Mat6 = if n % 4 == 0 { rng.matrix(1 + (n / 4 % 4) as u64) } else { rng.covariance() };
+            let dt = match n % 5 {
+                0 => rng.value(),
+                1 => 0.0,
+                _ => (rng.unit() - 0.5) * 20.0,
+            };
+            let q = match n % 3 {
+                0 => ProcessNoise::Dwna { sigma_a_mps2: rng.unit() * 30.0 }.q(dt),
+                1 => ProcessNoise::Cwna { q_m2ps3: rng.value().abs() }.q(dt),
+                // Not symmetric: the two-pass path.
+                _ => rng.matrix(2),
+            };
+            let want = symmetrize(&add(&dense(dt, &p), &q));
+            let got = cv_predicted_covariance(dt, &p, &q);
+            assert!(same_bits(&got, &want), "dt {dt:e}, P {p:?}, Q {q:?}: {got:?} vs {want:?}");
+        }
     }
 }

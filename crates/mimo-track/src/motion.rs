@@ -7,7 +7,7 @@
 //! extra IMM mode. [`Predictor`] turns a model into the Kalman prediction step; [`KalmanPredictor`]
 //! is the EKF one.
 
-use crate::cv_sandwich::cv_sandwich;
+use crate::cv_sandwich::cv_predicted_covariance;
 use crate::frame::Gaussian;
 use crate::linalg::{Mat6, Vec6, add, mul_vec, sandwich};
 use serde::{Deserialize, Serialize};
@@ -38,7 +38,7 @@ pub trait MotionModel: Send + Sync {
         false
     }
     /// Whether `jacobian(x, dt)` is [`cv_transition`]`(dt)` for every `x` and `dt`: the prediction
-    /// then forms `F P Fᵀ` from that structure ([`crate::cv_sandwich::cv_sandwich`], bit for bit
+    /// then forms `F P Fᵀ` from that structure ([`crate::cv_sandwich::cv_predicted_covariance`], bit for bit
     /// the dense product). Default `false`.
     fn cv_jacobian(&self) -> bool {
         false
@@ -271,10 +271,13 @@ pub fn ekf_predict(model: &dyn MotionModel, prior: &Gaussian, dt: f64) -> Gaussi
     if dt == 0.0 {
         return *prior;
     }
-    let fpf =
-        if model.cv_jacobian() { cv_sandwich(dt, &prior.p) } else { sandwich(&model.jacobian(&prior.x, dt), &prior.p) };
     let x = model.propagate(&prior.x, dt);
-    let p = add(&fpf, &model.process_noise(&prior.x, dt));
+    let q = model.process_noise(&prior.x, dt);
+    if model.cv_jacobian() {
+        // The same covariance bit for bit from the structure of `F`.
+        return Gaussian { x, p: cv_predicted_covariance(dt, &prior.p, &q) };
+    }
+    let p = add(&sandwich(&model.jacobian(&prior.x, dt), &prior.p), &q);
     Gaussian { x, p: crate::linalg::symmetrize(&p) }
 }
 
