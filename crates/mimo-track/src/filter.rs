@@ -9,7 +9,7 @@
 
 use crate::association::Hypothesis;
 use crate::frame::Gaussian;
-use crate::linalg::{Mat3, Vec3, add, outer, scale, symmetrize, vsub};
+use crate::linalg::{Mat3, Vec3, symmetrize, vsub};
 use crate::measurement::MeasurementModel;
 use crate::motion::Predictor;
 use crate::update::{Innovation, UpdateError, Updater};
@@ -51,10 +51,16 @@ pub fn moment_match(w: &[f64], g: &[Gaussian]) -> Gaussian {
             *xi += wj * gi;
         }
     }
+    // `P += w_j (P_j + d dᵀ)` entry by entry: the same operations in the same order as
+    // `add(&p, &scale(&add(&P_j, &outer(&d)), w_j))`, without the four 6×6 temporaries.
     let mut p = [[0.0; 6]; 6];
-    for (wj, gj) in w.iter().zip(g) {
+    for (&wj, gj) in w.iter().zip(g) {
         let d = vsub(&gj.x, &x);
-        p = add(&p, &scale(&add(&gj.p, &outer(&d)), *wj));
+        for ((prow, pjrow), &dr) in p.iter_mut().zip(&gj.p).zip(&d) {
+            for ((pe, &pje), &dc) in prow.iter_mut().zip(pjrow).zip(&d) {
+                *pe += (pje + dr * dc) * wj;
+            }
+        }
     }
     Gaussian { x, p: symmetrize(&p) }
 }
@@ -233,3 +239,60 @@ impl TrackFilter for SingleModelFilter {
 }
 
 pub use crate::imm::ImmFilter;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::{add, outer, scale};
+
+    /// The matrix form `moment_match` had before it accumulated in place.
+    fn moment_match_by_matrices(w: &[f64], g: &[Gaussian]) -> Gaussian {
+        if g.len() == 1 {
+            return g[0];
+        }
+        let mut x = [0.0; 6];
+        for (wj, gj) in w.iter().zip(g) {
+            for (xi, gi) in x.iter_mut().zip(&gj.x) {
+                *xi += wj * gi;
+            }
+        }
+        let mut p = [[0.0; 6]; 6];
+        for (wj, gj) in w.iter().zip(g) {
+            let d = vsub(&gj.x, &x);
+            p = add(&p, &scale(&add(&gj.p, &outer(&d)), *wj));
+        }
+        Gaussian { x, p: symmetrize(&p) }
+    }
+
+    #[test]
+    fn moment_match_in_place_is_the_matrix_form_bit_for_bit() {
+        let mut seed = 0x1234_5678_9ABC_DEF0u64;
+        let mut draw = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            let u = (seed >> 11) as f64 / (1u64 << 53) as f64;
+            match seed >> 60 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => 1e300 * (u - 0.5),
+                _ => (u - 0.5) * 2f64.powi(((seed >> 40) % 40) as i32 - 20),
+            }
+        };
+        for n in 0..5_000 {
+            let m = 2 + n % 3;
+            let g: Vec<Gaussian> = (0..m)
+                .map(|_| Gaussian {
+                    x: std::array::from_fn(|_| draw() * 1e4),
+                    p: std::array::from_fn(|_| std::array::from_fn(|_| draw())),
+                })
+                .collect();
+            let raw: Vec<f64> = (0..m).map(|_| draw().abs()).collect();
+            let s: f64 = raw.iter().sum();
+            let w: Vec<f64> =
+                if s > 0.0 && s.is_finite() { raw.iter().map(|x| x / s).collect() } else { vec![1.0 / m as f64; m] };
+            let (got, want) = (moment_match(&w, &g), moment_match_by_matrices(&w, &g));
+            let bits =
+                |a: &Gaussian| -> Vec<u64> { a.x.iter().chain(a.p.iter().flatten()).map(|v| v.to_bits()).collect() };
+            assert_eq!(bits(&got), bits(&want), "weights {w:?}, modes {g:?}");
+        }
+    }
+}

@@ -102,6 +102,7 @@ pub mod association;
 mod channel;
 pub mod components;
 pub mod config;
+mod cv_sandwich;
 pub mod deletion;
 mod deletion_quiet;
 pub mod diagnostics;

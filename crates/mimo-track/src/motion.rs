@@ -7,6 +7,7 @@
 //! extra IMM mode. [`Predictor`] turns a model into the Kalman prediction step; [`KalmanPredictor`]
 //! is the EKF one.
 
+use crate::cv_sandwich::cv_predicted_covariance;
 use crate::frame::Gaussian;
 use crate::linalg::{Mat6, Vec6, add, mul_vec, sandwich};
 use serde::{Deserialize, Serialize};
@@ -34,6 +35,12 @@ pub trait MotionModel: Send + Sync {
     /// Whether the mean moves at constant velocity, `p(dt) = p + dt·v`, `v(dt) = v` (the IMM's
     /// deletion certificate bounds the spread of its modes' means with it). Default `false`.
     fn constant_velocity(&self) -> bool {
+        false
+    }
+    /// Whether `jacobian(x, dt)` is [`cv_transition`]`(dt)` for every `x` and `dt`: the prediction
+    /// then forms `F P Fᵀ` from that structure ([`crate::cv_sandwich::cv_predicted_covariance`], bit for bit
+    /// the dense product). Default `false`.
+    fn cv_jacobian(&self) -> bool {
         false
     }
     /// `tr` of the position block of `F P Fᵀ + Q` (the prediction's covariance before
@@ -159,6 +166,10 @@ impl MotionModel for Ncv {
     fn constant_velocity(&self) -> bool {
         true
     }
+
+    fn cv_jacobian(&self) -> bool {
+        true
+    }
 }
 
 /// Coordinated turn at a known, fixed rate `omega_radps` (positive = counter-clockwise seen from
@@ -260,9 +271,13 @@ pub fn ekf_predict(model: &dyn MotionModel, prior: &Gaussian, dt: f64) -> Gaussi
     if dt == 0.0 {
         return *prior;
     }
-    let f = model.jacobian(&prior.x, dt);
     let x = model.propagate(&prior.x, dt);
-    let p = add(&sandwich(&f, &prior.p), &model.process_noise(&prior.x, dt));
+    let q = model.process_noise(&prior.x, dt);
+    if model.cv_jacobian() {
+        // The same covariance bit for bit from the structure of `F`.
+        return Gaussian { x, p: cv_predicted_covariance(dt, &prior.p, &q) };
+    }
+    let p = add(&sandwich(&model.jacobian(&prior.x, dt), &prior.p), &q);
     Gaussian { x, p: crate::linalg::symmetrize(&p) }
 }
 
