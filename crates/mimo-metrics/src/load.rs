@@ -2,6 +2,7 @@
 //! column (see the crate docs, "Errors"), into the structures the per-run scoring walks.
 
 use crate::MetricsError;
+use crate::dwell_sums::DwellSums;
 use crate::error;
 use crate::read::{Check, Want, col as rcol, read_file, read_table_checked};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
@@ -163,12 +164,12 @@ pub(crate) fn load_tracks(
 /// scoring interval (see [`crate::usage::transmit_sums`]), and every radar named in it (any role).
 ///
 /// Files are read by `threads` workers, one file each at a time, only the columns of
-/// [`dwell_file_sums`], each validated and reduced to its sums, and a long file is read in slices
-/// of [`DWELL_SLICE_ROWS`] rows ([`dwell_file_sums`]), so memory follows `threads` slices rather
-/// than a run's duration or the whole recording. (Two workers, before files were read in slices,
-/// had saved 3 % of a 10-run score's wall time for 195 MB more; with slices, 0.6–0.8 s of
-/// 3.8–4.3 s for 60–75 MB more.) The results are taken in file order, so the first bad file in
-/// that order is the one named. The per-file sums are stacked and summed again by key, so a run
+/// [`dwell_cols`], each checked and reduced to its sums in one pass ([`crate::dwell_sums`]), and
+/// a long file is read in slices of [`crate::dwell_sums::DWELL_SLICE_ROWS`] rows, so memory follows `threads`
+/// slices rather than a run's duration or the whole recording. (Two workers, before files were
+/// read in slices, had saved 3 % of a 10-run score's wall time for 195 MB more; with slices,
+/// 0.6–0.8 s of 3.8–4.3 s for 60–75 MB more.) The results are taken in file order, so the first
+/// bad file in that order is the one named. The per-file sums are summed again by key, so a run
 /// split over several files gives the same figures (to rounding). The groups come out in the
 /// order a single pass over all dwells would give (order of first appearance); a sum whose
 /// interval straddles two slices may differ from that pass's in the last bit (measured: 16 of
@@ -186,22 +187,13 @@ pub(crate) fn load_dwell_sums(
             detail: "no Parquet files given".into(),
         });
     }
-    let mut radars = BTreeSet::new();
-    let mut sums: Option<DataFrame> = None;
+    let mut sums = DwellSums::default();
     let per_file = crate::parts::parallel(paths, threads, &|path: &PathBuf| dwell_file_sums(path, runs, interval_s));
     for file_sums in per_file {
-        let (part, part_radars) = file_sums?;
-        radars.extend(part_radars);
-        match sums.as_mut() {
-            None => sums = Some(part),
-            Some(acc) => {
-                acc.vstack_mut_owned(part).map_err(error::internal("stacking usage sums"))?;
-            }
-        }
+        sums.add(file_sums?);
     }
-    let sums = sums.ok_or_else(|| MetricsError::Internal { context: "reading", detail: "no files".into() })?;
-    let sums = if paths.len() > 1 { crate::usage::resum(sums)? } else { sums };
-    Ok((sums, radars))
+    let radars = sums.radars();
+    Ok((sums.into_frame()?, radars))
 }
 
 /// The columns of the dwells table that the usage figures need, with their checks.
@@ -220,30 +212,16 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [crate::read::Col<'_>; 8] {
     ]
 }
 
-/// Rows of a dwells file read at a time: the file is reduced slice by slice, so that memory
-/// follows this many rows, not a run's duration (a 1000-s scenario-7 run has ~600 k dwell rows).
-const DWELL_SLICE_ROWS: usize = 1 << 18;
-
-/// One dwells file read, checked and reduced to its usage sums and the radars it names.
-///
-/// A file of more than [`DWELL_SLICE_ROWS`] rows is read in slices of that many rows: each slice
-/// is validated, its per-radar time order checked against the latest time of each (run, radar)
-/// carried over from the slices before, and reduced to its sums; the slices' sums are summed
-/// again by key ([`crate::usage::resum`], groups in order of first appearance, as one pass would
-/// give them). When any check fails the whole file is read at once, so the error names the row
-/// and rule exactly as the one-pass read does.
-fn dwell_file_sums(
-    path: &std::path::Path,
-    runs: &BTreeSet<u32>,
-    interval_s: f64,
-) -> Result<(DataFrame, BTreeSet<String>), MetricsError> {
+/// One dwells file read, checked and reduced to its usage sums and the radars it names, in one
+/// pass ([`crate::dwell_sums::file_sums`]). When any check fails the whole file is read the
+/// polars way, whose error names the row and rule exactly as before.
+fn dwell_file_sums(path: &std::path::Path, runs: &BTreeSet<u32>, interval_s: f64) -> Result<DwellSums, MetricsError> {
     let n_rows = crate::read::file_rows("dwells", path)?;
-    if n_rows > DWELL_SLICE_ROWS
-        && let Some(sliced) = dwell_file_sums_sliced(path, runs, interval_s, n_rows, DWELL_SLICE_ROWS)?
-    {
-        return Ok(sliced);
+    if let Some(sums) = crate::dwell_sums::file_sums(path, &dwell_cols(runs), runs, interval_s, n_rows) {
+        return Ok(sums);
     }
-    dwell_file_sums_whole(path, runs, interval_s)
+    let (df, radars) = dwell_file_sums_whole(path, runs, interval_s)?;
+    DwellSums::from_frame(&df, radars)
 }
 
 /// [`dwell_file_sums`] in one read of the whole file.
@@ -256,58 +234,6 @@ fn dwell_file_sums_whole(
     crate::rules::check_dwells(path, &df)?;
     let part = crate::usage::transmit_sums(&df, interval_s).collect().map_err(error::internal("usage sums"))?;
     Ok((part, radars_of(&df)?))
-}
-
-/// [`dwell_file_sums`] slice by slice; `None` when a slice breaks a check (the caller then reads
-/// the whole file to report it).
-fn dwell_file_sums_sliced(
-    path: &std::path::Path,
-    runs: &BTreeSet<u32>,
-    interval_s: f64,
-    n_rows: usize,
-    slice_rows: usize,
-) -> Result<Option<(DataFrame, BTreeSet<String>)>, MetricsError> {
-    let cols = dwell_cols(runs);
-    let mut latest: Vec<(u32, String, f64)> = Vec::new();
-    let mut radars = BTreeSet::new();
-    let mut sums: Option<DataFrame> = None;
-    for first in (0..n_rows).step_by(slice_rows.max(1)) {
-        let len = slice_rows.max(1).min(n_rows - first);
-        let Ok(df) = crate::read::read_file_slice("dwells", path, &cols, Some((first, len))) else {
-            return Ok(None);
-        };
-        if !times_ordered_after(&df, &mut latest)? {
-            return Ok(None);
-        }
-        radars.extend(radars_of(&df)?);
-        let part = crate::usage::transmit_sums(&df, interval_s).collect().map_err(error::internal("usage sums"))?;
-        match sums.as_mut() {
-            None => sums = Some(part),
-            Some(acc) => {
-                acc.vstack_mut_owned(part).map_err(error::internal("stacking usage sums"))?;
-            }
-        }
-    }
-    let sums = sums.ok_or_else(|| MetricsError::Internal { context: "reading", detail: "no rows".into() })?;
-    Ok(Some((crate::usage::resum(sums)?, radars)))
-}
-
-/// The dwells rule (times non-decreasing within each run and radar, docs/design.md §3) on one
-/// slice, continuing from `latest` (each key's latest time in the slices before), which it
-/// updates; false when a row breaks it.
-fn times_ordered_after(df: &DataFrame, latest: &mut Vec<(u32, String, f64)>) -> Result<bool, MetricsError> {
-    let (run, t) = (u32s(df, "run")?, f64s(df, "t_s")?);
-    let radar = df.column("radar").map_err(error::internal("dwell radars"))?;
-    let radar = radar.str().map_err(error::internal("dwell radars"))?;
-    for ((r, name), t) in run.iter().zip(radar.iter()).zip(&t) {
-        let name = name.unwrap_or_default();
-        match latest.iter_mut().find(|(kr, kn, _)| kr == r && kn == name) {
-            Some((_, _, max)) if *t < *max => return Ok(false),
-            Some((_, _, max)) => *max = *t,
-            None => latest.push((*r, name.to_string(), *t)),
-        }
-    }
-    Ok(true)
 }
 
 /// Every radar named in a dwells frame (any role).
@@ -348,38 +274,57 @@ mod tests {
         path
     }
 
-    /// Read in slices of 64 rows, the usage sums are those of one pass (the same groups in the
-    /// same order, each sum to a few ulps) and name the same radars.
+    /// The one-pass sums are the polars group-by's to the bit: the same groups in the same order,
+    /// whether the file is read at once or in slices of 64 rows (each slice's sums by polars,
+    /// stacked and summed again by key), and the same radars.
     #[test]
-    fn slices_give_the_sums_of_one_pass() {
+    fn one_pass_sums_are_those_of_the_polars_group_by() {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dwells_file(dir.path(), 1000, None);
         let runs = BTreeSet::from([0u32]);
+        let cols = dwell_cols(&runs);
+        let bits = |df: &DataFrame| -> Vec<Vec<u64>> {
+            crate::usage::SUMS.iter().map(|s| f64s(df, s).expect("sum").iter().map(|v| v.to_bits()).collect()).collect()
+        };
         let (whole, radars_whole) = dwell_file_sums_whole(&path, &runs, 1.0).expect("whole");
-        let (sliced, radars_sliced) =
-            dwell_file_sums_sliced(&path, &runs, 1.0, 1000, 64).expect("sliced").expect("no broken rule");
-        assert_eq!(radars_whole, radars_sliced);
-        assert_eq!(whole.height(), sliced.height());
-        assert!(whole.height() > 40, "{} groups", whole.height());
-        for key in ["run", "radar", "interval"] {
-            assert!(whole.column(key).expect("key").equals(sliced.column(key).expect("key")), "{key}");
-        }
-        for sum in crate::usage::SUMS {
-            let (a, b) = (f64s(&whole, sum).expect("sum"), f64s(&sliced, sum).expect("sum"));
-            for (x, y) in a.iter().zip(&b) {
-                assert!((x - y).abs() <= 1e-12 * x.abs().max(1.0), "{sum}: {x} vs {y}");
+        let mut by_polars_sliced: Option<DataFrame> = None;
+        for first in (0..1000).step_by(64) {
+            let df = crate::read::read_file_slice("dwells", &path, &cols, Some((first, 64.min(1000 - first))))
+                .expect("slice");
+            let part = crate::usage::transmit_sums(&df, 1.0).collect().expect("sums");
+            match by_polars_sliced.as_mut() {
+                None => by_polars_sliced = Some(part),
+                Some(acc) => {
+                    acc.vstack_mut_owned(part).expect("stack");
+                }
             }
         }
+        let by_polars_sliced = crate::usage::resum(by_polars_sliced.expect("slices")).expect("resum");
+        for (reference, slice_rows) in [(&whole, 1000), (&by_polars_sliced, 64)] {
+            let sums = crate::dwell_sums::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, slice_rows)
+                .expect("no broken rule");
+            assert_eq!(sums.radars(), radars_whole);
+            let frame = sums.into_frame().expect("frame");
+            assert_eq!(frame.height(), reference.height());
+            assert!(frame.height() > 40, "{} groups", frame.height());
+            for key in ["run", "radar", "interval"] {
+                assert!(frame.column(key).expect("key").equals(reference.column(key).expect("key")), "{key}");
+            }
+            assert_eq!(bits(&frame), bits(reference), "slices of {slice_rows} rows");
+        }
+        // The sums do differ between the two ways of slicing (so the comparison above can fail).
+        assert_ne!(bits(&whole), bits(&by_polars_sliced));
     }
 
-    /// A time that runs backwards across a slice boundary is caught by the sliced read, and the
+    /// A time that runs backwards across a slice boundary is caught by the sliced pass, and the
     /// whole read then names it.
     #[test]
     fn a_time_out_of_order_across_slices_is_caught() {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dwells_file(dir.path(), 1000, Some(128));
         let runs = BTreeSet::from([0u32]);
-        assert!(dwell_file_sums_sliced(&path, &runs, 1.0, 1000, 64).expect("read").is_none());
+        let cols = dwell_cols(&runs);
+        assert!(crate::dwell_sums::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("out of order");
         assert!(matches!(err, MetricsError::BrokenRule { row: 128, .. }), "{err}");
     }

@@ -44,7 +44,9 @@ pub(crate) fn transmit_sums(dwells: &DataFrame, interval_s: f64) -> LazyFrame {
         ])
 }
 
-/// Sum stacked [`transmit_sums`] rows of several files again by run, radar and interval.
+/// Sum stacked [`transmit_sums`] rows of several files again by run, radar and interval (what
+/// `crate::dwell_sums` does in Rust; kept to test it against).
+#[cfg(test)]
 pub(crate) fn resum(sums: DataFrame) -> Result<DataFrame, MetricsError> {
     sums.lazy()
         .group_by_stable([col("run"), col("radar"), col("interval")])
