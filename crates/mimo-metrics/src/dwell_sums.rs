@@ -8,16 +8,14 @@
 //! within a slice, a group's rows in row order; the slices' sums of a group in slice order; the
 //! files' sums in file order. Groups come out in order of first appearance. Any check
 //! that fails makes the pass give up (`None`): the caller then reads the file the polars way,
-//! which names the file, column, row and rule exactly as before.
+//! which names the file, column, row and rule exactly as before. The columns are read by
+//! `crate::dwell_read`.
 
 use crate::MetricsError;
 use crate::load::{KINDS, REQUESTERS, ROLES};
-use crate::read::Col;
 use mimo_core::ids::RadarId;
 use polars::prelude::*;
-use std::borrow::Cow;
 use std::collections::{BTreeSet, HashMap};
-use std::path::Path;
 
 /// Rows of a dwells file read at a time: the file is reduced slice by slice, so that memory
 /// follows this many rows, not a run's duration (a 1000-s scenario-7 run has ~600 k dwell rows).
@@ -173,187 +171,201 @@ struct KeyState {
     partial: usize,
 }
 
-/// One dwells file checked and reduced in one pass, slice by slice; `None` when a value or rule
-/// check fails, or the file cannot be read (the polars read then reports it).
-pub(crate) fn file_sums(
-    path: &Path,
-    cols: &[Col<'_>],
-    runs: &BTreeSet<u32>,
-    interval_s: f64,
-    n_rows: usize,
-) -> Option<DwellSums> {
-    let slice_rows = if n_rows > DWELL_SLICE_ROWS { DWELL_SLICE_ROWS } else { n_rows.max(1) };
-    file_sums_in_slices(path, cols, runs, interval_s, n_rows, slice_rows)
+/// A utf8 column's distinct strings, each mapped to a small index once. A string is recognised
+/// by its polars view when short enough to sit inline in it (12 bytes: the view is then its
+/// length and bytes), else by comparison with the strings seen.
+pub(crate) struct Labels {
+    names: Vec<String>,
+    views: Vec<(u128, u8)>,
+    accept: fn(&str) -> bool,
 }
 
-/// [`file_sums`] in slices of `slice_rows` rows (at least one).
-pub(crate) fn file_sums_in_slices(
-    path: &Path,
-    cols: &[Col<'_>],
-    runs: &BTreeSet<u32>,
+/// Inline views remembered per column (more distinct short strings are compared as strings).
+const MAX_VIEWS: usize = 64;
+
+impl Labels {
+    /// Labels that grow with every string `accept` takes (at most 255).
+    pub(crate) fn open(accept: fn(&str) -> bool) -> Labels {
+        Labels { names: Vec::new(), views: Vec::new(), accept }
+    }
+
+    /// Labels of a fixed list: any other string is refused.
+    pub(crate) fn fixed(list: &[&str]) -> Labels {
+        Labels { names: list.iter().map(|s| s.to_string()).collect(), views: Vec::new(), accept: |_| false }
+    }
+
+    /// The index of the string whose inline view is `view`, if seen before.
+    #[inline]
+    pub(crate) fn by_view(&self, view: u128) -> Option<u8> {
+        self.views.iter().find(|(v, _)| *v == view).map(|(_, index)| *index)
+    }
+
+    /// The index of `s`, remembered under its inline view `view` if any; `None` when refused or
+    /// beyond 255 strings.
+    pub(crate) fn index(&mut self, s: &str, view: Option<u128>) -> Option<u8> {
+        let index = match self.names.iter().position(|n| n == s) {
+            Some(index) => index,
+            None if (self.accept)(s) && self.names.len() < 255 => {
+                self.names.push(s.to_string());
+                self.names.len() - 1
+            }
+            None => return None,
+        };
+        let index = u8::try_from(index).ok()?;
+        if let Some(view) = view
+            && self.views.len() < MAX_VIEWS
+        {
+            self.views.push((view, index));
+        }
+        Some(index)
+    }
+
+    /// The index of a string of the list (never refused for `fixed` labels of that list).
+    fn of(&mut self, s: &str) -> u8 {
+        self.index(s, None).unwrap_or(u8::MAX)
+    }
+}
+
+/// One slice of rows of a dwells file, its labels already mapped by [`Labels`].
+pub(crate) struct Rows<'a> {
+    pub run: &'a [u32],
+    pub radar: &'a [u8],
+    pub role: &'a [u8],
+    pub requested_by: &'a [u8],
+    pub t_s: &'a [f64],
+    pub duration_s: &'a [f64],
+    pub energy_j: &'a [f64],
+}
+
+/// The one pass over the rows of a dwells file: the labels, the checks and the sums.
+pub(crate) struct FilePass<'r> {
+    runs: &'r BTreeSet<u32>,
     interval_s: f64,
-    n_rows: usize,
     slice_rows: usize,
-) -> Option<DwellSums> {
-    let slice_rows = slice_rows.max(1);
-    let mut out = DwellSums::default();
-    let mut keys: Vec<KeyState> = Vec::new();
-    let mut partials: Vec<(usize, Sum)> = Vec::new();
-    for first in (0..n_rows).step_by(slice_rows) {
-        let len = slice_rows.min(n_rows - first);
-        let df = crate::read::read_file_slice_unchecked("dwells", path, cols, Some((first, len))).ok()?;
-        partials.clear();
-        for k in &mut keys {
+    rows_done: usize,
+    pub(crate) radar: Labels,
+    pub(crate) role: Labels,
+    pub(crate) kind: Labels,
+    pub(crate) requested_by: Labels,
+    out: DwellSums,
+    keys: Vec<KeyState>,
+    partials: Vec<(usize, Sum)>,
+    rx: u8,
+    ta: u8,
+}
+
+impl<'r> FilePass<'r> {
+    /// A pass whose sums are split every `slice_rows` rows (at least one) of the file, as the
+    /// polars read in slices of that many rows split them.
+    pub(crate) fn new(runs: &'r BTreeSet<u32>, interval_s: f64, slice_rows: usize) -> FilePass<'r> {
+        let mut role = Labels::fixed(ROLES);
+        let mut requested_by = Labels::fixed(REQUESTERS);
+        let (rx, ta) = (role.of("rx"), requested_by.of("ta"));
+        FilePass {
+            runs,
+            interval_s,
+            slice_rows: slice_rows.max(1),
+            rows_done: 0,
+            radar: Labels::open(|s| RadarId::parse(s).is_some()),
+            role,
+            kind: Labels::fixed(KINDS),
+            requested_by,
+            out: DwellSums::default(),
+            keys: Vec::new(),
+            partials: Vec::new(),
+            rx,
+            ta,
+        }
+    }
+
+    /// The partial sums of the slice so far added to the file's.
+    fn end_slice(&mut self) {
+        for (g, p) in &self.partials {
+            self.out.sums[*g].add(p.value());
+        }
+        self.partials.clear();
+        for k in &mut self.keys {
             k.partial = NONE;
         }
-        slice_sums(&df, runs, interval_s, &mut out, &mut keys, &mut partials)?;
-        for (g, p) in &partials {
-            out.sums[*g].add(p.value());
+    }
+
+    /// The next rows of the file checked and added; `None` when a check fails.
+    pub(crate) fn rows(&mut self, rows: &Rows<'_>) -> Option<()> {
+        let n = rows.run.len();
+        let lens = [rows.radar.len(), rows.role.len(), rows.requested_by.len()];
+        if lens.iter().chain(&[rows.t_s.len(), rows.duration_s.len(), rows.energy_j.len()]).any(|&l| l != n) {
+            return None;
         }
-    }
-    Some(out)
-}
-
-/// A column's values without nulls, as one slice when it has one chunk.
-fn f64_values<'a>(df: &'a DataFrame, name: &str) -> Option<Cow<'a, [f64]>> {
-    let ca = df.column(name).ok()?.f64().ok()?;
-    if ca.null_count() > 0 {
-        return None;
-    }
-    Some(match ca.cont_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(ca.into_no_null_iter().collect()),
-    })
-}
-
-/// A utf8 column mapped to indices into `names`: a string not yet there is appended when `accept`
-/// takes it; `None` on a null, a string `accept` refuses, or more than 255 distinct strings.
-fn label_indices(
-    df: &DataFrame,
-    name: &str,
-    names: &mut Vec<String>,
-    accept: impl Fn(&str) -> bool,
-) -> Option<Vec<u8>> {
-    let ca = df.column(name).ok()?.str().ok()?;
-    if ca.null_count() > 0 {
-        return None;
-    }
-    let mut out = Vec::with_capacity(ca.len());
-    for arr in ca.downcast_iter() {
-        let views = arr.views();
-        // Equal views are equal strings (same length and bytes, inline or at the same place).
-        let mut last: Option<(u128, u8)> = None;
-        for (i, view) in views.iter().enumerate() {
-            let view = view.as_u128();
-            if let Some((v, index)) = last
-                && v == view
-            {
-                out.push(index);
-                continue;
+        // Finite and >= 0 (NaN fails both comparisons); folded without a branch per value.
+        let bad = |v: &[f64]| v.iter().fold(false, |bad, v| bad | !(*v >= 0.0 && *v < f64::INFINITY));
+        if bad(rows.t_s) || bad(rows.duration_s) || bad(rows.energy_j) {
+            return None;
+        }
+        let mut last_run = None;
+        let mut last_key = 0;
+        for i in 0..n {
+            if self.rows_done > 0 && self.rows_done.is_multiple_of(self.slice_rows) {
+                self.end_slice();
             }
-            let s = arr.value(i);
-            let index = match names.iter().position(|n| n == s) {
-                Some(index) => index,
-                None if accept(s) && names.len() < 255 => {
-                    names.push(s.to_string());
-                    names.len() - 1
+            self.rows_done += 1;
+            let (r, rad, t) = (rows.run[i], usize::from(rows.radar[i]), rows.t_s[i]);
+            if last_run != Some(r) {
+                if !self.runs.contains(&r) {
+                    return None;
                 }
-                None => return None,
+                last_run = Some(r);
+            }
+            let k = match self.keys.get(last_key) {
+                Some(k) if k.run == r && k.radar == rad => last_key,
+                _ => match self.keys.iter().position(|k| k.run == r && k.radar == rad) {
+                    Some(k) => k,
+                    None => {
+                        let state =
+                            KeyState { run: r, radar: rad, latest_t_s: t, interval: 0, group: NONE, partial: NONE };
+                        self.keys.push(state);
+                        self.keys.len() - 1
+                    }
+                },
             };
-            let index = u8::try_from(index).ok()?;
-            last = Some((view, index));
-            out.push(index);
-        }
-    }
-    Some(out)
-}
-
-/// The rows of one slice checked and added to the slice's partial sums (`partials`), continuing
-/// the per-(run, radar) state `keys` of the slices before.
-fn slice_sums(
-    df: &DataFrame,
-    runs: &BTreeSet<u32>,
-    interval_s: f64,
-    out: &mut DwellSums,
-    keys: &mut Vec<KeyState>,
-    partials: &mut Vec<(usize, Sum)>,
-) -> Option<()> {
-    let run_ca = df.column("run").ok()?.u32().ok()?;
-    if run_ca.null_count() > 0 {
-        return None;
-    }
-    let run: Cow<'_, [u32]> = match run_ca.cont_slice() {
-        Ok(s) => Cow::Borrowed(s),
-        Err(_) => Cow::Owned(run_ca.into_no_null_iter().collect()),
-    };
-    let radar = label_indices(df, "radar", &mut out.radar_names, |s| RadarId::parse(s).is_some())?;
-    let fixed = |list: &[&str]| list.iter().map(|s| s.to_string()).collect::<Vec<String>>();
-    let role = label_indices(df, "role", &mut fixed(ROLES), |_| false)?;
-    let _kind = label_indices(df, "kind", &mut fixed(KINDS), |_| false)?;
-    let by = label_indices(df, "requested_by", &mut fixed(REQUESTERS), |_| false)?;
-    let (t_s, duration_s, energy_j) =
-        (f64_values(df, "t_s")?, f64_values(df, "duration_s")?, f64_values(df, "energy_j")?);
-    let good = |v: &f64| v.is_finite() && *v >= 0.0;
-    if !(t_s.iter().all(good) && duration_s.iter().all(good) && energy_j.iter().all(good)) {
-        return None;
-    }
-    let rx = ROLES.iter().position(|r| *r == "rx").unwrap_or(usize::MAX);
-    let ta = REQUESTERS.iter().position(|r| *r == "ta").unwrap_or(usize::MAX);
-    let n = run.len();
-    if [radar.len(), role.len(), by.len(), t_s.len(), duration_s.len(), energy_j.len()].iter().any(|&l| l != n) {
-        return None;
-    }
-    let mut last_run = None;
-    let mut last_key = 0;
-    for i in 0..n {
-        let (r, rad, t) = (run[i], usize::from(radar[i]), t_s[i]);
-        if last_run != Some(r) {
-            if !runs.contains(&r) {
+            last_key = k;
+            let key = &mut self.keys[k];
+            if t < key.latest_t_s {
                 return None;
             }
-            last_run = Some(r);
+            key.latest_t_s = t;
+            if rows.role[i] == self.rx {
+                continue;
+            }
+            // `(t_s / interval_s).cast(Int64) + 1` of `usage::transmit_sums`; beyond i64 the
+            // polars read decides.
+            let q = t / self.interval_s;
+            if q.is_nan() || q >= 9.0e18 {
+                return None;
+            }
+            let interval = q as i64 + 1;
+            if key.group == NONE || key.interval != interval {
+                // Times never decrease within a key, so a new interval is a new group.
+                self.out.groups.push((r, rad, interval));
+                self.out.sums.push(Sum::default());
+                key.group = self.out.groups.len() - 1;
+                key.interval = interval;
+                key.partial = NONE;
+            }
+            if key.partial == NONE {
+                self.partials.push((key.group, Sum::default()));
+                key.partial = self.partials.len() - 1;
+            }
+            let (d, e) = (rows.duration_s[i], rows.energy_j[i]);
+            let is_ta = rows.requested_by[i] == self.ta;
+            self.partials[key.partial].1.add([d, e, if is_ta { d } else { 0.0 }, if is_ta { e } else { 0.0 }]);
         }
-        let k = match keys.get(last_key) {
-            Some(k) if k.run == r && k.radar == rad => last_key,
-            _ => match keys.iter().position(|k| k.run == r && k.radar == rad) {
-                Some(k) => k,
-                None => {
-                    keys.push(KeyState { run: r, radar: rad, latest_t_s: t, interval: 0, group: NONE, partial: NONE });
-                    keys.len() - 1
-                }
-            },
-        };
-        last_key = k;
-        let key = &mut keys[k];
-        if t < key.latest_t_s {
-            return None;
-        }
-        key.latest_t_s = t;
-        if usize::from(role[i]) == rx {
-            continue;
-        }
-        // `(t_s / interval_s).cast(Int64) + 1` of `usage::transmit_sums`; beyond i64 the polars
-        // read decides.
-        let q = t / interval_s;
-        if q.is_nan() || q >= 9.0e18 {
-            return None;
-        }
-        let interval = q as i64 + 1;
-        if key.group == NONE || key.interval != interval {
-            // Times never decrease within a key, so a new interval is a new group.
-            out.groups.push((r, rad, interval));
-            out.sums.push(Sum::default());
-            key.group = out.groups.len() - 1;
-            key.interval = interval;
-            key.partial = NONE;
-        }
-        if key.partial == NONE {
-            partials.push((key.group, Sum::default()));
-            key.partial = partials.len() - 1;
-        }
-        let (d, e) = (duration_s[i], energy_j[i]);
-        let is_ta = usize::from(by[i]) == ta;
-        partials[key.partial].1.add([d, e, if is_ta { d } else { 0.0 }, if is_ta { e } else { 0.0 }]);
+        Some(())
     }
-    Some(())
+
+    /// The file's sums and radars.
+    pub(crate) fn finish(mut self) -> DwellSums {
+        self.end_slice();
+        self.out.radar_names = self.radar.names;
+        self.out
+    }
 }

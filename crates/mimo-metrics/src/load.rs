@@ -217,7 +217,7 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [crate::read::Col<'_>; 8] {
 /// polars way, whose error names the row and rule exactly as before.
 fn dwell_file_sums(path: &std::path::Path, runs: &BTreeSet<u32>, interval_s: f64) -> Result<DwellSums, MetricsError> {
     let n_rows = crate::read::file_rows("dwells", path)?;
-    if let Some(sums) = crate::dwell_sums::file_sums(path, &dwell_cols(runs), runs, interval_s, n_rows) {
+    if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs), runs, interval_s, n_rows) {
         return Ok(sums);
     }
     let (df, radars) = dwell_file_sums_whole(path, runs, interval_s)?;
@@ -301,7 +301,7 @@ mod tests {
         }
         let by_polars_sliced = crate::usage::resum(by_polars_sliced.expect("slices")).expect("resum");
         for (reference, slice_rows) in [(&whole, 1000), (&by_polars_sliced, 64)] {
-            let sums = crate::dwell_sums::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, slice_rows)
+            let sums = crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, slice_rows)
                 .expect("no broken rule");
             assert_eq!(sums.radars(), radars_whole);
             let frame = sums.into_frame().expect("frame");
@@ -324,7 +324,7 @@ mod tests {
         let path = dwells_file(dir.path(), 1000, Some(128));
         let runs = BTreeSet::from([0u32]);
         let cols = dwell_cols(&runs);
-        assert!(crate::dwell_sums::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
+        assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("out of order");
         assert!(matches!(err, MetricsError::BrokenRule { row: 128, .. }), "{err}");
     }
