@@ -104,6 +104,7 @@ mod output;
 mod parts;
 mod read;
 mod results;
+mod row_order;
 mod rules;
 mod track_metrics;
 mod track_results;

@@ -9,7 +9,7 @@ use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
 use polars::prelude::*;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
 
 pub(crate) const TRACK_STATUSES: &[&str] = &["tentative", "confirmed", "deleted"];
@@ -58,9 +58,6 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
         rcol("alt_m", F64, Finite),
     ];
     let df = read_table_checked("truth", paths, &cols, &crate::rules::check_truth)?;
-    let df = df
-        .sort(["run", "target", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
-        .map_err(error::internal("sorting truth"))?;
     let run = u32s(&df, "run")?;
     let t = f64s(&df, "t_s")?;
     let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
@@ -69,24 +66,37 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
     let target_col = df.column("target").map_err(error::internal("truth target"))?;
     let targets = target_col.str().map_err(error::internal("truth target"))?;
 
-    let mut names: BTreeSet<String> = BTreeSet::new();
+    let mut names: BTreeSet<&str> = BTreeSet::new();
+    let mut last: Option<&str> = None;
     for s in targets.no_null_iter() {
-        if !names.contains(s) {
-            names.insert(s.to_string());
+        if last != Some(s) {
+            names.insert(s);
+            last = Some(s);
         }
     }
-    let target_names: Vec<String> = names.into_iter().collect();
-    let index: BTreeMap<&str, usize> = target_names.iter().enumerate().map(|(i, s)| (s.as_str(), i)).collect();
+    let target_names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+    // A target's index is its rank among the names, so that the rows sort by it as by name.
+    let index: HashMap<&str, usize> = names.iter().enumerate().map(|(i, s)| (*s, i)).collect();
+    let mut last: Option<(&str, usize)> = None;
+    let mut target_of_row = Vec::with_capacity(run.len());
+    for s in targets.no_null_iter() {
+        let target = match last {
+            Some((name, target)) if name == s => target,
+            _ => index.get(s).copied().unwrap_or(0),
+        };
+        last = Some((s, target));
+        target_of_row.push(target);
+    }
 
+    // The rows by run, target and time (docs/design.md §6: a target's samples in time order).
     let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();
     let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
-    let mut current: Option<(u32, &str)> = None;
-    for (i, name) in targets.no_null_iter().enumerate() {
-        let key = (run[i], name);
+    let mut current: Option<(u32, usize)> = None;
+    for i in crate::row_order::stable_order(&run, &target_of_row, &t) {
+        let key = (run[i], target_of_row[i]);
         let list = per_run.entry(run[i]).or_default();
         if current != Some(key) {
-            let target = index.get(name).copied().unwrap_or(0);
-            list.push(TargetTruth { target, samples: Vec::new() });
+            list.push(TargetTruth { target: target_of_row[i], samples: Vec::new() });
             current = Some(key);
         }
         if let Some(tt) = list.last_mut() {
@@ -117,21 +127,29 @@ pub(crate) fn load_tracks(
         rcol("vz_mps", F64, Finite),
     ];
     let df = read_table_checked("tracks", paths, &cols, &crate::rules::check_tracks)?;
-    let df = df
-        .sort(["run", "track_id", "t_s"], SortMultipleOptions::default().with_maintain_order(true))
-        .map_err(error::internal("sorting tracks"))?;
     let run = u32s(&df, "run")?;
     let id = u64s(&df, "track_id")?;
     let t = f64s(&df, "t_s")?;
     let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
     let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
     let status_col = df.column("status").map_err(error::internal("track status"))?;
-    let status = status_col.str().map_err(error::internal("track status"))?;
+    let status_col = status_col.str().map_err(error::internal("track status"))?;
+    let mut last: Option<(&str, Option<TrackStatus>)> = None;
+    let mut status = Vec::with_capacity(run.len());
+    for s in status_col.no_null_iter() {
+        let parsed = match last {
+            Some((name, parsed)) if name == s => parsed,
+            _ => TrackStatus::parse(s),
+        };
+        last = Some((s, parsed));
+        status.push(parsed);
+    }
 
+    // The rows by run, track and time.
     let mut out: BTreeMap<u32, Vec<TrackLife>> = BTreeMap::new();
     let mut current: Option<(u32, u64)> = None;
     let mut ended = false;
-    for (i, s) in status.no_null_iter().enumerate() {
+    for i in crate::row_order::stable_order(&run, &id, &t) {
         let key = (run[i], id[i]);
         let list = out.entry(run[i]).or_default();
         if current != Some(key) {
@@ -143,7 +161,7 @@ pub(crate) fn load_tracks(
         if ended {
             continue;
         }
-        match TrackStatus::parse(s) {
+        match status[i] {
             Some(TrackStatus::Deleted) => {
                 tr.t_delete = t[i];
                 ended = true;
