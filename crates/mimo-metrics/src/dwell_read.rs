@@ -1,5 +1,6 @@
-//! The columns of a dwells file read with polars for the one-pass usage sums
-//! ([`crate::dwell_sums`]), slice by slice, the labels mapped by their string views.
+//! The columns of a dwells file read for the one-pass usage sums ([`crate::dwell_sums`]): from
+//! its Parquet pages when it has mimo's layout ([`crate::dwell_pages`]), else with polars, slice
+//! by slice, the labels mapped by their string views.
 //!
 //! (The parquet crate's arrow reader was measured for this and rejected: decoding the plain
 //! strings into offset arrays and validating them took more instructions than polars' views,
@@ -21,7 +22,8 @@ pub(crate) fn file_sums(
     interval_s: f64,
     n_rows: usize,
 ) -> Option<DwellSums> {
-    file_sums_in_slices(path, cols, runs, interval_s, n_rows, DWELL_SLICE_ROWS)
+    crate::dwell_pages::file_sums(path, runs, interval_s, DWELL_SLICE_ROWS)
+        .or_else(|| file_sums_in_slices(path, cols, runs, interval_s, n_rows, DWELL_SLICE_ROWS))
 }
 
 /// A utf8 column's labels into `out`; `None` on a null or a string `labels` refuses.

@@ -180,6 +180,19 @@ pub(crate) struct Labels {
     accept: fn(&str) -> bool,
 }
 
+/// The key of a string of at most 12 bytes: its length and bytes laid out as a polars inline
+/// string view (`View::as_u128`), so that a view and the bytes it holds give the same key.
+#[inline]
+pub(crate) fn short_key(bytes: &[u8]) -> Option<u128> {
+    let len = u32::try_from(bytes.len()).ok().filter(|&l| l <= 12)?;
+    let mut b = [0u8; 16];
+    b[..4].copy_from_slice(&len.to_le_bytes());
+    for (d, s) in b[4..].iter_mut().zip(bytes) {
+        *d = *s;
+    }
+    Some(u128::from_le_bytes(b))
+}
+
 /// Inline views remembered per column (more distinct short strings are compared as strings).
 const MAX_VIEWS: usize = 64;
 
@@ -297,7 +310,7 @@ impl<'r> FilePass<'r> {
             return None;
         }
         // Finite and >= 0 (NaN fails both comparisons); folded without a branch per value.
-        let bad = |v: &[f64]| v.iter().fold(false, |bad, v| bad | !(*v >= 0.0 && *v < f64::INFINITY));
+        let bad = |v: &[f64]| v.iter().filter(|v| **v >= 0.0 && **v < f64::INFINITY).count() != v.len();
         if bad(rows.t_s) || bad(rows.duration_s) || bad(rows.energy_j) {
             return None;
         }

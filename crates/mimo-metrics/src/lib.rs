@@ -95,6 +95,7 @@
 //! velocities, times, durations, energies), unknown enumeration value, unknown run.
 #![warn(missing_docs)]
 
+mod dwell_pages;
 mod dwell_read;
 mod dwell_sums;
 mod error;

@@ -281,14 +281,53 @@ mod tests {
         let by: Vec<&str> = (0..n).map(|i| REQUESTERS[(i / 5) % 2]).collect();
         let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
         let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
-        let mut df = df! {
-            "run" => vec![0u32; n], "radar" => radar, "role" => role, "kind" => kind,
-            "requested_by" => by, "t_s" => t, "duration_s" => duration, "energy_j" => energy,
-        }
-        .expect("frame");
+        // mimo's layout (required columns, plain pages, `t_s` byte-stream-split, zstd), in row
+        // groups of 300 rows and pages of 100, so that every reader of `crate::dwell_read` takes
+        // the file and crosses pages and row groups.
+        use arrow::array::{ArrayRef, Float64Array, RecordBatch, StringArray, UInt32Array};
+        use arrow::datatypes::{DataType as A, Field, Schema};
+        use parquet::basic::{Compression, Encoding};
+        use parquet::file::properties::WriterProperties;
+        use std::sync::Arc;
+        let strings = |v: Vec<String>| Arc::new(StringArray::from(v)) as ArrayRef;
+        let owned = |v: Vec<&str>| v.into_iter().map(str::to_string).collect::<Vec<_>>();
+        let floats = |v: Vec<f64>| Arc::new(Float64Array::from(v)) as ArrayRef;
+        let fields = [
+            ("run", A::UInt32),
+            ("radar", A::Utf8),
+            ("role", A::Utf8),
+            ("kind", A::Utf8),
+            ("requested_by", A::Utf8),
+            ("t_s", A::Float64),
+            ("duration_s", A::Float64),
+            ("energy_j", A::Float64),
+        ];
+        let schema =
+            Arc::new(Schema::new(fields.iter().map(|(n, t)| Field::new(*n, t.clone(), false)).collect::<Vec<_>>()));
+        let columns = vec![
+            Arc::new(UInt32Array::from(vec![0u32; n])) as ArrayRef,
+            strings(radar),
+            strings(owned(role)),
+            strings(owned(kind)),
+            strings(owned(by)),
+            floats(t),
+            floats(duration),
+            floats(energy),
+        ];
+        let batch = RecordBatch::try_new(schema.clone(), columns).expect("batch");
+        let props = WriterProperties::builder()
+            .set_compression(Compression::ZSTD(Default::default()))
+            .set_dictionary_enabled(false)
+            .set_max_row_group_row_count(Some(300))
+            .set_data_page_row_count_limit(100)
+            .set_write_batch_size(50)
+            .set_column_encoding("t_s".into(), Encoding::BYTE_STREAM_SPLIT)
+            .build();
         let path = dir.join("run-0000.parquet");
         let f = std::fs::File::create(&path).expect("create");
-        ParquetWriter::new(f).finish(&mut df).expect("write");
+        let mut w = parquet::arrow::ArrowWriter::try_new(f, schema, Some(props)).expect("writer");
+        w.write(&batch).expect("write");
+        w.close().expect("close");
         path
     }
 
@@ -318,9 +357,19 @@ mod tests {
             }
         }
         let by_polars_sliced = crate::usage::resum(by_polars_sliced.expect("slices")).expect("resum");
-        for (reference, slice_rows) in [(&whole, 1000), (&by_polars_sliced, 64)] {
-            let sums = crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, slice_rows)
-                .expect("no broken rule");
+        let cases = [
+            (&whole, 1000, false),
+            (&by_polars_sliced, 64, false),
+            (&whole, 1000, true),
+            (&by_polars_sliced, 64, true),
+        ];
+        for (reference, slice_rows, pages) in cases {
+            let sums = if pages {
+                crate::dwell_pages::file_sums(&path, &runs, 1.0, slice_rows)
+            } else {
+                crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, slice_rows)
+            };
+            let sums = sums.expect("no broken rule, the pages read");
             assert_eq!(sums.radars(), radars_whole);
             let frame = sums.into_frame().expect("frame");
             assert_eq!(frame.height(), reference.height());
@@ -328,7 +377,7 @@ mod tests {
             for key in ["run", "radar", "interval"] {
                 assert!(frame.column(key).expect("key").equals(reference.column(key).expect("key")), "{key}");
             }
-            assert_eq!(bits(&frame), bits(reference), "slices of {slice_rows} rows");
+            assert_eq!(bits(&frame), bits(reference), "slices of {slice_rows} rows, from the pages {pages}");
         }
         // The sums do differ between the two ways of slicing (so the comparison above can fail).
         assert_ne!(bits(&whole), bits(&by_polars_sliced));
@@ -343,6 +392,7 @@ mod tests {
         let runs = BTreeSet::from([0u32]);
         let cols = dwell_cols(&runs);
         assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
+        assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("out of order");
         assert!(matches!(err, MetricsError::BrokenRule { row: 128, .. }), "{err}");
     }
