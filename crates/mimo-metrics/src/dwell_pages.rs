@@ -77,19 +77,14 @@ fn f64s(rg: &dyn RowGroupReader, col: usize, out: &mut Vec<f64>) -> Option<()> {
             Encoding::PLAIN => {
                 out.extend(values.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0xff; 8]))))
             }
-            // Byte k of value i at k·n + i: the bits gathered stream by stream.
+            // Byte k of value i at k·n + i.
             Encoding::BYTE_STREAM_SPLIT => {
-                let start = out.len();
-                out.resize(start + n, 0.0);
-                let mut bits = vec![0u64; n];
-                for (k, stream) in values.chunks_exact(n.max(1)).enumerate().take(8) {
-                    for (b, byte) in bits.iter_mut().zip(stream) {
-                        *b |= u64::from(*byte) << (8 * k);
-                    }
-                }
-                for (v, b) in out[start..].iter_mut().zip(bits) {
-                    *v = f64::from_bits(b);
-                }
+                let mut streams = values.chunks_exact(n.max(1));
+                let mut next = || streams.next().filter(|s| s.len() == n);
+                let s = [next()?, next()?, next()?, next()?, next()?, next()?, next()?, next()?];
+                out.extend((0..n).map(|i| {
+                    f64::from_le_bytes([s[0][i], s[1][i], s[2][i], s[3][i], s[4][i], s[5][i], s[6][i], s[7][i]])
+                }));
             }
             _ => return None,
         }

@@ -9,7 +9,7 @@ use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
 use polars::prelude::*;
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
 pub(crate) const TRACK_STATUSES: &[&str] = &["tentative", "confirmed", "deleted"];
@@ -76,7 +76,7 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
     }
     let target_names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
     // A target's index is its rank among the names, so that the rows sort by it as by name.
-    let index: HashMap<&str, usize> = names.iter().enumerate().map(|(i, s)| (*s, i)).collect();
+    let index: PlHashMap<&str, usize> = names.iter().enumerate().map(|(i, s)| (*s, i)).collect();
     let mut last: Option<(&str, usize)> = None;
     let mut target_of_row = Vec::with_capacity(run.len());
     for s in targets.no_null_iter() {
