@@ -77,14 +77,16 @@ fn f64s(rg: &dyn RowGroupReader, col: usize, out: &mut Vec<f64>) -> Option<()> {
             Encoding::PLAIN => {
                 out.extend(values.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0xff; 8]))))
             }
-            // Byte k of value i at k·n + i.
+            // Byte k of value i at k·n + i, written stream by stream into the values' bytes.
             Encoding::BYTE_STREAM_SPLIT => {
-                let mut streams = values.chunks_exact(n.max(1));
-                let mut next = || streams.next().filter(|s| s.len() == n);
-                let s = [next()?, next()?, next()?, next()?, next()?, next()?, next()?, next()?];
-                out.extend((0..n).map(|i| {
-                    f64::from_le_bytes([s[0][i], s[1][i], s[2][i], s[3][i], s[4][i], s[5][i], s[6][i], s[7][i]])
-                }));
+                let mut bytes = vec![[0u8; 8]; n];
+                for (k, stream) in values.chunks_exact(n.max(1)).take(8).enumerate() {
+                    let k = k & 7;
+                    for (b, byte) in bytes.iter_mut().zip(stream) {
+                        b[k] = *byte;
+                    }
+                }
+                out.extend(bytes.into_iter().map(f64::from_le_bytes));
             }
             _ => return None,
         }

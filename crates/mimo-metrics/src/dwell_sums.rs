@@ -310,7 +310,13 @@ impl<'r> FilePass<'r> {
             return None;
         }
         // Finite and >= 0 (NaN fails both comparisons); folded without a branch per value.
-        let bad = |v: &[f64]| v.iter().filter(|v| **v >= 0.0 && **v < f64::INFINITY).count() != v.len();
+        let bad = |v: &[f64]| {
+            let mut bad = false;
+            for x in v {
+                bad |= !((*x >= 0.0) & (*x < f64::INFINITY));
+            }
+            bad
+        };
         if bad(rows.t_s) || bad(rows.duration_s) || bad(rows.energy_j) {
             return None;
         }
