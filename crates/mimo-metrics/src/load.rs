@@ -267,7 +267,7 @@ mod tests {
 
     /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times
     /// increasing; with `back_at`, that row's time is set before its radar's previous row.
-    fn dwells_file(dir: &std::path::Path, n: usize, back_at: Option<usize>) -> PathBuf {
+    fn dwells_file(dir: &std::path::Path, n: usize, back_at: Option<usize>, bad_role_at: Option<usize>) -> PathBuf {
         let mut t = Vec::with_capacity(n);
         for i in 0..n {
             t.push(0.013 * i as f64 + 0.004 * ((i * 7919) % 13) as f64 / 13.0);
@@ -276,7 +276,7 @@ mod tests {
             t[i] = t[i - 4] - 0.001;
         }
         let radar: Vec<String> = (0..n).map(|i| format!("R{}", 1 + i % 4)).collect();
-        let role: Vec<&str> = (0..n).map(|i| ROLES[i % 3]).collect();
+        let role: Vec<&str> = (0..n).map(|i| if Some(i) == bad_role_at { "bogus" } else { ROLES[i % 3] }).collect();
         let kind: Vec<&str> = (0..n).map(|i| KINDS[(i / 3) % 4]).collect();
         let by: Vec<&str> = (0..n).map(|i| REQUESTERS[(i / 5) % 2]).collect();
         let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
@@ -337,7 +337,7 @@ mod tests {
     #[test]
     fn one_pass_sums_are_those_of_the_polars_group_by() {
         let dir = tempfile::tempdir().expect("tempdir");
-        let path = dwells_file(dir.path(), 1000, None);
+        let path = dwells_file(dir.path(), 1000, None, None);
         let runs = BTreeSet::from([0u32]);
         let cols = dwell_cols(&runs);
         let bits = |df: &DataFrame| -> Vec<Vec<u64>> {
@@ -388,12 +388,31 @@ mod tests {
     #[test]
     fn a_time_out_of_order_across_slices_is_caught() {
         let dir = tempfile::tempdir().expect("tempdir");
-        let path = dwells_file(dir.path(), 1000, Some(128));
+        let path = dwells_file(dir.path(), 1000, Some(128), None);
         let runs = BTreeSet::from([0u32]);
         let cols = dwell_cols(&runs);
         assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
         assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("out of order");
         assert!(matches!(err, MetricsError::BrokenRule { row: 128, .. }), "{err}");
+    }
+
+    /// A bad label in a file of mimo's layout: the one-pass readers give up, and the error is
+    /// the polars read's, naming the column, row and value.
+    #[test]
+    fn a_bad_label_is_reported_by_the_polars_read() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dwells_file(dir.path(), 1000, None, Some(500));
+        let runs = BTreeSet::from([0u32]);
+        let cols = dwell_cols(&runs);
+        assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
+        assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
+        let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
+        assert!(
+            matches!(&err, MetricsError::InvalidValue { column: "role", row: 500, value, .. } if value == "bogus"),
+            "{err}"
+        );
+        let whole = dwell_file_sums_whole(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
+        assert_eq!(err.to_string(), whole.to_string());
     }
 }
