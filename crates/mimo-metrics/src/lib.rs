@@ -95,6 +95,9 @@
 //! velocities, times, durations, energies), unknown enumeration value, unknown run.
 #![warn(missing_docs)]
 
+mod dwell_pages;
+mod dwell_read;
+mod dwell_sums;
 mod error;
 mod load;
 pub mod ospa;
@@ -102,6 +105,7 @@ mod output;
 mod parts;
 mod read;
 mod results;
+mod row_order;
 mod rules;
 mod track_metrics;
 mod track_results;

@@ -164,6 +164,28 @@ pub(crate) fn read_file_slice(
     cols: &[Col<'_>],
     slice: Option<(usize, usize)>,
 ) -> Result<DataFrame, MetricsError> {
+    read_file_slice_checking(table, path, cols, slice, true)
+}
+
+/// [`read_file_slice`] with the schema checked and the columns converted, but not the values
+/// (nulls, [`Check`]s): for a caller that checks them itself and reads again with
+/// [`read_file_slice`] to report what it found.
+pub(crate) fn read_file_slice_unchecked(
+    table: &'static str,
+    path: &Path,
+    cols: &[Col<'_>],
+    slice: Option<(usize, usize)>,
+) -> Result<DataFrame, MetricsError> {
+    read_file_slice_checking(table, path, cols, slice, false)
+}
+
+fn read_file_slice_checking(
+    table: &'static str,
+    path: &Path,
+    cols: &[Col<'_>],
+    slice: Option<(usize, usize)>,
+    check: bool,
+) -> Result<DataFrame, MetricsError> {
     let file = File::open(path).map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             MetricsError::MissingTable { table, path: path.to_path_buf(), detail: "file does not exist".into() }
@@ -198,7 +220,9 @@ pub(crate) fn read_file_slice(
     for c in cols {
         let column = df.column(c.name).map_err(read_err)?;
         let column = convert(table, path, c, column)?;
-        check_values(table, path, c, &column)?;
+        if check {
+            check_values(table, path, c, &column)?;
+        }
         columns.push(column);
     }
     DataFrame::new(df.height(), columns).map_err(internal("rebuilding a frame"))

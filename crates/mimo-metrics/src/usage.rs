@@ -1,5 +1,8 @@
 //! Radar usage: dwell time and emitted energy per radar and scoring interval (seed paper eqs.
-//! 1–6, docs/design.md §6), computed with polars.
+//! 1–6, docs/design.md §6), computed with polars from the dwells' sums per run, radar and
+//! interval, which `crate::dwell_sums` adds up in one pass ([`transmit_sums`] is the polars
+//! form of those sums: the reference it is tested against, and the way a file that breaks a
+//! check is read).
 
 use crate::error::{MetricsError, internal};
 use crate::{RadarUsage, RunRadarUsage, UsageRow, UsageTotalRow};
@@ -44,7 +47,9 @@ pub(crate) fn transmit_sums(dwells: &DataFrame, interval_s: f64) -> LazyFrame {
         ])
 }
 
-/// Sum stacked [`transmit_sums`] rows of several files again by run, radar and interval.
+/// Sum stacked [`transmit_sums`] rows of several files again by run, radar and interval (what
+/// `crate::dwell_sums` does in Rust; kept to test it against).
+#[cfg(test)]
 pub(crate) fn resum(sums: DataFrame) -> Result<DataFrame, MetricsError> {
     sums.lazy()
         .group_by_stable([col("run"), col("radar"), col("interval")])
