@@ -9,7 +9,7 @@
 
 use crate::association::Hypothesis;
 use crate::frame::Gaussian;
-use crate::linalg::{Mat3, Vec3, symmetrize, vsub};
+use crate::linalg::{Mat3, Vec3, symmetrize_in_place, vsub};
 use crate::measurement::MeasurementModel;
 use crate::motion::Predictor;
 use crate::update::{Innovation, UpdateError, Updater};
@@ -62,7 +62,8 @@ pub fn moment_match(w: &[f64], g: &[Gaussian]) -> Gaussian {
             }
         }
     }
-    Gaussian { x, p: symmetrize(&p) }
+    symmetrize_in_place(&mut p);
+    Gaussian { x, p }
 }
 
 /// A prediction of a [`FilterState`]: mode-conditioned predictions, predicted mode
@@ -243,7 +244,7 @@ pub use crate::imm::ImmFilter;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linalg::{add, outer, scale};
+    use crate::linalg::{add, outer, scale, symmetrize};
 
     /// The matrix form `moment_match` had before it accumulated in place.
     fn moment_match_by_matrices(w: &[f64], g: &[Gaussian]) -> Gaussian {
