@@ -46,12 +46,27 @@ pub fn predict_pair(
     p: DVec3,
     rcs_m2: f64,
 ) -> Option<PairPrediction> {
+    predict_pair_seen(tx, tx_faces, rx, rx_faces, p, rcs_m2, |site| visible(site, p))
+}
+
+/// [`predict_pair`] with the 4/3-earth horizon test given by the caller: `seen_from(site)` says
+/// whether `p` is above the horizon of an antenna at `site` ([`visible`]'s answer, which a caller
+/// that knows the heights, say, can give without converting the points to geodetic again).
+pub fn predict_pair_seen(
+    tx: &RadarParams,
+    tx_faces: &[FaceFrame],
+    rx: &RadarParams,
+    rx_faces: &[FaceFrame],
+    p: DVec3,
+    rcs_m2: f64,
+    seen_from: impl Fn(DVec3) -> bool,
+) -> Option<PairPrediction> {
     let bt = beam_point(tx_faces, tx, p)?;
     let br = beam_point(rx_faces, rx, p)?;
     let t = tx_faces[bt.face as usize].origin_ecef;
     let r = rx_faces[br.face as usize].origin_ecef;
     let geometry = bistatic(t, r, p);
-    if !geometry.usable() || !visible(t, p) || (r != t && !visible(r, p)) {
+    if !geometry.usable() || !seen_from(t) || (r != t && !seen_from(r)) {
         return None;
     }
     let s = snr1(tx, rx, bt.w, br.w, rcs_m2, geometry.r_t_m, geometry.r_r_m);

@@ -10,6 +10,7 @@ use crate::geometry::{bistatic, height_m, refracted_direction, visible_with_heig
 use crate::pattern::{Antenna, Gains};
 use crate::polarization::{draw_scattering, effective_voltage, jones_in_target_basis, mean_rcs_m2};
 use mimo_core::face::FaceFrame;
+use mimo_core::geo::{height_lower_bound_m, surely_visible_effective_earth};
 use mimo_core::polarimetry::Polarimetry;
 use num_complex::Complex64;
 
@@ -45,6 +46,7 @@ fn looks(
     refraction: bool,
 ) -> Vec<Option<Look>> {
     let mut site_h: Option<f64> = None;
+    let mut site_lo: Option<f64> = None;
     let mut out = Vec::with_capacity(targets.len());
     for (t, tg) in targets.iter().enumerate() {
         let s = frame.to_sine(tg.pos_ecef);
@@ -65,9 +67,22 @@ fn looks(
             out.push(None);
             continue;
         }
-        let hs = *site_h.get_or_insert_with(|| height_m(frame.origin_ecef));
-        let ht = heights.target(targets, t);
-        if !visible_with_heights(frame.origin_ecef, hs, tg.pos_ecef, ht) {
+        // Cheap lower bounds of the heights settle most horizon tests; the heights themselves
+        // (an iterative ECEF → geodetic conversion each) only the rest, with the same answer.
+        let surely = surely_visible_effective_earth(
+            frame.origin_ecef,
+            *site_lo.get_or_insert_with(|| height_lower_bound_m(frame.origin_ecef)),
+            tg.pos_ecef,
+            height_lower_bound_m(tg.pos_ecef),
+        );
+        if !surely
+            && !visible_with_heights(
+                frame.origin_ecef,
+                *site_h.get_or_insert_with(|| height_m(frame.origin_ecef)),
+                tg.pos_ecef,
+                heights.target(targets, t),
+            )
+        {
             out.push(None);
             continue;
         }

@@ -136,4 +136,5 @@ pub use diagnostics::{NisRecord, PredictedMeasurement, TrackInfo, TrackerStats};
 pub use dwell::{DwellContext, Look};
 pub use frame::{Gaussian, StateEcef, TrackFrame};
 pub use geometry::{SensorGeometry, StaticGeometry};
+pub use queries::TrackDue;
 pub use tracker::{MultiTargetTracker, Track};

@@ -8,8 +8,28 @@ use crate::linalg::sandwich;
 use crate::measurement::{BistaticRuv, MeasurementModel};
 use crate::policy::{DueInfo, due_tracks, revisit_interval};
 use crate::tracker::MultiTargetTracker;
+use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
+use mimo_core::records::TrackStatus;
+
+/// What a scheduler needs of a live track ([`TrackInfo`] without the mode probabilities and the
+/// NIS), from [`MultiTargetTracker::track_dues`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrackDue {
+    /// Track id.
+    pub id: u64,
+    /// Tentative or confirmed.
+    pub status: TrackStatus,
+    /// Time of the last update (s).
+    pub t_last_update_s: f64,
+    /// Updates so far.
+    pub n_updates: u32,
+    /// Missed looks in a row.
+    pub consecutive_misses: u32,
+    /// When the track should next be looked at (s).
+    pub next_due_s: f64,
+}
 
 impl MultiTargetTracker {
     /// Snapshots of the live tracks, by id.
@@ -54,6 +74,30 @@ impl MultiTargetTracker {
         self.predict_local(id, t_s).map(|g| self.frame.state_to_ecef(&g))
     }
 
+    /// The combined predicted position of a track at `t_s`, ECEF: [`Self::predict`]'s `pos` bit for
+    /// bit, from the filter's mean prediction alone (no covariance, no rotation of one).
+    pub fn predict_position(&self, id: u64, t_s: f64) -> Option<DVec3> {
+        let t = self.tracks.get(&id)?;
+        if !t_s.is_finite() {
+            return None;
+        }
+        let x = self.c.filter.predict_mean(&t.state, t_s - t.t_s);
+        Some(self.frame.to_ecef(DVec3::new(x[0], x[1], x[2])))
+    }
+
+    /// The live tracks' scheduling state, by id: [`Self::tracks`] without the mode probabilities
+    /// and the NIS, and without allocating.
+    pub fn track_dues(&self) -> impl Iterator<Item = TrackDue> + '_ {
+        self.tracks.values().map(|t| TrackDue {
+            id: t.id,
+            status: t.status,
+            t_last_update_s: t.t_s,
+            n_updates: t.n_updates,
+            consecutive_misses: t.consecutive_misses,
+            next_due_s: t.next_due_s,
+        })
+    }
+
     /// The predicted measurement of a track on channel `tx → rx` (face `rx_face`) at `t_s`.
     pub fn predict_measurement(
         &self,
@@ -65,6 +109,21 @@ impl MultiTargetTracker {
         geom: &dyn SensorGeometry,
     ) -> Option<PredictedMeasurement> {
         let g = self.predict_local(id, t_s)?;
+        self.predict_measurement_of(&g, t_s, tx, rx, rx_face, geom)
+    }
+
+    /// The predicted measurement of a prediction `g` at `t_s` (tracking frame, from
+    /// [`Self::predict_local`]) on channel `tx → rx` (face `rx_face`): for a caller that already
+    /// holds the prediction.
+    pub fn predict_measurement_of(
+        &self,
+        g: &Gaussian,
+        t_s: f64,
+        tx: RadarId,
+        rx: RadarId,
+        rx_face: u8,
+        geom: &dyn SensorGeometry,
+    ) -> Option<PredictedMeasurement> {
         let m = BistaticRuv::from_geometry(&self.frame, geom, tx, rx, rx_face, t_s).ok()?;
         let z = m.h(&g.x);
         let h = m.jacobian(&g.x);

@@ -3,24 +3,15 @@
 //! look instead of one per member.
 
 use super::config::ResourceConfig;
-use crate::geometry::ShipGeometry;
+use super::snapshot::Snapshot;
 use mimo_core::DVec3;
 use mimo_core::ids::RadarId;
-use mimo_track::MultiTargetTracker;
 
-/// The tracks among `candidates` whose predicted positions at `t_s` lie, seen from radar `tx`,
-/// within `group_beam_fraction` of the narrower beamwidth of `aim` and within `group_radius_m`
-/// of it, each with its distance from `aim` (m). Candidates keep their order.
-pub fn members(
-    cfg: &ResourceConfig,
-    tracker: &MultiTargetTracker,
-    geom: &ShipGeometry,
-    t_s: f64,
-    aim: DVec3,
-    tx: RadarId,
-    candidates: &[u64],
-) -> Vec<(u64, f64)> {
-    let (Some(p), Some(face)) = (geom.params(tx), geom.faces_at(tx, t_s).into_iter().next()) else {
+/// The tracks among `candidates` whose predicted positions at the pass's instant lie, seen from
+/// radar `tx`, within `group_beam_fraction` of the narrower beamwidth of `aim` and within
+/// `group_radius_m` of it, each with its distance from `aim` (m). Candidates keep their order.
+pub fn members(cfg: &ResourceConfig, snap: &Snapshot, aim: DVec3, tx: RadarId, candidates: &[u64]) -> Vec<(u64, f64)> {
+    let (Some(p), Some(face)) = (snap.geom.params(tx), snap.faces_of(tx).first()) else {
         return Vec::new();
     };
     let site = face.origin_ecef;
@@ -33,10 +24,10 @@ pub fn members(
     candidates
         .iter()
         .filter_map(|&id| {
-            let q = tracker.predict(id, t_s)?;
-            let d1 = q.pos - site;
+            let q = snap.position(id)?;
+            let d1 = q - site;
             let r1 = d1.length();
-            let dist = (q.pos - aim).length();
+            let dist = (q - aim).length();
             (r1 > 0.0 && dist <= cfg.group_radius_m && (d1 / r1 - d0 / r0).length() <= da_max).then_some((id, dist))
         })
         .collect()

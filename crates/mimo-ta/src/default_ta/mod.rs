@@ -17,16 +17,19 @@ mod budget;
 mod config;
 pub mod group;
 pub mod planner;
+pub mod snapshot;
 
 pub use config::{DefaultTaConfig, ResourceConfig};
 
 use crate::geometry::ShipGeometry;
 use budget::RadarBudget;
+use mimo_core::ids::RadarId;
 use mimo_core::records::Requester;
 use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_track::{DwellContext, Look, MultiTargetTracker};
+use snapshot::Snapshot;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The tracker's view of a finished dwell: everything comes from what the dwells table records
@@ -54,6 +57,8 @@ pub fn dwell_context(run: u32, group_id: u64, kind: DwellKind, t_mid_s: f64, par
 /// What the test article has once the run started.
 struct Running {
     geom: ShipGeometry,
+    /// `geom.ids()`, made once.
+    radar_ids: Vec<RadarId>,
     tracker: MultiTargetTracker,
     run: u32,
     closed_loop: bool,
@@ -114,26 +119,27 @@ impl DefaultTa {
         let mut out = Vec::new();
         let mut next = f64::INFINITY;
         let rm = &self.cfg.resource_manager;
+        // Faces, heights and predicted positions at `now`, kept for every plan of this pass.
+        let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now);
         let over_budget: Vec<_> = if rm.max_ta_share < 1.0 {
-            st.geom
-                .ids()
-                .into_iter()
+            snap.ids()
+                .iter()
+                .copied()
                 .filter(|&r| self.budget.share(r, now, rm.budget_window_s) >= rm.max_ta_share)
                 .collect()
         } else {
             Vec::new()
         };
         let busy_rx: Vec<_> = if rm.rx_busy_share < 1.0 {
-            st.geom
-                .ids()
-                .into_iter()
+            snap.ids()
+                .iter()
+                .copied()
                 .filter(|&r| self.budget.share(r, now, rm.rx_busy_window_s) >= rm.rx_busy_share)
                 .collect()
         } else {
             Vec::new()
         };
-        let tracks = st.tracker.tracks();
-        for info in &tracks {
+        for info in st.tracker.track_dues() {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
@@ -143,7 +149,7 @@ impl DefaultTa {
                 // the tracker wants it again at its shortest revisit.
                 let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
                 let trouble = info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min;
-                let planned = planner::plan(rm, &st.tracker, &st.geom, now, info, &over_budget, &busy_rx, trouble);
+                let planned = planner::plan(rm, &snap, &info, &over_budget, &busy_rx, trouble);
                 if let Some((mut req, unresolved)) = planned {
                     if unresolved {
                         self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);
@@ -153,8 +159,9 @@ impl DefaultTa {
                     self.pending.insert(info.id, now);
                     if rm.group_looks && info.status == TrackStatus::Confirmed {
                         // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
-                        let soon: Vec<u64> = tracks
-                            .iter()
+                        let soon: Vec<u64> = st
+                            .tracker
+                            .track_dues()
                             .filter(|o| {
                                 o.id != info.id
                                     && o.status == TrackStatus::Confirmed
@@ -167,7 +174,7 @@ impl DefaultTa {
                             .collect();
                         if let Some(tx) = req.transmitters.first().map(|t| t.radar) {
                             let half = req.window_half_m;
-                            for (id, dist) in group::members(rm, &st.tracker, &st.geom, now, req.aim_ecef, tx, &soon) {
+                            for (id, dist) in group::members(rm, &snap, req.aim_ecef, tx, &soon) {
                                 req.tag.push(id);
                                 req.window_half_m = req.window_half_m.max(half + dist);
                                 self.pending.insert(id, now);
@@ -198,7 +205,8 @@ impl TestArticle for DefaultTa {
     fn on_start(&mut self, start: &StartInfo) -> Result<Reply, TaFault> {
         let geom = ShipGeometry::from_start(start);
         let tracker = MultiTargetTracker::new(self.cfg.tracker.clone(), geom.centre());
-        self.state = Some(Running { geom, tracker, run: start.run, closed_loop: start.closed_loop });
+        let radar_ids = geom.ids();
+        self.state = Some(Running { geom, radar_ids, tracker, run: start.run, closed_loop: start.closed_loop });
         self.pending.clear();
         self.next_wake_s = f64::INFINITY;
         self.budget.clear();

@@ -2,18 +2,18 @@
 //! receive, and the range window (docs/model.md §7.2, §7.5).
 
 use super::config::ResourceConfig;
-use crate::geometry::ShipGeometry;
+use super::snapshot::Snapshot;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, TrackStatus};
-use mimo_radar::energy::{pointing_loss, predict_pair, pulses_for, required_snr_sw1, straddle_loss};
+use mimo_radar::energy::{pointing_loss, pulses_for, required_snr_sw1, straddle_loss};
 use mimo_sim::messages::{DwellRequest, TxOrder};
-use mimo_track::{MultiTargetTracker, TrackInfo};
+use mimo_track::TrackDue;
 
 /// Immediate re-dwells with doubled energy after a miss before the test article tries another
 /// radar (docs/model.md §7.2).
 pub const MAX_REDWELLS: u32 = 2;
 
-/// One dwell for track `info` at time `t_s`:
+/// One dwell for track `info` at the instant of the scheduling pass `snap`:
 ///
 /// * radars in `over_budget` (their test-article dwells took more than `max_ta_share` of the
 ///   recent timeline, docs/model.md §7.3) transmit only when no other radar can, and never
@@ -34,30 +34,25 @@ pub const MAX_REDWELLS: u32 = 2;
 ///   predicted position lies in the same resolution cell, seen from the transmitter, as another
 ///   track's ([`unresolved_from`]) gets no energy doubling: more pulses cannot split the pair.
 ///   The returned flag says so, and the caller stretches the track's revisit.
-#[allow(clippy::too_many_arguments)]
 pub fn plan(
     cfg: &ResourceConfig,
-    tracker: &MultiTargetTracker,
-    geom: &ShipGeometry,
-    t_s: f64,
-    info: &TrackInfo,
+    snap: &Snapshot,
+    info: &TrackDue,
     over_budget: &[RadarId],
     busy_rx: &[RadarId],
     trouble: bool,
 ) -> Option<(DwellRequest, bool)> {
     let (id, status, misses, n_updates) = (info.id, info.status, info.consecutive_misses, info.n_updates);
-    let pred = tracker.predict(id, t_s)?;
-    let aim = pred.pos;
-    let ids = geom.ids();
-    let faces: Vec<_> = ids.iter().map(|&r| geom.faces_at(r, t_s)).collect();
+    let (tracker, geom, t_s) = (snap.tracker, snap.geom, snap.t_s);
+    // One prediction for the aim point and the range window (`predict`'s position is this
+    // prediction's mean in ECEF).
+    let pred = tracker.predict_local(id, t_s)?;
+    let aim = tracker.frame().to_ecef(pred.pos());
+    let ids = snap.ids();
     // Candidate transmitters: monostatic predictions.
     let mut candidates: Vec<(RadarId, f64, u8)> = ids
         .iter()
-        .zip(&faces)
-        .filter_map(|(&r, f)| {
-            let p = geom.params(r)?;
-            predict_pair(p, f, p, f, aim, cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face))
-        })
+        .filter_map(|&r| snap.pair(r, r, aim, cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face)))
         .collect();
     // Best predicted SNR first (ties by radar id, so the choice is deterministic).
     // Radars within their budget come first.
@@ -82,26 +77,22 @@ pub fn plan(
     let unconfirmed = status == TrackStatus::Tentative && n_updates <= 1;
     let pd = if unconfirmed { cfg.confirm_pd } else { cfg.pd_target };
     let mut n = pulses_for(required_snr_sw1(pd, p.pfa), snr1, losses, p.max_pulses);
-    let unresolved = cfg.unresolved_hold
-        && trouble
-        && status == TrackStatus::Confirmed
-        && unresolved_from(cfg, tracker, geom, t_s, id, aim, tx);
+    let unresolved =
+        cfg.unresolved_hold && trouble && status == TrackStatus::Confirmed && unresolved_from(cfg, snap, id, aim, tx);
     if !unconfirmed && !unresolved {
         // Re-dwell with doubled energy, up to twice (docs/model.md §7.2).
         n = n.saturating_mul(1 << (misses % (MAX_REDWELLS + 1))).min(p.max_pulses);
     }
-    let pm = tracker.predict_measurement(id, t_s, tx, tx, face, geom);
+    let pm = tracker.predict_measurement_of(&pred, t_s, tx, tx, face, geom);
     let sigma_rho = pm.map(|m| m.sigma_rho_m).unwrap_or(0.0);
     let half = (cfg.window_sigmas * sigma_rho).max(cfg.min_window_half_m);
     let mut receivers = vec![tx];
     if cfg.mimo && status == TrackStatus::Confirmed {
-        let tx_faces = &faces[tx.index()];
-        for (&r, f) in ids.iter().zip(&faces) {
-            let Some(pr) = geom.params(r) else { continue };
+        for &r in ids {
             if r != tx
                 && !over_budget.contains(&r)
                 && !busy_rx.contains(&r)
-                && predict_pair(p, tx_faces, pr, f, aim, cfg.assumed_rcs_m2).is_some()
+                && snap.pair(tx, r, aim, cfg.assumed_rcs_m2).is_some()
             {
                 receivers.push(r);
             }
@@ -125,19 +116,12 @@ pub fn plan(
     Some((req, unresolved))
 }
 
-/// Whether another live track's predicted position at `t_s` lies in the same resolution cell as
-/// `aim` (track `id`'s) seen from radar `tx`: ranges within `unresolved_range_cells` range cells
-/// and directions within `unresolved_beam_fraction` of the narrower beamwidth.
-pub fn unresolved_from(
-    cfg: &ResourceConfig,
-    tracker: &MultiTargetTracker,
-    geom: &ShipGeometry,
-    t_s: f64,
-    id: u64,
-    aim: mimo_core::DVec3,
-    tx: RadarId,
-) -> bool {
-    let (Some(p), Some(face)) = (geom.params(tx), geom.faces_at(tx, t_s).into_iter().next()) else {
+/// Whether another live track's predicted position at the pass's instant lies in the same
+/// resolution cell as `aim` (track `id`'s) seen from radar `tx`: ranges within
+/// `unresolved_range_cells` range cells and directions within `unresolved_beam_fraction` of the
+/// narrower beamwidth.
+pub fn unresolved_from(cfg: &ResourceConfig, snap: &Snapshot, id: u64, aim: mimo_core::DVec3, tx: RadarId) -> bool {
+    let (Some(p), Some(face)) = (snap.geom.params(tx), snap.faces_of(tx).first()) else {
         return false;
     };
     let site = face.origin_ecef;
@@ -148,9 +132,9 @@ pub fn unresolved_from(
     }
     let dr_max = cfg.unresolved_range_cells * p.range_cell_m();
     let da_max = cfg.unresolved_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
-    tracker.tracks().iter().filter(|o| o.id != id && o.status != TrackStatus::Deleted).any(|o| {
-        let Some(q) = tracker.predict(o.id, t_s) else { return false };
-        let d1 = q.pos - site;
+    snap.tracker.track_dues().filter(|o| o.id != id && o.status != TrackStatus::Deleted).any(|o| {
+        let Some(q) = snap.position(o.id) else { return false };
+        let d1 = q - site;
         let r1 = d1.length();
         r1 > 0.0 && (r1 - r0).abs() <= dr_max && (d1 / r1 - d0 / r0).length() <= da_max
     })

@@ -1,0 +1,161 @@
+//! One scheduling pass's view of the radars and tracks at its instant (docs/model.md §7.1–§7.5).
+//!
+//! A pass plans every due track at the same time with the same tracker state, so the radars'
+//! faces, the heights of their sites and of the aim points (for the 4/3-earth horizon test,
+//! docs/model.md §1.7) and the tracks' predicted positions are the same for every plan of the
+//! pass: each is computed once, on first use, and kept until the pass ends. The horizon test
+//! converts heights only when cheap lower bounds of them cannot already show the look visible.
+//! Every value and answer is the one the direct computation gives, bit for bit.
+
+use crate::geometry::ShipGeometry;
+use mimo_core::DVec3;
+use mimo_core::face::FaceFrame;
+use mimo_core::geo::{height_lower_bound_m, surely_visible_effective_earth};
+use mimo_core::ids::RadarId;
+use mimo_radar::energy::{PairPrediction, predict_pair_seen};
+use mimo_radar::geometry::{height_m, visible_with_heights};
+use mimo_track::MultiTargetTracker;
+use std::cell::{OnceCell, RefCell};
+use std::collections::BTreeMap;
+
+/// The radars and tracks at one scheduling instant, each part computed once.
+pub struct Snapshot<'a> {
+    /// The tracker (unchanged during the pass).
+    pub tracker: &'a MultiTargetTracker,
+    /// The ships.
+    pub geom: &'a ShipGeometry,
+    /// The instant of the pass (s).
+    pub t_s: f64,
+    ids: &'a [RadarId],
+    faces: OnceCell<Vec<Vec<FaceFrame>>>,
+    /// Heights above the ellipsoid (m) of the points seen so far, by their coordinates' bits.
+    heights_m: RefCell<Vec<([u64; 3], f64)>>,
+    positions_ecef: RefCell<BTreeMap<u64, Option<DVec3>>>,
+}
+
+impl<'a> Snapshot<'a> {
+    /// The view at `t_s` of the radars `ids` (`geom.ids()`); nothing is computed yet.
+    pub fn new(tracker: &'a MultiTargetTracker, geom: &'a ShipGeometry, ids: &'a [RadarId], t_s: f64) -> Snapshot<'a> {
+        Snapshot {
+            tracker,
+            geom,
+            t_s,
+            ids,
+            faces: OnceCell::new(),
+            heights_m: RefCell::new(Vec::new()),
+            positions_ecef: RefCell::new(BTreeMap::new()),
+        }
+    }
+
+    /// Every radar id, in order.
+    pub fn ids(&self) -> &[RadarId] {
+        self.ids
+    }
+
+    /// Every radar's faces at the pass's instant, in the order of [`Snapshot::ids`].
+    pub fn faces(&self) -> &[Vec<FaceFrame>] {
+        self.faces.get_or_init(|| self.ids.iter().map(|&r| self.geom.faces_at(r, self.t_s)).collect())
+    }
+
+    /// Radar `r`'s faces at the pass's instant (empty for a radar the run does not have).
+    pub fn faces_of(&self, r: RadarId) -> &[FaceFrame] {
+        match self.ids.iter().position(|&x| x == r) {
+            Some(k) => &self.faces()[k],
+            None => &[],
+        }
+    }
+
+    /// Height above the ellipsoid of an ECEF point (m), [`height_m`]'s value.
+    pub fn height_m(&self, p: DVec3) -> f64 {
+        let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+        if let Some(&(_, h)) = self.heights_m.borrow().iter().find(|(k, _)| *k == key) {
+            return h;
+        }
+        let h = height_m(p);
+        self.heights_m.borrow_mut().push((key, h));
+        h
+    }
+
+    /// A track's predicted position at the pass's instant, ECEF
+    /// ([`MultiTargetTracker::predict_position`]).
+    pub fn position(&self, id: u64) -> Option<DVec3> {
+        if let Some(&p) = self.positions_ecef.borrow().get(&id) {
+            return p;
+        }
+        let p = self.tracker.predict_position(id, self.t_s);
+        self.positions_ecef.borrow_mut().insert(id, p);
+        p
+    }
+
+    /// [`mimo_radar::energy::predict_pair`] of radars `tx → rx` (their faces at the pass's
+    /// instant) for a target at `p`, with the horizon test on the kept heights.
+    pub fn pair(&self, tx: RadarId, rx: RadarId, p: DVec3, rcs_m2: f64) -> Option<PairPrediction> {
+        let (pt, pr) = (self.geom.params(tx)?, self.geom.params(rx)?);
+        let p_lo_m = height_lower_bound_m(p);
+        predict_pair_seen(pt, self.faces_of(tx), pr, self.faces_of(rx), p, rcs_m2, |site| {
+            // Heights are converted only when their bounds leave the horizon test open.
+            surely_visible_effective_earth(site, height_lower_bound_m(site), p, p_lo_m)
+                || visible_with_heights(site, self.height_m(site), p, self.height_m(p))
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::default_ta::{DefaultTa, DefaultTaConfig};
+    use mimo_core::records::{RunTables, TrackStatus};
+    use mimo_radar::energy::predict_pair;
+    use mimo_sim::engine::Engine;
+    use mimo_sim::{EngineConfig, SearchConfig, World};
+
+    /// Every kept value is the direct computation's, bit for bit: faces, heights, the pair
+    /// predictions of every radar pair and the predicted positions of every live track, on the
+    /// default test article's tracker after a minute of scenario 7.
+    #[test]
+    fn kept_values_are_the_direct_ones() {
+        let mut s = mimo_scenario::load_standard(7).expect("scenario 7");
+        s.duration_s = 60.0;
+        let world = World::new(s).expect("world");
+        let cfg = EngineConfig {
+            seed: 3,
+            duration_s: 60.0,
+            record_voltages: false,
+            search: SearchConfig::default(),
+            ta_config: serde_json::Value::Null,
+        };
+        let mut ta = DefaultTa::new("default", DefaultTaConfig::default());
+        let mut tables = RunTables::default();
+        mimo_sim::run_one(&world, &cfg, 0, &mut ta, &mut tables).expect("run");
+        let tracker = ta.tracker().expect("started");
+        let geom = ShipGeometry::from_start(&Engine::start_info(&world, 0, &cfg, true));
+        let t_s = 60.4;
+        let ids = geom.ids();
+        let snap = Snapshot::new(tracker, &geom, &ids, t_s);
+        let live: Vec<u64> =
+            tracker.tracks().iter().filter(|t| t.status != TrackStatus::Deleted).map(|t| t.id).collect();
+        assert!(live.len() >= 4, "{} live tracks", live.len());
+        let mut pairs = 0;
+        for _ in 0..2 {
+            // The second round answers from what the first kept.
+            for &id in &live {
+                let direct = tracker.predict(id, t_s).expect("prediction").pos;
+                let kept = snap.position(id).expect("position");
+                assert_eq!(kept.to_array().map(f64::to_bits), direct.to_array().map(f64::to_bits));
+                assert_eq!(snap.height_m(kept).to_bits(), height_m(kept).to_bits());
+                for &tx in snap.ids() {
+                    for &rx in snap.ids() {
+                        let (pt, pr) = (geom.params(tx).expect("tx"), geom.params(rx).expect("rx"));
+                        let (ft, fr) = (geom.faces_at(tx, t_s), geom.faces_at(rx, t_s));
+                        assert_eq!(snap.faces_of(tx), ft.as_slice());
+                        let direct = predict_pair(pt, &ft, pr, &fr, kept, 1.0);
+                        assert_eq!(snap.pair(tx, rx, kept, 1.0), direct);
+                        pairs += usize::from(direct.is_some());
+                    }
+                }
+            }
+        }
+        assert!(pairs > 0, "no pair sees any track");
+        assert_eq!(snap.position(u64::MAX), None);
+    }
+}
