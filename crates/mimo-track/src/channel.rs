@@ -5,12 +5,13 @@
 use crate::association::HypothesisTable;
 use crate::diagnostics::NisRecord;
 use crate::dwell::DwellContext;
-use crate::dwell_predictions::{Basis, DwellPredictions};
+use crate::dwell_predictions::DwellPredictions;
 use crate::filter::{FilterPrediction, TrackFilter};
 use crate::jpda::{AssociationProbabilities, combine};
 use crate::measurement::{MeasurementModel, PreparedMeasurement};
 use crate::partner::PartnerMode;
 use crate::pregate::{BoundCache, PreGate};
+use crate::state_stamp::StateStamp;
 use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::records::TrackStatus;
 use std::collections::BTreeSet;
@@ -20,7 +21,7 @@ use std::collections::BTreeSet;
 /// ([`DwellPredictions`]). Every prediction of a channel is made from the track's state at the
 /// channel's start (a track is updated at most once per channel, after its predictions).
 struct PredCache {
-    basis: Option<Basis>,
+    basis: Option<StateStamp>,
     entries: Vec<(f64, FilterPrediction)>,
 }
 
@@ -37,7 +38,7 @@ impl PredCache {
             Some(k) => k,
             None => {
                 if self.basis.is_none() {
-                    self.basis = Some(Basis::of(track));
+                    self.basis = Some(StateStamp::of(track));
                 }
                 self.entries.push((t_s, filter.predict(&track.state, t_s - track.t_s)));
                 self.entries.len() - 1

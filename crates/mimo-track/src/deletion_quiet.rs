@@ -15,10 +15,9 @@
 //! found by bisection. Without that promise nothing is skipped.
 
 use crate::deletion::Deleter;
-#[cfg(debug_assertions)]
-use crate::filter::FilterState;
 use crate::filter::TrackFilter;
 use crate::linalg::trace;
+use crate::state_stamp::StateStamp;
 use crate::tracker::Track;
 use mimo_core::records::TrackStatus;
 use std::collections::BTreeMap;
@@ -27,41 +26,22 @@ use std::collections::BTreeMap;
 /// rounding of a 6×6 prediction, far below anything the limit means.
 const TRACE_MARGIN: f64 = 1e-6;
 
-/// What a certificate was computed from: the track fields the deleter and the prediction see.
-///
-/// The state itself is not compared: a track's state changes only in an update, which also
-/// counts `n_updates` (docs/model.md §6.4), so the same id, update count and time mean the same
-/// state. Debug builds (the tests) keep the state and check that promise on every match.
-#[derive(Debug, Clone, PartialEq)]
+/// What a certificate was computed from: the track's state ([`StateStamp`]) and the fields the
+/// deleter sees besides it.
+#[derive(Debug, Clone)]
 struct Basis {
-    t_s: f64,
+    stamp: StateStamp,
     status: TrackStatus,
     consecutive_misses: u32,
-    n_updates: u32,
-    #[cfg(debug_assertions)]
-    state: FilterState,
 }
 
 impl Basis {
     fn of(t: &Track) -> Basis {
-        Basis {
-            t_s: t.t_s,
-            status: t.status,
-            consecutive_misses: t.consecutive_misses,
-            n_updates: t.n_updates,
-            #[cfg(debug_assertions)]
-            state: t.state.clone(),
-        }
+        Basis { stamp: StateStamp::of(t), status: t.status, consecutive_misses: t.consecutive_misses }
     }
 
     fn matches(&self, t: &Track) -> bool {
-        let same = self.t_s.to_bits() == t.t_s.to_bits()
-            && self.status == t.status
-            && self.consecutive_misses == t.consecutive_misses
-            && self.n_updates == t.n_updates;
-        #[cfg(debug_assertions)]
-        debug_assert!(!same || self.state == t.state, "track {} changed its state without an update", t.id);
-        same
+        self.status == t.status && self.consecutive_misses == t.consecutive_misses && self.stamp.matches(t)
     }
 }
 
@@ -182,24 +162,8 @@ mod tests {
     use crate::update::EkfUpdater;
 
     fn track(p_scale: f64) -> Track {
-        Track {
-            id: 7,
-            status: TrackStatus::Confirmed,
-            state: FilterState::single(Gaussian {
-                x: [0.0, 0.0, 0.0, 200.0, 0.0, 0.0],
-                p: scale(&identity(), p_scale),
-            }),
-            t_s: 100.0,
-            t_init_s: 90.0,
-            n_updates: 5,
-            last_meas_id: None,
-            looks: vec![true],
-            consecutive_misses: 0,
-            next_due_s: 101.0,
-            last_face: None,
-            nis_sum: 0.0,
-            nis_count: 0,
-        }
+        let g = Gaussian { x: [0.0, 0.0, 0.0, 200.0, 0.0, 0.0], p: scale(&identity(), p_scale) };
+        Track::confirmed_for_test(7, FilterState::single(g), 100.0, 5)
     }
 
     /// The default constant-velocity EKF (the filter whose covariance trace is convex in dt).

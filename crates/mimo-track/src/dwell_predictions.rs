@@ -9,56 +9,12 @@
 //! the same, bit for bit. An interacting-multiple-model prediction (mixing, one prediction per
 //! mode, the combination) is the costly case.
 //!
-//! A track's state changes only in an update, which counts `n_updates` and sets `t_s`, so the
-//! track's id, update count and time name its state; debug builds (the tests) also keep the state
-//! and assert, bit for bit, that it is the one the predictions were made from.
+//! The predictions are kept with the track's [`StateStamp`] and handed back only while the track
+//! still matches it.
 
 use crate::filter::FilterPrediction;
-#[cfg(debug_assertions)]
-use crate::filter::FilterState;
+use crate::state_stamp::StateStamp;
 use crate::tracker::Track;
-
-/// The state a track's predictions were made from.
-#[derive(Debug, Clone)]
-pub(crate) struct Basis {
-    /// Time of the state (s).
-    t_s: f64,
-    /// The track's update count at that state.
-    n_updates: u32,
-    /// The state itself (debug builds: the promise above is checked).
-    #[cfg(debug_assertions)]
-    state: FilterState,
-}
-
-impl Basis {
-    /// The basis of `track` as it is now.
-    pub(crate) fn of(track: &Track) -> Basis {
-        Basis {
-            t_s: track.t_s,
-            n_updates: track.n_updates,
-            #[cfg(debug_assertions)]
-            state: track.state.clone(),
-        }
-    }
-
-    /// Whether `track` is still at this basis (so that a prediction made from it is the one its
-    /// state would give).
-    pub(crate) fn is(&self, track: &Track) -> bool {
-        let same = self.t_s.to_bits() == track.t_s.to_bits() && self.n_updates == track.n_updates;
-        #[cfg(debug_assertions)]
-        debug_assert!(!same || same_bits(&self.state, &track.state), "track {} changed without an update", track.id);
-        same
-    }
-}
-
-/// Bit-for-bit equality of two states.
-#[cfg(debug_assertions)]
-fn same_bits(a: &FilterState, b: &FilterState) -> bool {
-    let bits = |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
-    bits(&a.mu, &b.mu)
-        && a.modes.len() == b.modes.len()
-        && a.modes.iter().zip(&b.modes).all(|(p, q)| bits(&p.x, &q.x) && p.p.iter().zip(&q.p).all(|(r, s)| bits(r, s)))
-}
 
 /// A track's predictions in one dwell: `(time predicted to, prediction)`.
 pub(crate) type Entries = Vec<(f64, FilterPrediction)>;
@@ -66,7 +22,7 @@ pub(crate) type Entries = Vec<(f64, FilterPrediction)>;
 /// Predictions by track, made in the current dwell (a few tracks: a list searched by id).
 #[derive(Debug, Default)]
 pub(crate) struct DwellPredictions {
-    by_track: Vec<(u64, Basis, Entries)>,
+    by_track: Vec<(u64, StateStamp, Entries)>,
 }
 
 impl DwellPredictions {
@@ -76,14 +32,14 @@ impl DwellPredictions {
     }
 
     /// Take the predictions of `track` made from its current state (none if it changed since).
-    pub(crate) fn take(&mut self, track: &Track) -> Option<(Basis, Entries)> {
+    pub(crate) fn take(&mut self, track: &Track) -> Option<(StateStamp, Entries)> {
         let k = self.by_track.iter().position(|(id, _, _)| *id == track.id)?;
         let (_, basis, entries) = self.by_track.swap_remove(k);
-        basis.is(track).then_some((basis, entries))
+        basis.matches(track).then_some((basis, entries))
     }
 
     /// Keep the predictions of track `id` made from `basis` (replacing older ones).
-    pub(crate) fn put(&mut self, id: u64, basis: Basis, entries: Entries) {
+    pub(crate) fn put(&mut self, id: u64, basis: StateStamp, entries: Entries) {
         match self.by_track.iter_mut().find(|(i, _, _)| *i == id) {
             Some(slot) => *slot = (id, basis, entries),
             None => self.by_track.push((id, basis, entries)),
@@ -93,7 +49,7 @@ impl DwellPredictions {
     /// The prediction of `track` from its current state to `to_s`, if one was made.
     pub(crate) fn find(&self, track: &Track, to_s: f64) -> Option<&FilterPrediction> {
         let (_, basis, entries) = self.by_track.iter().find(|(id, _, _)| *id == track.id)?;
-        if !basis.is(track) {
+        if !basis.matches(track) {
             return None;
         }
         entries.iter().find(|(t, _)| t.to_bits() == to_s.to_bits()).map(|(_, p)| p)
@@ -106,25 +62,10 @@ mod tests {
     use crate::filter::FilterState;
     use crate::frame::Gaussian;
     use crate::linalg::identity;
-    use mimo_core::records::TrackStatus;
 
     fn track(id: u64, t_s: f64, n_updates: u32) -> Track {
         let g = Gaussian { x: [0.0; 6], p: identity() };
-        Track {
-            id,
-            status: TrackStatus::Confirmed,
-            state: FilterState { modes: vec![g, g], mu: vec![0.5, 0.5] },
-            t_s,
-            t_init_s: 0.0,
-            n_updates,
-            last_meas_id: None,
-            looks: vec![true],
-            consecutive_misses: 0,
-            next_due_s: 0.0,
-            last_face: None,
-            nis_sum: 0.0,
-            nis_count: 0,
-        }
+        Track::confirmed_for_test(id, FilterState { modes: vec![g, g], mu: vec![0.5, 0.5] }, t_s, n_updates)
     }
 
     fn pred(x0: f64) -> FilterPrediction {
@@ -137,7 +78,7 @@ mod tests {
     fn a_prediction_is_found_only_from_the_same_state_and_times() {
         let mut store = DwellPredictions::default();
         let t = track(7, 10.0, 3);
-        store.put(7, Basis::of(&t), vec![(12.5, pred(3.0))]);
+        store.put(7, StateStamp::of(&t), vec![(12.5, pred(3.0))]);
         assert_eq!(store.find(&t, 12.5), Some(&pred(3.0)));
         // Another target time, another state time, another update, another track.
         assert!(store.find(&t, 12.0).is_none());
@@ -146,14 +87,14 @@ mod tests {
         assert!(store.find(&track(8, 10.0, 3), 12.5).is_none());
         // Taking moves the entries out; a changed track takes nothing.
         assert!(store.take(&track(7, 11.0, 4)).is_none());
-        store.put(7, Basis::of(&t), vec![(12.5, pred(3.0))]);
+        store.put(7, StateStamp::of(&t), vec![(12.5, pred(3.0))]);
         let (b, e) = store.take(&t).expect("same state");
-        assert!(b.is(&t));
+        assert!(b.matches(&t));
         assert_eq!(e.len(), 1);
         assert!(store.find(&t, 12.5).is_none());
         store.put(7, b, e);
         // Putting again replaces; clearing forgets.
-        store.put(7, Basis::of(&t), vec![(12.5, pred(4.0))]);
+        store.put(7, StateStamp::of(&t), vec![(12.5, pred(4.0))]);
         assert_eq!(store.find(&t, 12.5), Some(&pred(4.0)));
         store.clear();
         assert!(store.find(&t, 12.5).is_none());
@@ -166,7 +107,7 @@ mod tests {
     fn a_state_changed_without_an_update_is_caught() {
         let mut store = DwellPredictions::default();
         let t = track(7, 10.0, 3);
-        store.put(7, Basis::of(&t), vec![(12.5, pred(3.0))]);
+        store.put(7, StateStamp::of(&t), vec![(12.5, pred(3.0))]);
         let mut moved = t.clone();
         moved.state.modes[0].x[0] = -0.0;
         let _ = store.find(&moved, 12.5);

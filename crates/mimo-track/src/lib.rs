@@ -124,6 +124,7 @@ pub mod policy;
 mod pregate;
 mod queries;
 pub mod second_return;
+mod state_stamp;
 pub mod tracker;
 pub mod update;
 

@@ -117,28 +117,13 @@ mod tests {
     use crate::linalg::identity;
     use crate::measurement::BistaticRuv;
     use mimo_core::ids::RadarId;
-    use mimo_core::records::TrackStatus;
 
     fn track(filter: &dyn TrackFilter, x: [f64; 6], var_m2: f64) -> Track {
         let mut p: [[f64; 6]; 6] = identity();
         for (i, row) in p.iter_mut().enumerate() {
             row[i] = if i < 3 { var_m2 } else { 100.0 };
         }
-        Track {
-            id: 1,
-            status: TrackStatus::Confirmed,
-            state: filter.init(Gaussian { x, p }),
-            t_s: 0.0,
-            t_init_s: 0.0,
-            n_updates: 5,
-            last_meas_id: None,
-            looks: vec![true],
-            consecutive_misses: 0,
-            next_due_s: 0.0,
-            last_face: None,
-            nis_sum: 0.0,
-            nis_count: 0,
-        }
+        Track::confirmed_for_test(1, filter.init(Gaussian { x, p }), 0.0, 5)
     }
 
     fn meas(model: BistaticRuv, rb_m: f64, t_s: f64) -> PreparedMeasurement {

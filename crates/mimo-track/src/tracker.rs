@@ -47,6 +47,29 @@ pub struct Track {
     pub nis_count: u32,
 }
 
+#[cfg(test)]
+impl Track {
+    /// A confirmed track `id` in `state` at `t_s` after `n_updates` updates, with no misses, for
+    /// the unit tests.
+    pub(crate) fn confirmed_for_test(id: u64, state: FilterState, t_s: f64, n_updates: u32) -> Track {
+        Track {
+            id,
+            status: TrackStatus::Confirmed,
+            state,
+            t_s,
+            t_init_s: t_s,
+            n_updates,
+            last_meas_id: None,
+            looks: vec![true],
+            consecutive_misses: 0,
+            next_due_s: t_s,
+            last_face: None,
+            nis_sum: 0.0,
+            nis_count: 0,
+        }
+    }
+}
+
 /// A multi-target tracker: filter, gate, GNN association, initiation, M-of-N confirmation and
 /// deletion, driven one dwell at a time.
 pub struct MultiTargetTracker {
