@@ -127,9 +127,9 @@ pub fn run_study(
     let total = todo.len() as u64;
     let done = AtomicU64::new(0);
     let failed = AtomicU64::new(0);
-    // Plain worker threads pulling items in order, not a rayon pool: scoring runs polars, whose
-    // own rayon pool would let a waiting rayon worker start further items on the same stack and
-    // finish them in reverse, so that a study killed midway would have recorded nothing.
+    // Plain worker threads pulling items in order, not a rayon pool: with work stealing, a rayon
+    // worker waiting inside an item could start further items on the same stack and finish them
+    // in reverse, so that a study killed midway would have recorded nothing.
     let threads =
         if opts.threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { opts.threads };
     let next = AtomicU64::new(0);
