@@ -186,6 +186,13 @@ same_tables() {
   say "$1: results.parquet, summary.parquet and $n cell tables byte-identical to one machine"
 }
 
+# 0. More CPUs per task than the node has: refused before anything is written or queued.
+if MIMO="$mimo" examples/slurm/submit.sh "$work/plan.toml" "$work/cluster" 3 -- --cpus-per-task=512 2>"$work/err"; then
+  fail "submit.sh accepted 512 CPUs per task"
+fi
+grep -q "^error: --cpus-per-task=512: the largest node of partition (default) has" "$work/err" || fail "$(cat "$work/err")"
+[ ! -e "$work/cluster" ] && [ -z "$(squeue -h)" ] || fail "something was written or queued"
+
 # 1. The whole route: submit.sh, 3 shards and the merge.
 out=$(MIMO="$mimo" examples/slurm/submit.sh "$work/plan.toml" "$work/cluster" 3 -- --time=00:20:00)
 say "$out"

@@ -34,6 +34,22 @@ mimo=${MIMO:-$(command -v mimo || true)}
 [ -n "$mimo" ] && [ -x "$mimo" ] ||
   die "mimo not found: put it on the PATH or set MIMO=/path/to/mimo (a path every compute node sees)"
 command -v sbatch >/dev/null 2>&1 || die "sbatch not found: run this where Slurm's commands are (a login node)"
+# A task asking for more CPUs than any node of its partition has would pend for ever, silently.
+cpus=1 part= prev=
+for o in "$@"; do
+  case $prev in -c) cpus=$o ;; -p) part=$o ;; esac
+  case $o in
+    --cpus-per-task=*) cpus=${o#*=} ;;
+    -c?*) cpus=${o#-c} ;;
+    --partition=*) part=${o#*=} ;;
+    -p?*) part=${o#-p} ;;
+  esac
+  prev=$o
+done
+most=$(sinfo -h -o %c ${part:+-p "$part"} 2>/dev/null | tr -dc '0-9\n' | sort -n | tail -n 1 || true)
+if [[ $cpus =~ ^[0-9]+$ ]] && [ -n "$most" ] && [ "$cpus" -gt "$most" ]; then
+  die "--cpus-per-task=$cpus: the largest node of partition ${part:-(default)} has $most CPUs; the tasks would pend for ever"
+fi
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 plan=$(realpath "$plan")
 out=$(realpath -m "$out")

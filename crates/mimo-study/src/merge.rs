@@ -1,7 +1,7 @@
 //! Merging a study: check every item has its record, then read the records one at a time into
 //! each cell's manifest and the compact rows of the study tables ([`ResultRow`]), and write the
 //! manifests, the tables, the charts and `report.md`. Nothing is written until every record has
-//! been read, and the memory held is a few hundred bytes per item (the rows and each cell's list
+//! been read, and the memory held is about 1.5 kB per item (the rows and each cell's list
 //! of table files), not the records themselves.
 
 use crate::plan::{MethodTa, Plan};

@@ -237,4 +237,24 @@ mod tests {
         assert!(e.to_string().contains("not a mimo study"), "{e}");
         assert!(precious.join("thesis.tex").exists());
     }
+
+    #[test]
+    fn the_mark_is_claimed_once_and_a_mark_being_written_is_not_a_foreign_file() {
+        let tmp = tempfile::tempdir().expect("tmp");
+        let dir = tmp.path().join("study");
+        assert!(claim(&dir, &mark("a")).expect("first"));
+        assert!(!claim(&dir, &mark("b")).expect("second"), "the first mark stays");
+        assert_eq!(read_mark(&dir).expect("read"), Some(mark("a")));
+        let names: Vec<String> =
+            std::fs::read_dir(&dir).expect("dir").map(|e| e.expect("e").file_name().to_string_lossy().into()).collect();
+        assert!(names.iter().all(|n| !n.contains(".tmp-")), "{names:?}");
+        // A directory holding only another process's mark in the making is claimed, not refused.
+        let fresh = tmp.path().join("fresh");
+        std::fs::create_dir_all(&fresh).expect("mkdir");
+        std::fs::write(fresh.join(".study.json.tmp-99-1"), "{").expect("write");
+        assert!(open(&fresh, &mark("a"), Access { resume: true, ..NEW }).expect("claimed"));
+        // Shards of the same plan join; another plan is refused.
+        assert!(!open(&fresh, &mark("a"), Access { resume: true, ..NEW }).expect("join"));
+        assert!(open(&fresh, &mark("b"), Access { resume: true, ..NEW }).is_err());
+    }
 }
