@@ -13,7 +13,7 @@
 # removed on any exit, so the machine is left as it was (the packages stay installed).
 #
 # Needs root (apt-get, the daemons). Uses the mimo binary of this checkout's cargo target
-# directory (CARGO_TARGET_DIR, else ./target), building it if needed (a no-op after CI's build).
+# directory (CARGO_TARGET_DIR, else ./target), building it only if it is missing or stale.
 #   bash scripts/slurm_test.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,10 +29,15 @@ if [ "$(id -u)" -ne 0 ]; then
   exit 0
 fi
 
-# The mimo binary CI's cargo built.
-cargo build --bin mimo --locked --quiet
+# The mimo binary CI's cargo built (its test run builds it beside the tests); built here only if
+# it is missing or older than a source file, since a build of the binary alone resolves other
+# features than the test run's and would rebuild much of the dependency tree.
 target_dir=${CARGO_TARGET_DIR:-$repo/target}
 mimo=$target_dir/debug/mimo
+if [ ! -x "$mimo" ] || [ -n "$(find crates Cargo.toml Cargo.lock -newer "$mimo" \( -name '*.rs' -o -name 'Cargo.*' \) -print -quit)" ]; then
+  say "building $mimo"
+  cargo build --bin mimo --locked --quiet
+fi
 [ -x "$mimo" ] || fail "no mimo binary at $mimo"
 
 # Debian's packages, installed without starting their services (policy-rc.d says no; ours is
