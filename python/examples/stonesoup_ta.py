@@ -12,7 +12,7 @@ Needs Stone Soup (``pip install 'mimo[stonesoup]'``). Every part is Stone Soup's
   spectral density ``q_m2ps3``), the state ``[x, vx, y, vy, z, vz]`` in the ENU frame at the
   scenario centre;
 * filter: ``ExtendedKalmanPredictor`` / ``ExtendedKalmanUpdater`` (the analytic Jacobian of
-  docs/model.md §5.4);
+  docs/model.md §5.4; Joseph-form covariance, symmetrized);
 * association: ``DistanceHypothesiser`` (Mahalanobis distance, gate chi^2_3(0.999)) with
   ``GNNWith2DAssignment``, channel by channel;
 * initiation: ``MultiMeasurementInitiator`` — a detection no track takes starts a holding track
@@ -68,7 +68,10 @@ def ekf_gnn(s: dict) -> Components:
     """Stone Soup's EKF + GNN with a multi-measurement initiator, from the settings ``s``."""
     cv = ConstantVelocity(s["q_m2ps3"])
     predictor = ExtendedKalmanPredictor(CombinedLinearGaussianTransitionModel([cv, cv, cv]))
-    updater = ExtendedKalmanUpdater(measurement_model=None)  # each detection carries its own model
+    # Each detection carries its own model. Joseph form, symmetrized (docs/model.md §6.2): with
+    # range sums known to metres and cross-range to hundreds of metres, the plain P - K S K^T
+    # loses positive definiteness within a few hundred updates.
+    updater = ExtendedKalmanUpdater(measurement_model=None, use_joseph_cov=True, force_symmetric_covariance=True)
 
     def gnn() -> GNNWith2DAssignment:
         return GNNWith2DAssignment(DistanceHypothesiser(predictor, updater, measure=Mahalanobis(),

@@ -410,9 +410,9 @@ class StoneSoupArticle(TestArticle):
         trk, b = self.tracks.pop(tid), self.books.pop(tid)
         t_s = max(now_s, b.t_s)
         pred = self.call("the predictor", self.c.predictor.predict, trk.state, timestamp=stamp(t_s))
-        self.emit(tid, self.finite(pred, "the predictor"), t_s, "deleted", b)
+        self.emit(tid, self.finite(pred, "the predictor"), t_s, "deleted", b, trk)
 
-    def emit(self, tid: int, state, t_s: float, status: str, b: Optional[Book] = None) -> None:
+    def emit(self, tid: int, state, t_s: float, status: str, b: Optional[Book] = None, trk=None) -> None:
         """A tracks-table row: the state and covariance rotated from the frame to ECEF."""
         b = b or self.books[tid]
         sv = np.asarray(state.state_vector, dtype=float).reshape(-1)
@@ -423,7 +423,7 @@ class StoneSoupArticle(TestArticle):
         cov = big @ np.asarray(state.covar, dtype=float)[np.ix_(order, order)] @ big.T
         pos, vel = self.enu.to_ecef(sv[POS]), rot @ sv[VEL]
         b.t_s = max(t_s, b.t_s)
-        n = sum(1 for s in self.tracks.get(tid, ()) if getattr(s, "hypothesis", None) is not None)
+        n = sum(1 for s in (trk or self.tracks[tid]) if getattr(s, "hypothesis", None) is not None)
         self.emit_track(TrackRow(b.t_s, tid, status, *pos, *vel, upper_triangle(0.5 * (cov + cov.T)), max(n, 1),
                                  b.last_meas_id))
 
