@@ -25,11 +25,8 @@ fn stderr_of(o: &Output) -> String {
 }
 
 fn require_stonesoup() {
-    let ok = Command::new("python3")
-        .args(["-c", "import numpy, stonesoup"])
-        .status()
-        .map(|s| s.success())
-        .unwrap_or(false);
+    let ok =
+        Command::new("python3").args(["-c", "import numpy, stonesoup"]).status().map(|s| s.success()).unwrap_or(false);
     assert!(
         ok,
         "these tests need python3 with numpy and Stone Soup (`python3 -m pip install 'stonesoup>=1.9,<1.10'`; \
