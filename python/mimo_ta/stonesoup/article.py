@@ -345,15 +345,7 @@ class StoneSoupArticle(TestArticle):
         hold = self.holding_tracks()
         rest: set = set()
         if hold is not None:
-            own = report.requested_by == "ta"
-            offered = set()
-            for h in hold:
-                if h.timestamp > ts:
-                    continue
-                mono = [(parts[a], parts[a]) for a in parts if parts[a].transmits and parts[a].receives]
-                if (own and any(self.near(h, report, pt, pr, window, self.cfg["look_beam_fraction"]) for pt, pr in mono)) \
-                        or (dets and self.gates(h, dets, ts)):
-                    offered.add(h)
+            offered = self.offered_holding(hold, dets, report, parts, window, ts)
             if not dets and not offered:
                 return
             rest = hold - offered
@@ -366,6 +358,15 @@ class StoneSoupArticle(TestArticle):
         self.sync_holding(report.end_s)
         for trk in sorted(new, key=_first_meas_id):
             self.confirm(trk, report.t_s)
+
+    def offered_holding(self, hold: set, dets: list, report, parts: dict, window, ts) -> set:
+        """The holding tracks this dwell could have seen: in the beam of a monostatic channel of
+        the article's own dwell, or gating one of the detections."""
+        mono = [parts[a] for a in sorted(parts) if parts[a].transmits and parts[a].receives]
+        own = report.requested_by == "ta"
+        frac = self.cfg["look_beam_fraction"]
+        return {h for h in hold if h.timestamp <= ts and (
+            (own and any(self.near(h, report, p, p, window, frac) for p in mono)) or (dets and self.gates(h, dets, ts)))}
 
     def sync_holding(self, now_s: float) -> None:
         """Books for new holding tracks (first look 0.3 s on), none for those gone."""

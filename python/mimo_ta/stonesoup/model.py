@@ -69,7 +69,8 @@ class MimoBistaticModel(MeasurementModel, GaussianModel, ReversibleModel):
         """``d(rho, u, v)/dx`` at the state: (3, ndim_state), zero outside the position columns."""
         p = np.asarray(state.state_vector[list(self.mapping), 0], dtype=float).reshape(3)
         j = np.zeros((3, self.ndim_state))
-        j[:, list(self.mapping)] = jacobian(p, self.tx_position_m, self.rx_position_m, self.rx_rotation) * _RHO_UV[:, None]
+        j_pos = jacobian(p, self.tx_position_m, self.rx_position_m, self.rx_rotation)
+        j[:, list(self.mapping)] = j_pos * _RHO_UV[:, None]
         return j
 
     def position_of(self, rho_m: float, u: float, v: float):
