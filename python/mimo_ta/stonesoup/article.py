@@ -65,6 +65,7 @@ SETTINGS = {
     "assoc_beam_fraction": 1.0,  # tracks offered to the associator
     "gate_chi2": 16.27,  # holding tracks offered to the initiator: chi^2_3(0.999)
     "merged_range_sigma_m": 15.0,  # added to a merged measurement (§6.5), with a quarter beamwidth
+    "deleter_sweep_s": 1.0,  # every track goes through the deleter at least this often
 }
 
 
@@ -184,7 +185,7 @@ class StoneSoupArticle(TestArticle):
                                               min_window_half_m=cfg["min_window_half_m"], mimo=cfg["mimo"] != 0)
         self.beamwidth = {r: p.beamwidth_u for r, p in self.planner.params.items()}
         self.tracks, self.books, self.holding, self.windows = {}, {}, {}, {}
-        self.next_id, self.next_hold, self.next_wake_s = 1, 1, math.inf
+        self.next_id, self.next_hold, self.next_wake_s, self.next_sweep_s = 1, 1, math.inf, 0.0
         if getattr(self.c.initiator, "holding_tracks", None):
             self.c.initiator.holding_tracks = set()
 
@@ -218,7 +219,7 @@ class StoneSoupArticle(TestArticle):
         for trk in sorted(hit, key=self.track_id):
             self.updated(self.track_id(trk), report.t_s)
         self.initiate(leftover, report, parts, window, ts)
-        self.maintain(report.end_s)
+        self.maintain(report.end_s, {self.track_id(t) for t in hit} | looked)
         self.schedule(report.end_s)
 
     def on_wake(self, t_s: float) -> None:
@@ -364,9 +365,14 @@ class StoneSoupArticle(TestArticle):
         the article's own dwell, or gating one of the detections."""
         mono = [parts[a] for a in sorted(parts) if parts[a].transmits and parts[a].receives]
         own = report.requested_by == "ta"
-        frac = self.cfg["look_beam_fraction"]
-        return {h for h in hold if h.timestamp <= ts and (
-            (own and any(self.near(h, report, p, p, window, frac) for p in mono)) or (dets and self.gates(h, dets, ts)))}
+        look, assoc = self.cfg["look_beam_fraction"], self.cfg["assoc_beam_fraction"]
+
+        def seen(h) -> bool:
+            if own and any(self.near(h, report, p, p, window, look) for p in mono):
+                return True
+            return bool(dets) and any(self.near(h, report, p, p, None, assoc) for p in mono) and self.gates(h, dets, ts)
+
+        return {h for h in hold if h.timestamp <= ts and seen(h)}
 
     def sync_holding(self, now_s: float) -> None:
         """Books for new holding tracks (first look 0.3 s on), none for those gone."""
@@ -394,15 +400,22 @@ class StoneSoupArticle(TestArticle):
         else:
             self.emit(tid, trk.state, t_s, "confirmed")
 
-    def maintain(self, now_s: float) -> None:
-        """Run the deleter over every track, and the initiator's over its holding tracks."""
+    def maintain(self, now_s: float, changed_ids=()) -> None:
+        """Run the deleter over the tracks given a state in this dwell and, at least every
+        ``deleter_sweep_s`` of simulated time, over every track (time-based rules) and the
+        initiator's deleter over its holding tracks."""
         ts = stamp(now_s)
-        gone = self.call("the deleter", self.c.deleter.delete_tracks, set(self.tracks.values()), timestamp=ts)
-        for tid in sorted(self.track_id(t) for t in gone):
-            self.delete(tid, now_s)
+        sweep = now_s >= self.next_sweep_s
+        if sweep:
+            self.next_sweep_s = now_s + self.cfg["deleter_sweep_s"]
+        tracks = set(self.tracks.values()) if sweep else {self.tracks[i] for i in changed_ids if i in self.tracks}
+        if tracks:
+            gone = self.call("the deleter", self.c.deleter.delete_tracks, tracks, timestamp=ts)
+            for tid in sorted(self.track_id(t) for t in gone):
+                self.delete(tid, now_s)
         hold = self.holding_tracks()
         deleter = getattr(self.c.initiator, "deleter", None)
-        if hold and deleter is not None:
+        if sweep and hold and deleter is not None:
             dropped = self.call("the initiator's deleter", deleter.delete_tracks, set(hold), timestamp=ts)
             self.c.initiator.holding_tracks = hold - dropped
             self.sync_holding(now_s)
