@@ -59,8 +59,8 @@ class StoneSoupArticleTest(unittest.TestCase):
     def setUpClass(cls):
         cls.fixture = json.loads(FIXTURE.read_text())
 
-    def article(self, factory=ekf_gnn):
-        a = StoneSoupArticle(factory=factory, defaults=DEFAULTS, name="stonesoup-test")
+    def article(self):
+        a = StoneSoupArticle(factory=ekf_gnn, defaults=DEFAULTS, name="stonesoup-test")
         replay(a, self.fixture)
         return a
 
