@@ -17,8 +17,9 @@ Per dwell, channel by channel (tx, rx) in a fixed order (docs/model.md §6.5):
   the initiator. A multi-measurement initiator's holding tracks are restricted the same way:
   those in the beam of a test-article dwell, and those that gate one of the detections.
 
-After each dwell and wake-up the deleter is run over every track (with ``timestamp``, so
-time-based deleters see coasting), and the initiator's deleter over its holding tracks. Rows:
+After each dwell the deleter is run over the tracks the dwell gave a state, and at least once a
+simulated second (``deleter_sweep_s``) over every track (with ``timestamp``, so time-based
+deleters see coasting) and the initiator's deleter over its holding tracks. Rows:
 ``confirmed`` after each dwell that updated a track (and when the initiator releases it),
 ``deleted`` (the prediction at that time) when the deleter drops it or the run ends. Tentative
 (holding) tracks are not written.
