@@ -138,6 +138,7 @@ class StoneSoupArticle(TestArticle):
                                  "or a factory")
             self.c = Components(predictor, updater, data_associator, initiator, deleter, hypothesiser)
         self.tracks: dict = {}
+        self.ids: dict = {}  # id(track) -> track number
         self.books: dict = {}
         self.holding: dict = {}  # holding track -> Book (tentative tracks inside the initiator)
         self.windows: dict = {}
@@ -185,7 +186,7 @@ class StoneSoupArticle(TestArticle):
                                               assumed_rcs_m2=cfg["assumed_rcs_m2"],
                                               min_window_half_m=cfg["min_window_half_m"], mimo=cfg["mimo"] != 0)
         self.beamwidth = {r: p.beamwidth_u for r, p in self.planner.params.items()}
-        self.tracks, self.books, self.holding, self.windows = {}, {}, {}, {}
+        self.tracks, self.books, self.holding, self.windows, self.ids = {}, {}, {}, {}, {}
         self.next_id, self.next_hold, self.next_wake_s, self.next_sweep_s = 1, 1, math.inf, 0.0
         if getattr(self.c.initiator, "holding_tracks", None):
             self.c.initiator.holding_tracks = set()
@@ -284,7 +285,8 @@ class StoneSoupArticle(TestArticle):
         return used
 
     def track_id(self, trk) -> int:
-        return trk.metadata["mimo_id"]
+        """The number of a confirmed track (kept here: Stone Soup rewrites a track's metadata)."""
+        return self.ids[id(trk)]
 
     def updated(self, tid: int, t_s: float) -> None:
         trk, b = self.tracks[tid], self.books[tid]
@@ -393,7 +395,7 @@ class StoneSoupArticle(TestArticle):
         self.finite(trk.state, "the initiator")
         tid = self.next_id
         self.next_id += 1
-        trk.metadata["mimo_id"] = tid
+        self.ids[id(trk)] = tid
         self.tracks[tid] = trk
         self.books[tid] = Book(tid, t_s, t_s)
         if getattr(trk.state, "hypothesis", None) is not None and trk.state.hypothesis.measurement is not None:
@@ -423,6 +425,7 @@ class StoneSoupArticle(TestArticle):
 
     def delete(self, tid: int, now_s: float) -> None:
         trk, b = self.tracks.pop(tid), self.books.pop(tid)
+        del self.ids[id(trk)]
         t_s = max(now_s, b.t_s)
         pred = self.call("the predictor", self.c.predictor.predict, trk.state, timestamp=stamp(t_s))
         self.emit(tid, self.finite(pred, "the predictor"), t_s, "deleted", b, trk)
