@@ -25,7 +25,7 @@ try:
     from stonesoup.updater.kalman import ExtendedKalmanUpdater
     from stonesoup_ta import DEFAULTS, ekf_gnn
 
-    from mimo_ta.stonesoup import StoneSoupArticle, stamp
+    from mimo_ta.stonesoup import SETTINGS, StoneSoupArticle, stamp
 except ImportError:  # pragma: no cover - depends on the environment
     StoneSoupArticle = None
 
@@ -77,6 +77,19 @@ class StoneSoupArticleTest(unittest.TestCase):
         self.assertGreaterEqual(len(a.tracks), 3)
         for trk in a.tracks.values():
             self.assertGreaterEqual(sum(1 for s in trk if getattr(s, "hypothesis", None) is not None), 2)
+
+    def test_a_ready_multi_target_tracker_gives_the_same_tracks(self):
+        from stonesoup.tracker.simple import MultiTargetTracker
+
+        c = ekf_gnn(dict(DEFAULTS, **SETTINGS))
+        tracker = MultiTargetTracker(initiator=c.initiator, deleter=c.deleter, detector=[],
+                                     data_associator=c.data_associator, updater=c.updater)
+        a = StoneSoupArticle(tracker=tracker, name="stonesoup-test")
+        replay(a, self.fixture)
+        b = self.article()
+        self.assertEqual(sorted(a.tracks), sorted(b.tracks))
+        for tid in a.tracks:
+            np.testing.assert_array_equal(np.asarray(a.tracks[tid].state_vector), np.asarray(b.tracks[tid].state_vector))
 
     def test_a_look_that_holds_a_track_and_returns_nothing_is_its_miss_only(self):
         a = self.article()
