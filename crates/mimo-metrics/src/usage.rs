@@ -57,9 +57,9 @@ pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOut
                 let s = by_key.get(&(run, radar.as_str(), i64::from(k))).copied().unwrap_or([0.0; 4]);
                 let cell = cells.entry((radar.as_str(), k)).or_default();
                 let objects = (n > 0).then_some(f64::from(n));
-                for q in 0..4 {
-                    cell.sums[q].push(Some(s[q]));
-                    cell.norms[q].push(objects.map(|n| s[q] / n));
+                for ((sum, norm), v) in cell.sums.iter_mut().zip(&mut cell.norms).zip(s) {
+                    sum.push(Some(v));
+                    norm.push(objects.map(|n| v / n));
                 }
                 cell.n_scorable.push(Some(f64::from(n)));
             }
