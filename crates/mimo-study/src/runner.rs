@@ -3,6 +3,7 @@
 //! atomically — and, unless this is one shard of several, merge: cell manifests, the study
 //! tables, charts and `report.md`.
 
+use crate::challenge_table::{family_rows, ratio_rows, write_challenge};
 use crate::grid::{self, Cell, Item, Shard};
 use crate::item::{ItemError, do_item};
 use crate::plan::{MethodTa, Plan, PlanError};
@@ -132,6 +133,9 @@ pub fn run_study(
     // finish them in reverse, so that a study killed midway would have recorded nothing.
     let threads =
         if opts.threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { opts.threads };
+    // The reference Kalman-filter cycle of this machine, measured before any item competes for
+    // the cores (docs/studies.md: compute in machine-independent units).
+    let kf_cycle_s = (!todo.is_empty()).then(crate::kfu::measure_kf_cycle_s);
     let next = AtomicU64::new(0);
     let stop = std::sync::atomic::AtomicBool::new(false);
     let first_error: std::sync::Mutex<Option<StudyError>> = std::sync::Mutex::new(None);
@@ -142,7 +146,8 @@ pub fn run_study(
                     let i = next.fetch_add(1, Ordering::Relaxed) as usize;
                     let Some(it) = todo.get(i) else { break };
                     let cell = &prep.cells[it.cell];
-                    match do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run) {
+                    match do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run, kf_cycle_s)
+                    {
                         Ok(rec) => {
                             if rec.failure.is_some() {
                                 failed.fetch_add(1, Ordering::Relaxed);
@@ -268,11 +273,16 @@ fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Result<(
     write_results(plan, &prep.cells, &recs, out)?;
     let summaries = summarize(&recs);
     write_summary(plan, &prep.cells, &summaries, out)?;
-    let charts = crate::charts::study_charts(plan, &prep.cells, &summaries);
+    let families = family_rows(plan, &prep.cells, &recs);
+    let ratios = ratio_rows(plan, &prep.cells, &families);
+    write_challenge(plan, &prep.cells, &families, &ratios, out)?;
+    let charts = crate::charts::study_charts(plan, &prep.cells, &summaries, &families);
     mimo_store::rundir::replace_dir(&out.join("charts"), |d: &Path| -> Result<(), StudyError> {
         mimo_report::study::render_study(&charts, d).map_err(|e| StudyError::Report(e.to_string()))?;
         Ok(())
     })?;
-    write_atomic(&out.join("report.md"), &crate::report::report_md(plan, &prep.cells, &summaries, &charts))?;
+    let challenge = crate::challenge_report::Challenge { families: &families, ratios: &ratios };
+    let report = crate::report::report_md(plan, &prep.cells, &summaries, &recs, &challenge, &charts);
+    write_atomic(&out.join("report.md"), &report)?;
     Ok(())
 }
