@@ -111,6 +111,7 @@ pub(crate) fn frame(spec: &TableSpec, columns: Vec<Column>) -> Result<DataFrame,
                 Column::OptU64(v) => Series::new(name, v),
                 Column::F64(v) => Series::new(name, v),
                 Column::Utf8(v) => Series::new(name, v),
+                Column::Bool(v) => Series::new(name, v),
             })
         })
         .collect();

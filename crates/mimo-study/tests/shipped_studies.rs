@@ -144,16 +144,16 @@ fn tamper(path: &Path, metric: &str, row: usize, value: f64) {
 fn the_check_passes_on_a_fresh_study_and_catches_a_changed_metric() {
     // Two scenarios of different durations would need scenario files; two methods, one swept,
     // on scenario 1 for 20 s, and an axis: the cheapest cell is the first.
-    let text = "scenarios = [1]\nruns = 2\nduration_s = 20\n\
+    let plan_text = "scenarios = [1]\nruns = 2\nduration_s = 20\n\
         [[methods]]\nname = \"conv\"\nta = \"default\"\nconfig = { resource_manager = { mimo = false } }\n\
         [[methods]]\nname = \"mimo\"\nta = \"default\"\nsweep = { \"resource_manager.max_ta_share\" = [0.2, 0.5] }\n\
         [axes]\nrcs_offset_db = [0, -3]\n";
     let tmp = tempfile::tempdir().expect("tmp");
-    std::fs::write(tmp.path().join("p.toml"), text).expect("plan");
+    std::fs::write(tmp.path().join("p.toml"), plan_text).expect("plan");
     let plan = Plan::read(&tmp.path().join("p.toml")).expect("plan");
     let out = tmp.path().join("study");
     let opts = Options { out: out.clone(), resume: false, force: false, shard: None, merge: false, threads: 2 };
-    run_study(&plan, text, &opts, &|_, _| {}).expect("study");
+    run_study(&plan, plan_text, &opts, &|_, _| {}).expect("study");
     // The study's challenge tables: two families on two stress points, one ratio per point; the
     // report opens with the challenge.
     let ch = &read_batches(&out.join("challenge.parquet")).expect("challenge")[0];
