@@ -97,24 +97,34 @@ pub(super) fn energy_frontier(charts: &StudyCharts) -> StudyChart {
     }
 }
 
+/// The axes follow the means and crossings (with room around them), not the bars: with few runs
+/// a bar can be many times longer than the curve and would squash it; bars are cut at the frame.
 fn axis_ranges(p: &CurvePanel) -> ((f64, f64), (f64, f64)) {
     let mut xs = Vec::new();
     let mut ys = vec![p.hline];
     for c in &p.curves {
         for q in &c.points {
-            xs.extend([Some(q.0), q.1.map(|b| b.0), q.1.map(|b| b.1)].into_iter().flatten());
-            ys.extend([Some(q.2), q.3.map(|b| b.0), q.3.map(|b| b.1)].into_iter().flatten());
+            xs.push(q.0);
+            ys.push(q.2);
         }
-        if let Some((x, lo, hi)) = c.crossing {
-            xs.extend([Some(x), lo, hi].into_iter().flatten());
+        if let Some((x, _, _)) = c.crossing {
+            xs.push(x);
         }
     }
     if xs.is_empty() {
         xs.push(0.0);
     }
-    let (xa, xb) = range(xs.iter());
-    let (ya, yb) = range(ys.iter());
-    (padded(xa, xb), padded(ya, yb.max(100.0).min(100.5)))
+    let widen = |(a, b): (f64, f64)| {
+        let d = 0.25 * (b - a).max(1e-9 * a.abs().max(1.0));
+        (a - d, b + d)
+    };
+    let (xa, xb) = widen(range(xs.iter()));
+    let (ya, yb) = widen(range(ys.iter()));
+    (padded(xa, xb), padded(ya, yb.min(100.0)))
+}
+
+fn clip(v: f64, r: (f64, f64)) -> f64 {
+    v.clamp(r.0, r.1)
 }
 
 /// Draw a panel of curves.
@@ -136,12 +146,18 @@ pub(super) fn draw_curves<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: 
         for q in &c.points {
             if let Some((lo, hi)) = q.3 {
                 chart
-                    .draw_series(std::iter::once(PathElement::new(vec![(q.0, lo), (q.0, hi)], bar_style)))
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(q.0, clip(lo, y)), (q.0, clip(hi, y))],
+                        bar_style,
+                    )))
                     .map_err(e)?;
             }
             if let Some((lo, hi)) = q.1 {
                 chart
-                    .draw_series(std::iter::once(PathElement::new(vec![(lo, q.2), (hi, q.2)], bar_style)))
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(clip(lo, x), q.2), (clip(hi, x), q.2)],
+                        bar_style,
+                    )))
                     .map_err(e)?;
             }
             if c.mimo {
@@ -162,9 +178,9 @@ pub(super) fn draw_curves<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: 
         }
         if let Some((xc, lo, hi)) = c.crossing {
             let dark = darken(c.color, 0.35);
-            let (l, h) = (lo.unwrap_or(x.0), hi.unwrap_or(x.1));
+            let (l, h) = (clip(lo.unwrap_or(x.0), x), clip(hi.unwrap_or(x.1), x));
             chart
-                .draw_series(std::iter::once(PathElement::new(vec![(l, p.hline), (h, p.hline)], dark.stroke_width(4))))
+                .draw_series(std::iter::once(PathElement::new(vec![(l, p.hline), (h, p.hline)], dark.stroke_width(2))))
                 .map_err(e)?;
             let tri = EmptyElement::at((xc, p.hline)) + Polygon::new(vec![(0, -11), (-9, 6), (9, 6)], dark.filled());
             chart.draw_series(std::iter::once(tri)).map_err(e)?;
