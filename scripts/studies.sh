@@ -22,6 +22,7 @@ for name in "${@:-challenge stability}"; do
     dest=reports/studies/$study
     rm -rf "$dest"
     mkdir -p "$dest"
-    cp -r "$out/charts" "$out/report.md" "$out/summary.parquet" "$out/results.parquet" "$out/plan.toml" "$dest/"
+    cp -r "$out/charts" "$out/report.md" "$out/summary.parquet" "$out/results.parquet" "$out/challenge.parquet" \
+      "$out/challenge_ratios.parquet" "$out/plan.toml" "$dest/"
   done
 done

@@ -5,7 +5,7 @@
 use crate::schema::{ColType, TableSpec};
 use crate::{StoreError, write_batch};
 use arrow::array::{Array, RecordBatch};
-use arrow::array::{ArrayRef, Float64Array, StringArray, UInt32Array, UInt64Array};
+use arrow::array::{ArrayRef, BooleanArray, Float64Array, StringArray, UInt32Array, UInt64Array};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -24,6 +24,8 @@ pub enum Column {
     F64(Vec<Option<f64>>),
     /// `utf8`, null where `None`.
     Utf8(Vec<Option<String>>),
+    /// `bool`.
+    Bool(Vec<bool>),
 }
 
 impl Column {
@@ -35,6 +37,7 @@ impl Column {
             Column::OptU64(v) => v.len(),
             Column::F64(v) => v.len(),
             Column::Utf8(v) => v.len(),
+            Column::Bool(v) => v.len(),
         }
     }
 
@@ -44,6 +47,7 @@ impl Column {
             Column::U64(_) | Column::OptU64(_) => ColType::U64,
             Column::F64(_) => ColType::F64,
             Column::Utf8(_) => ColType::Utf8,
+            Column::Bool(_) => ColType::Bool,
         }
     }
 
@@ -55,6 +59,7 @@ impl Column {
             Column::OptU64(v) => Arc::new(UInt64Array::from(v)),
             Column::F64(v) => Arc::new(Float64Array::from(v)),
             Column::Utf8(v) => Arc::new(StringArray::from(v)),
+            Column::Bool(v) => Arc::new(BooleanArray::from(v)),
         }
     }
 }
@@ -103,12 +108,16 @@ mod tests {
     use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
     fn ids(n: usize) -> Vec<Column> {
+        // method, family, knob, knob_value, scenario, swept, then the five axes.
         let mut v = vec![
+            Column::Utf8(vec![Some("m@2".into()); n]),
             Column::Utf8(vec![Some("m".into()); n]),
+            Column::Utf8(vec![Some("resource_manager.max_ta_share".into()); n]),
+            Column::F64(vec![Some(2.0); n]),
             Column::Utf8(vec![Some("7".into()); n]),
             Column::Utf8(vec![None; n]),
         ];
-        v.extend((3..STUDY_ID_COLUMNS).map(|i| Column::F64(vec![(i == 3).then_some(-3.0); n])));
+        v.extend((6..STUDY_ID_COLUMNS).map(|i| Column::F64(vec![(i == 6).then_some(-3.0); n])));
         v
     }
 
@@ -119,7 +128,7 @@ mod tests {
         let mut cols = ids(2);
         cols.push(Column::U32(vec![0, 1]));
         cols.push(Column::U64(vec![9, 9]));
-        for x in [100.0, 1.5, 2.5, 4.0] {
+        for x in [100.0, 1.5, 2.5, 4.0, 1e-6, 1.5e6] {
             cols.push(Column::F64(vec![Some(x), Some(x + 1.0)]));
         }
         assert_eq!(write_columns(&path, &STUDY_COSTS, cols.clone()).expect("write"), 2);
@@ -140,7 +149,7 @@ mod tests {
         // A missing column, a wrong type and a null in a non-null column are refused.
         assert!(write_columns(&path, &STUDY_COSTS, cols[..cols.len() - 1].to_vec()).is_err());
         let mut wrong = cols.clone();
-        wrong[8] = Column::U64(vec![0, 1]);
+        wrong[11] = Column::U64(vec![0, 1]);
         assert!(write_columns(&path, &STUDY_COSTS, wrong).is_err());
         let mut null = cols;
         null[0] = Column::Utf8(vec![None, Some("m".into())]);

@@ -299,7 +299,10 @@ pub const TRACKS: TableSpec = TableSpec {
 macro_rules! study_ids {
     () => {
         [
-            col("method", Utf8, "", "the method's name in the plan"),
+            col("method", Utf8, "", "the method's name in the plan; a swept method's points are named family@value"),
+            col("family", Utf8, "", "the [[methods]] entry the method comes from (its name)"),
+            opt("knob", Utf8, "", "the configuration key path a swept method varies; null when not swept"),
+            opt("knob_value", F64, "", "the knob's value at this method; null when not swept"),
             col("scenario", Utf8, "", "standard scenario number, or the scenario file's stem"),
             opt("swept", Utf8, "", "with sweep = \"each\": the axis this cell varies; null in a grid"),
             opt("rcs_offset_db", F64, "dB", "added to every target's RCS; null when the plan has no such axis"),
@@ -322,7 +325,7 @@ macro_rules! study_ids {
 }
 
 /// Number of identifying columns opening every study table.
-pub const STUDY_ID_COLUMNS: usize = 8;
+pub const STUDY_ID_COLUMNS: usize = 11;
 
 macro_rules! study_tables {
     ($( ($name:literal, $unit:literal, $desc:literal) ),* $(,)?) => {
@@ -330,10 +333,12 @@ macro_rules! study_tables {
         /// when the run failed or the figure is undefined (docs/design.md §6).
         pub const STUDY_METRICS: &[(&str, &str, &str)] = &[$(($name, $unit, $desc)),*];
 
-        const STUDY_IDS: [ColumnSpec; STUDY_ID_COLUMNS] = study_ids!();
+        /// The identifying columns opening every study table.
+        pub(crate) const STUDY_IDS: [ColumnSpec; STUDY_ID_COLUMNS] = study_ids!();
 
         const STUDY_RESULTS_COLUMNS: &[ColumnSpec] = &[
             STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
+            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10],
             RUN,
             col("seed", U64, "", "master seed of the run"),
             $(opt($name, F64, $unit, $desc),)*
@@ -342,13 +347,14 @@ macro_rules! study_tables {
 
         const STUDY_SUMMARY_COLUMNS: &[ColumnSpec] = &[
             STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
+            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10],
             col("runs", U32, "", "Monte Carlo runs of the cell"),
             col("failed", U32, "", "runs that failed"),
             opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
             $(
                 opt(concat!($name, "_mean"), F64, $unit, concat!("mean over completed runs where defined: ", $desc)),
-                opt(concat!($name, "_ci_lo"), F64, $unit, "lower end of the 95 % confidence interval of the mean (Student t); null with fewer than 2 values"),
-                opt(concat!($name, "_ci_hi"), F64, $unit, "upper end of the 95 % confidence interval of the mean"),
+                opt(concat!($name, "_ci_lo"), F64, $unit, "lower end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range); null with fewer than 2 values"),
+                opt(concat!($name, "_ci_hi"), F64, $unit, "upper end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range)"),
             )*
         ];
     };
@@ -397,12 +403,28 @@ pub const STUDY_COSTS: TableSpec = TableSpec {
         STUDY_IDS[5],
         STUDY_IDS[6],
         STUDY_IDS[7],
+        STUDY_IDS[8],
+        STUDY_IDS[9],
+        STUDY_IDS[10],
         RUN,
         col("seed", U64, "", "master seed of the run"),
         col("duration_s", F64, "s", "simulated seconds of the run"),
         col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
         col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
         col("wall_s", F64, "s", "wall time of the run, simulation to score"),
+        opt(
+            "kf_cycle_s",
+            F64,
+            "s",
+            "CPU time of one reference EKF predict + update cycle (6-state, 3-D measurement) on the machine \
+             that ran the item, the median of repeats measured when the study started; null in a record without one",
+        ),
+        opt(
+            "ta_cpu_kfu",
+            F64,
+            "",
+            "ta_cpu_s / kf_cycle_s: the test article's compute in reference Kalman-filter cycles",
+        ),
     ],
 };
 
@@ -418,7 +440,13 @@ pub const STUDY_SUMMARY: TableSpec = TableSpec {
 pub const ALL_TABLES: [TableSpec; 6] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS];
 
 /// The tables a study writes.
-pub const STUDY_TABLES: [TableSpec; 3] = [STUDY_RESULTS, STUDY_COSTS, STUDY_SUMMARY];
+pub const STUDY_TABLES: [TableSpec; 5] = [
+    STUDY_RESULTS,
+    STUDY_COSTS,
+    STUDY_SUMMARY,
+    crate::challenge_schema::STUDY_CHALLENGE,
+    crate::challenge_schema::STUDY_CHALLENGE_RATIOS,
+];
 
 /// Look up a table by name.
 pub fn table(name: &str) -> Option<&'static TableSpec> {

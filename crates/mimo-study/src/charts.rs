@@ -1,10 +1,12 @@
 //! The figures the study charts show, from the cell summaries (docs/studies.md): the drawing is
 //! `mimo_report::study`'s.
 
+use crate::challenge_table::FamilyRow;
 use crate::grid::Cell;
+use crate::plan::Architecture;
 use crate::plan::{Axis, Plan};
 use crate::tables::CellSummary;
-use mimo_report::study::{Estimate, StudyAxis, StudyCell, StudyCharts};
+use mimo_report::study::{Estimate, FamilyPoint, StudyAxis, StudyCell, StudyCharts, StudyFamily};
 use mimo_store::schema::STUDY_METRICS;
 
 /// The completeness the challenge requires.
@@ -15,8 +17,43 @@ pub fn is_baseline(cell: &Cell) -> bool {
     cell.point.iter().all(|(a, v)| *v == a.baseline())
 }
 
+fn estimate(s: &CellSummary, name: &str) -> Estimate {
+    let k = STUDY_METRICS.iter().position(|(n, _, _)| *n == name).unwrap_or(0);
+    let (mean, lo, hi) = s.estimates[k];
+    Estimate { mean, lo, hi }
+}
+
+/// The families the energy frontier draws: on each scenario, those at the baseline stress
+/// point, or at the first stress point when the plan has no baseline.
+fn frontier_families(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], rows: &[FamilyRow]) -> Vec<StudyFamily> {
+    let first_point = rows.first().map(|r| (cells[r.cell].point.clone(), cells[r.cell].swept));
+    let any_baseline = rows.iter().any(|r| is_baseline(&cells[r.cell]));
+    rows.iter()
+        .filter(|r| {
+            let c = &cells[r.cell];
+            if any_baseline { is_baseline(c) } else { first_point.as_ref() == Some(&(c.point.clone(), c.swept)) }
+        })
+        .map(|r| StudyFamily {
+            name: r.family.clone(),
+            mimo: r.architecture == Architecture::Mimo,
+            scenario: plan.scenarios[cells[r.cell].scenario].label(),
+            points: r
+                .cells
+                .iter()
+                .map(|&c| FamilyPoint {
+                    knob: plan.methods[cells[c].method].knob_value,
+                    energy_j: estimate(&summaries[c], "ta_energy_per_object_j"),
+                    completeness: estimate(&summaries[c], "completeness"),
+                })
+                .collect(),
+            crossing: r.challenge.at.as_ref().ok().map(|a| Estimate { mean: Some(a.1.0), lo: a.1.1, hi: a.1.2 }),
+        })
+        .collect()
+}
+
 /// The charts' input.
-pub fn study_charts(plan: &Plan, cells: &[Cell], summaries: &[CellSummary]) -> StudyCharts {
+pub fn study_charts(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], families: &[FamilyRow]) -> StudyCharts {
+    let families = frontier_families(plan, cells, summaries, families);
     let cells = cells
         .iter()
         .zip(summaries)
@@ -34,6 +71,7 @@ pub fn study_charts(plan: &Plan, cells: &[Cell], summaries: &[CellSummary]) -> S
                 .map(|((n, _, _), e)| (n.to_string(), Estimate { mean: e.0, lo: e.1, hi: e.2 }))
                 .collect(),
             ta_cpu_per_sim_s: s.ta_cpu_per_sim_s,
+            ta_kfu_per_sim_s: s.ta_kfu_per_sim_s,
         })
         .collect();
     StudyCharts {
@@ -50,6 +88,7 @@ pub fn study_charts(plan: &Plan, cells: &[Cell], summaries: &[CellSummary]) -> S
                 log: *a == Axis::Pfa,
             })
             .collect(),
+        families,
         cells,
         completeness_required: COMPLETENESS_REQUIRED,
     }

@@ -154,9 +154,17 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
     m
 }
 
-/// Do item `run` of `cell` (directory `cell_dir`) and write its record. A failure of the method
-/// is part of the record; an error here is a system fault.
-pub fn do_item(plan: &Plan, cell: &Cell, world: &World, cell_dir: &Path, run: u32) -> Result<ItemRecord, ItemError> {
+/// Do item `run` of `cell` (directory `cell_dir`) and write its record, with `kf_cycle_s` the
+/// reference Kalman-filter cycle of this machine ([`crate::kfu`]). A failure of the method is
+/// part of the record; an error here is a system fault.
+pub fn do_item(
+    plan: &Plan,
+    cell: &Cell,
+    world: &World,
+    cell_dir: &Path,
+    run: u32,
+    kf_cycle_s: Option<f64>,
+) -> Result<ItemRecord, ItemError> {
     let (c0, w0) = (crate::cpu::thread_cpu(), std::time::Instant::now());
     let r = run_item(plan, cell, world, run);
     let tables = write_tables(plan, cell_dir, run, &r.tables)?;
@@ -181,6 +189,7 @@ pub fn do_item(plan: &Plan, cell: &Cell, world: &World, cell_dir: &Path, run: u3
             ta_cpu_s: r.ta_cpu.as_secs_f64(),
             sim_cpu_s: cpu.saturating_sub(r.ta_cpu).as_secs_f64(),
             wall_s: w0.elapsed().as_secs_f64(),
+            kf_cycle_s,
         },
         ta: r.ta.map(|t| (t.name, t.config)),
         tables,

@@ -10,6 +10,10 @@
 
 #![warn(missing_docs)]
 
+pub mod bootstrap;
+pub mod challenge;
+pub mod challenge_report;
+pub mod challenge_table;
 pub mod charts;
 pub mod cpu;
 pub mod estimate;
@@ -17,7 +21,10 @@ pub mod execute;
 pub mod grid;
 pub mod guard;
 pub mod item;
+pub mod kfu;
 pub mod merge;
+pub mod method_sweep;
+pub mod paired;
 pub mod plan;
 pub mod prepare;
 pub mod record;

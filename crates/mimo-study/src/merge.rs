@@ -4,6 +4,7 @@
 //! been read, and the memory held is about 1.5 kB per item (the rows and each cell's list
 //! of table files), not the records themselves.
 
+use crate::challenge_table::{family_rows, ratio_rows, write_challenge};
 use crate::plan::{MethodTa, Plan};
 use crate::prepare::{Prepared, search_of};
 use crate::record::{ItemRecord, record_path};
@@ -138,12 +139,17 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
     write_results(plan, &prep.cells, &rows, out)?;
     let summaries = summarize(&rows);
     write_summary(plan, &prep.cells, &summaries, out)?;
-    let charts = crate::charts::study_charts(plan, &prep.cells, &summaries);
+    let families = family_rows(plan, &prep.cells, &rows);
+    let ratios = ratio_rows(plan, &prep.cells, &families);
+    write_challenge(plan, &prep.cells, &families, &ratios, out)?;
+    let charts = crate::charts::study_charts(plan, &prep.cells, &summaries, &families);
     mimo_store::rundir::replace_dir(&out.join("charts"), |d: &Path| -> Result<(), StudyError> {
         mimo_report::study::render_study(&charts, d).map_err(|e| StudyError::Report(e.to_string()))?;
         Ok(())
     })?;
-    write_atomic(&out.join("report.md"), &crate::report::report_md(plan, &prep.cells, &summaries, &charts))?;
+    let challenge = crate::challenge_report::Challenge { families: &families, ratios: &ratios };
+    let report = crate::report::report_md(plan, &prep.cells, &summaries, &rows, &challenge, &charts);
+    write_atomic(&out.join("report.md"), &report)?;
     let failed = summaries.iter().map(|s| s.failed as usize).sum();
     Ok(Merged { items: rows.iter().map(Vec::len).sum(), failed })
 }

@@ -35,6 +35,8 @@
 //! Every error names the plan file, the key path (`methods[1].config.resource_manager.mimoo`)
 //! and what was expected; nothing is run or written before the whole plan is checked.
 
+use crate::method_sweep;
+pub use crate::method_sweep::Architecture;
 use mimo_scenario::stress::{StressError, bounds, check};
 use mimo_ta::overrides::ConfigError;
 use mimo_ta::registry;
@@ -95,12 +97,21 @@ pub enum MethodTa {
 /// One method: a label and a test article.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Method {
-    /// The label on every chart (letters, digits, `-`, `_`, `.`).
+    /// The label on every chart: the entry's name (letters, digits, `-`, `_`, `.`), or
+    /// `family@value` for a point of a swept entry.
     pub name: String,
     /// The test article.
     pub ta: MethodTa,
-    /// The overrides as written in the plan (recorded in results).
+    /// The overrides as written in the plan, the knob's value included (recorded in results).
     pub overrides: Value,
+    /// The `[[methods]]` entry's name.
+    pub family: String,
+    /// The configuration key path the entry sweeps (`None`: not swept).
+    pub knob: Option<String>,
+    /// The knob's value at this method.
+    pub knob_value: Option<f64>,
+    /// MIMO or conventional (for the challenge's paired comparison).
+    pub architecture: Architecture,
 }
 
 /// A stress axis of a study.
@@ -247,12 +258,12 @@ pub struct Plan {
     pub limits: Limits,
 }
 
-struct Ctx<'a> {
-    file: &'a str,
+pub(crate) struct Ctx<'a> {
+    pub(crate) file: &'a str,
 }
 
 impl Ctx<'_> {
-    fn err(&self, key: impl Into<String>, expected: impl Into<String>) -> PlanError {
+    pub(crate) fn err(&self, key: impl Into<String>, expected: impl Into<String>) -> PlanError {
         PlanError { file: self.file.to_string(), key: key.into(), expected: expected.into() }
     }
 
@@ -266,7 +277,7 @@ impl Ctx<'_> {
         Ok(())
     }
 
-    fn number(&self, key: &str, v: &Toml) -> Result<f64, PlanError> {
+    pub(crate) fn number(&self, key: &str, v: &Toml) -> Result<f64, PlanError> {
         match v {
             Toml::Float(x) if x.is_finite() => Ok(*x),
             Toml::Integer(i) => Ok(*i as f64),
@@ -274,12 +285,12 @@ impl Ctx<'_> {
         }
     }
 
-    fn string<'v>(&self, key: &str, v: &'v Toml) -> Result<&'v str, PlanError> {
+    pub(crate) fn string<'v>(&self, key: &str, v: &'v Toml) -> Result<&'v str, PlanError> {
         v.as_str().ok_or_else(|| self.err(key, format!("expected a string, got {v}")))
     }
 }
 
-fn config_err(ctx: &Ctx, prefix: &str, e: ConfigError) -> PlanError {
+pub(crate) fn config_err(ctx: &Ctx, prefix: &str, e: ConfigError) -> PlanError {
     match e {
         ConfigError::UnknownKey { key, known } => {
             ctx.err(format!("{prefix}.{key}"), format!("unknown key (expected one of: {known})"))
@@ -293,10 +304,12 @@ fn config_err(ctx: &Ctx, prefix: &str, e: ConfigError) -> PlanError {
     }
 }
 
-fn method(ctx: &Ctx, i: usize, v: &Toml) -> Result<Method, PlanError> {
+/// The methods of entry `methods[i]`: one, or one per value of its sweep.
+fn method(ctx: &Ctx, i: usize, v: &Toml) -> Result<Vec<Method>, PlanError> {
     let p = format!("methods[{i}]");
     let t = v.as_table().ok_or_else(|| ctx.err(&p, "expected a table with name and ta (or ta_cmd)"))?;
-    ctx.known(t, &p, &["name", "ta", "ta_cmd", "config"])?;
+    ctx.known(t, &p, &["name", "ta", "ta_cmd", "config", "sweep", "architecture"])?;
+    let knob = t.get("sweep").map(|k| method_sweep::read_knob(ctx, &p, k)).transpose()?;
     let name = ctx.string(
         &format!("{p}.name"),
         t.get("name").ok_or_else(|| ctx.err(format!("{p}.name"), "missing: every method needs a name"))?,
@@ -337,7 +350,17 @@ fn method(ctx: &Ctx, i: usize, v: &Toml) -> Result<Method, PlanError> {
             }
         }
     };
-    Ok(Method { name: name.to_string(), ta, overrides })
+    let mut m = Method {
+        name: name.to_string(),
+        ta,
+        overrides,
+        family: name.to_string(),
+        knob: None,
+        knob_value: None,
+        architecture: Architecture::Mimo,
+    };
+    m.architecture = method_sweep::read_architecture(ctx, &p, t.get("architecture"), &m)?;
+    method_sweep::expand(ctx, &p, m, knob)
 }
 
 fn shlex_ok(cmd: &str) -> bool {
@@ -460,20 +483,22 @@ impl Plan {
             }
             Some(v) => return Err(ctx.err("tables", format!("expected a list of table names, got {v}"))),
         };
-        let methods = match t.get("methods") {
+        let entries = match t.get("methods") {
             Some(Toml::Array(a)) if !a.is_empty() => {
                 a.iter().enumerate().map(|(i, v)| method(&ctx, i, v)).collect::<Result<Vec<_>, _>>()?
             }
             _ => return Err(ctx.err("methods", "expected at least one [[methods]] table")),
         };
-        for (i, m) in methods.iter().enumerate() {
-            if methods[..i].iter().any(|o| o.name == m.name) {
+        // Entry names never hold '@', so distinct entries expand into distinct method names.
+        for (i, m) in entries.iter().enumerate() {
+            if entries[..i].iter().any(|o| o[0].family == m[0].family) {
                 return Err(ctx.err(
                     format!("methods[{i}].name"),
-                    format!("'{}' is used twice: method names label charts and directories", m.name),
+                    format!("'{}' is used twice: method names label charts and directories", m[0].family),
                 ));
             }
         }
+        let methods: Vec<Method> = entries.into_iter().flatten().collect();
         let mut axes = Vec::new();
         if let Some(a) = t.get("axes") {
             let at = a.as_table().ok_or_else(|| ctx.err("axes", "expected a table of axis = [values]"))?;

@@ -18,6 +18,18 @@ pub struct ItemCosts {
     pub sim_cpu_s: f64,
     /// Wall seconds of the item.
     pub wall_s: f64,
+    /// CPU seconds of one reference Kalman-filter cycle on the machine that ran the item
+    /// ([`crate::kfu`]); absent from records written before it was measured.
+    #[serde(default)]
+    pub kf_cycle_s: Option<f64>,
+}
+
+impl ItemCosts {
+    /// The test article's CPU time in reference Kalman-filter cycles (`None` without a
+    /// reference measurement).
+    pub fn ta_cpu_kfu(&self) -> Option<f64> {
+        self.kf_cycle_s.filter(|k| *k > 0.0).map(|k| self.ta_cpu_s / k)
+    }
 }
 
 /// One finished item.
@@ -112,7 +124,7 @@ mod tests {
             duration_s: 30.0,
             failure: None,
             metrics,
-            costs: ItemCosts { ta_cpu_s: 0.1, sim_cpu_s: 0.2, wall_s: 0.3 },
+            costs: ItemCosts { ta_cpu_s: 0.1, sim_cpu_s: 0.2, wall_s: 0.3, kf_cycle_s: Some(2e-6) },
             ta: Some(("default".into(), serde_json::json!({"a": 1}))),
             tables,
         };

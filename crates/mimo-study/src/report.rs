@@ -2,10 +2,13 @@
 //! which method meets the completeness requirement for the least energy in each scenario, where
 //! each method fails under stress, and the summary table.
 
+use crate::challenge_report::{Challenge, challenge_md};
 use crate::charts::COMPLETENESS_REQUIRED;
 use crate::grid::Cell;
+use crate::paired::paired_rows;
 use crate::plan::{MethodTa, Plan, Sweep};
 use crate::tables::CellSummary;
+use crate::tables::ResultRow;
 use mimo_report::study::StudyCharts;
 use mimo_store::schema::STUDY_METRICS;
 use std::fmt::Write;
@@ -38,7 +41,8 @@ fn with_ci(s: &CellSummary, metric: &str, scale: f64, digits: usize) -> String {
     }
 }
 
-fn point_text(cell: &Cell) -> String {
+/// A cell's stress point as a reader writes it (`—` without axes).
+pub(crate) fn point_text(cell: &Cell) -> String {
     if cell.point.is_empty() {
         return "—".into();
     }
@@ -54,10 +58,18 @@ fn meets(s: &CellSummary) -> bool {
     s.failed == 0 && s.estimates[k("completeness")].0.is_some_and(|c| c >= COMPLETENESS_REQUIRED)
 }
 
-/// The report's Markdown text.
-pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &StudyCharts) -> String {
+/// The report's Markdown text: it opens with the challenge table.
+pub fn report_md(
+    plan: &Plan,
+    cells: &[Cell],
+    sums: &[CellSummary],
+    records: &[Vec<ResultRow>],
+    challenge: &Challenge,
+    charts: &StudyCharts,
+) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "# {}\n", plan.title);
+    o.push_str(&challenge_md(plan, cells, challenge));
     let dur = plan.duration_s.map(|d| format!("{d} s")).unwrap_or_else(|| "each scenario's own duration".into());
     let _ = writeln!(
         o,
@@ -68,13 +80,25 @@ pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &Stu
         plan.runs,
         plan.seed
     );
-    let _ = writeln!(o, "| method | test article | configuration over its defaults |\n|---|---|---|");
-    for m in &plan.methods {
+    let _ = writeln!(
+        o,
+        "| method (family) | architecture | test article | configuration over its defaults | swept |\n|---|---|---|---|---|"
+    );
+    let mut families = std::collections::BTreeSet::new();
+    for m in plan.methods.iter().filter(|m| families.insert(m.family.clone())) {
         let ta = match &m.ta {
             MethodTa::Builtin { ta, .. } => format!("built-in `{ta}`"),
             MethodTa::Process { cmd, .. } => format!("process `{cmd}`"),
         };
-        let _ = writeln!(o, "| {} | {ta} | `{}` |", m.name, m.overrides);
+        let values: Vec<String> =
+            plan.methods.iter().filter(|x| x.family == m.family).filter_map(|x| x.knob_value.map(value_text)).collect();
+        let swept = m.knob.as_ref().map_or_else(|| "–".into(), |k| format!("`{k}` = {}", values.join(", ")));
+        let mut shown = m.overrides.clone();
+        if let (Some(k), Some(obj)) = (&m.knob, shown.as_object_mut()) {
+            // The knob's value is in the swept column; show the configuration common to the family.
+            remove_path(obj, k);
+        }
+        let _ = writeln!(o, "| {} | {} | {ta} | `{shown}` | {swept} |", m.family, m.architecture.name());
     }
     if !plan.axes.is_empty() {
         let how = match plan.sweep {
@@ -94,8 +118,10 @@ pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &Stu
         "![energy against completeness](charts/energy_vs_completeness.png)\n\n\
          x: energy of the dwells the test article requested, per scorable object (the sum over 1-s scoring \
          intervals of energy ÷ objects some radar can see; background search is the same for every method and \
-         left out); y: track completeness. Bars are 95 % confidence intervals of the Monte Carlo means; the \
-         grey step line is the non-dominated front.\n"
+         left out); y: mean track completeness. Each family is a curve through its points in knob order (labels: \
+         knob values; an unswept method is one point), MIMO solid, conventional dashed; bars are 95 % confidence \
+         intervals of the Monte Carlo means; triangles mark where a curve crosses the requirement, with the \
+         bootstrap interval of its energy.\n"
     );
     for (si, s) in plan.scenarios.iter().enumerate() {
         let base: Vec<usize> =
@@ -125,8 +151,9 @@ pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &Stu
     let _ = writeln!(
         o,
         "![compute against accuracy](charts/compute_vs_accuracy.png)\n\n\
-         x: CPU seconds spent inside the test article per simulated second (machine-dependent: from \
-         `costs.parquet`); y: position RMSE and GOSPA (c = 1000 m, p = 2).\n"
+         x: compute inside the test article per simulated second, in reference EKF cycles (`ta_cpu_kfu` of \
+         `costs.parquet`: CPU time ÷ the CPU time of one 6-state EKF predict + update measured on the same \
+         machine; CPU seconds when a run lacks the reference); y: position RMSE and GOSPA (c = 1000 m, p = 2).\n"
     );
 
     if !charts.axes.is_empty() {
@@ -172,11 +199,13 @@ pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &Stu
         let _ = writeln!(o);
     }
 
+    o.push_str(&paired_md(plan, cells, records));
     let _ = writeln!(o, "## Summary\n");
     let _ = writeln!(
         o,
-        "Means over the completed runs with 95 % confidence intervals in brackets (Student t; none with fewer than \
-         two runs). Energy and dwell time are per scorable object.\n"
+        "Means over the completed runs with 95 % confidence intervals in brackets (Student t over the runs, clipped \
+         to the range the metric can take; none with fewer than two runs). Energy and dwell time are per scorable \
+         object.\n"
     );
     let _ = writeln!(
         o,
@@ -220,6 +249,70 @@ pub fn report_md(plan: &Plan, cells: &[Cell], sums: &[CellSummary], charts: &Stu
     if !failures.is_empty() {
         let _ = writeln!(o, "\n## Failed runs\n\n{}", failures.join("\n"));
     }
+    o
+}
+
+/// Remove the dotted key `path` from a JSON object, and any table it leaves empty.
+fn remove_path(obj: &mut serde_json::Map<String, serde_json::Value>, path: &str) {
+    match path.split_once('.') {
+        None => {
+            obj.remove(path);
+        }
+        Some((head, rest)) => {
+            if let Some(serde_json::Value::Object(inner)) = obj.get_mut(head) {
+                remove_path(inner, rest);
+                if inner.is_empty() {
+                    obj.remove(head);
+                }
+            }
+        }
+    }
+}
+
+/// `mean (lo–hi)` of a paired difference, scaled.
+fn diff_text(d: (Option<f64>, Option<f64>, Option<f64>), scale: f64, digits: usize) -> String {
+    match d {
+        (Some(m), Some(lo), Some(hi)) => {
+            format!("{:+.*} ({:+.*} to {:+.*})", digits, m * scale, digits, lo * scale, digits, hi * scale)
+        }
+        (m, _, _) => num(m, scale, digits),
+    }
+}
+
+/// The paired differences between MIMO methods and their conventional counterparts.
+fn paired_md(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> String {
+    let rows = paired_rows(plan, cells, records);
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut o = String::new();
+    let _ = writeln!(o, "## MIMO against its conventional counterpart, run by run\n");
+    let _ = writeln!(
+        o,
+        "Each MIMO method beside the conventional method with the same test article and knob value: the mean of the \
+         per-run differences (MIMO − conventional; run k of both shares its random draws) with its paired Student-t \
+         95 % interval, over the runs both completed.\n"
+    );
+    let _ = writeln!(
+        o,
+        "| scenario | stress | MIMO | conventional | runs | Δ completeness (points of %) | Δ TA energy per object (J) |\n\
+         |---|---|---|---|---|---|---|"
+    );
+    for r in rows {
+        let c = &cells[r.mimo];
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            plan.scenarios[c.scenario].label(),
+            point_text(c),
+            plan.methods[c.method].name,
+            plan.methods[cells[r.conventional].method].name,
+            r.runs,
+            diff_text(r.completeness, 100.0, 2),
+            diff_text(r.energy_j, 1.0, 0),
+        );
+    }
+    let _ = writeln!(o);
     o
 }
 

@@ -122,6 +122,9 @@ fn run_items(
 ) -> Result<usize, StudyError> {
     let total = todo.len() as u64;
     let (done, failed, next) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    // The reference Kalman-filter cycle of this machine, measured before any item competes for
+    // the cores (docs/studies.md: compute in machine-independent units).
+    let kf_cycle_s = (!todo.is_empty()).then(crate::kfu::measure_kf_cycle_s);
     let stop = std::sync::atomic::AtomicBool::new(false);
     let first_error: std::sync::Mutex<Option<StudyError>> = std::sync::Mutex::new(None);
     // Plain worker threads pulling items in order, not a rayon pool: a waiting rayon worker
@@ -134,7 +137,8 @@ fn run_items(
                     let i = next.fetch_add(1, Ordering::Relaxed) as usize;
                     let Some(it) = todo.get(i) else { break };
                     let cell = &prep.cells[it.cell];
-                    match do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run) {
+                    match do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run, kf_cycle_s)
+                    {
                         Ok(rec) => {
                             if rec.failure.is_some() {
                                 failed.fetch_add(1, Ordering::Relaxed);

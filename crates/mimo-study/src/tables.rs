@@ -4,7 +4,7 @@
 //! scenarios × stress points, then runs), so the tables are the same however the items were
 //! split over machines.
 
-use crate::estimate::mean_ci;
+use crate::estimate::{bounded_mean_ci, mean_ci, metric_range};
 use crate::grid::Cell;
 use crate::plan::{Axis, Plan};
 use crate::record::{ItemCosts, ItemRecord};
@@ -26,6 +26,9 @@ pub struct CellSummary {
     pub estimates: Vec<(Option<f64>, Option<f64>, Option<f64>)>,
     /// Mean TA CPU seconds per simulated second (from the costs).
     pub ta_cpu_per_sim_s: Option<f64>,
+    /// Mean TA compute in reference Kalman-filter cycles per simulated second (`None` when a
+    /// record has no reference measurement).
+    pub ta_kfu_per_sim_s: Option<f64>,
 }
 
 /// One row of the results and costs tables: an item record less its table files and the test
@@ -48,6 +51,12 @@ pub struct ResultRow {
 }
 
 impl ResultRow {
+    /// The metric `name` of `STUDY_METRICS` (`None` when undefined or not a study metric).
+    pub fn metric(&self, name: &str) -> Option<f64> {
+        let k = STUDY_METRICS.iter().position(|(n, _, _)| *n == name)?;
+        self.metrics.get(k).copied().flatten()
+    }
+
     /// The row of a record.
     pub fn of(r: &ItemRecord) -> ResultRow {
         ResultRow {
@@ -66,21 +75,29 @@ pub fn summarize(rows: &[Vec<ResultRow>]) -> Vec<CellSummary> {
     rows.iter()
         .map(|recs| {
             let failed = recs.iter().filter(|r| r.failure.is_some()).count() as u32;
-            let estimates = (0..STUDY_METRICS.len())
-                .map(|k| {
+            let estimates = STUDY_METRICS
+                .iter()
+                .enumerate()
+                .map(|(k, (name, _, _))| {
                     let v: Vec<f64> =
                         recs.iter().filter(|r| r.failure.is_none()).filter_map(|r| r.metrics[k]).collect();
-                    mean_ci(&v)
+                    bounded_mean_ci(&v, metric_range(name))
                 })
                 .collect();
             let cpu: Vec<f64> =
                 recs.iter().filter(|r| r.duration_s > 0.0).map(|r| r.costs.ta_cpu_s / r.duration_s).collect();
+            let kfu: Option<Vec<f64>> = recs
+                .iter()
+                .filter(|r| r.duration_s > 0.0)
+                .map(|r| Some(r.costs.ta_cpu_kfu()? / r.duration_s))
+                .collect();
             CellSummary {
                 runs: recs.len() as u32,
                 failed,
                 failure: recs.iter().find_map(|r| r.failure.clone()),
                 estimates,
                 ta_cpu_per_sim_s: mean_ci(&cpu).0,
+                ta_kfu_per_sim_s: kfu.and_then(|v| mean_ci(&v).0),
             }
         })
         .collect()
@@ -88,8 +105,12 @@ pub fn summarize(rows: &[Vec<ResultRow>]) -> Vec<CellSummary> {
 
 /// The identifying columns for rows of `cells` (a cell index per row).
 fn id_columns(plan: &Plan, cells: &[Cell], rows: &[usize]) -> Vec<Column> {
+    let m = |c: usize| &plan.methods[cells[c].method];
     let mut out = vec![
-        Column::Utf8(rows.iter().map(|&c| Some(plan.methods[cells[c].method].name.clone())).collect()),
+        Column::Utf8(rows.iter().map(|&c| Some(m(c).name.clone())).collect()),
+        Column::Utf8(rows.iter().map(|&c| Some(m(c).family.clone())).collect()),
+        Column::Utf8(rows.iter().map(|&c| m(c).knob.clone()).collect()),
+        Column::F64(rows.iter().map(|&c| m(c).knob_value).collect()),
         Column::Utf8(rows.iter().map(|&c| Some(plan.scenarios[cells[c].scenario].label())).collect()),
         Column::Utf8(rows.iter().map(|&c| cells[c].swept.map(|a| a.name().to_string())).collect()),
     ];
@@ -124,6 +145,8 @@ pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], di
     costs.push(f(|r| r.costs.ta_cpu_s));
     costs.push(f(|r| r.costs.sim_cpu_s));
     costs.push(f(|r| r.costs.wall_s));
+    costs.push(Column::F64(rows.iter().map(|(_, r)| r.costs.kf_cycle_s).collect()));
+    costs.push(Column::F64(rows.iter().map(|(_, r)| r.costs.ta_cpu_kfu()).collect()));
     write_columns(&dir.join("costs.parquet"), &STUDY_COSTS, costs)?;
     Ok(())
 }

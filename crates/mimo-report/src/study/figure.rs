@@ -50,6 +50,7 @@ pub(super) struct BandPanel {
 pub(super) enum StudyPanel {
     Scatter(ScatterPanel),
     Bands(BandPanel),
+    Curves(super::frontier::CurvePanel),
 }
 
 /// A study chart: a title, panels in a grid and a legend strip.
@@ -86,19 +87,6 @@ fn point_text(c: &StudyCell) -> Option<String> {
     Some(c.point.iter().map(|(a, v)| format!("{a}={}", fmt_num(*v))).collect::<Vec<_>>().join(" "))
 }
 
-/// Points not dominated by another (x smaller is better, y larger is better), by increasing x.
-pub(super) fn front(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let mut p: Vec<(f64, f64)> = points.to_vec();
-    p.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
-    let mut out: Vec<(f64, f64)> = Vec::new();
-    for q in p {
-        if out.last().is_none_or(|l| q.1 > l.1) {
-            out.push(q);
-        }
-    }
-    out
-}
-
 fn method_legend(charts: &StudyCharts) -> Vec<(String, Swatch)> {
     charts.methods.iter().map(|m| (m.clone(), Swatch::Dot(method_color(charts, m)))).collect()
 }
@@ -107,55 +95,22 @@ fn bar(e: Estimate, scale: f64) -> Option<(f64, f64)> {
     Some((e.lo? * scale, e.hi? * scale))
 }
 
-pub(super) fn energy_vs_completeness(charts: &StudyCharts) -> StudyChart {
-    let mut panels = Vec::new();
-    for s in &charts.scenarios {
-        let mut dots = Vec::new();
-        for m in &charts.methods {
-            for c in shown(charts, m, s) {
-                let (x, y) = (c.get("ta_energy_per_object_j"), c.get("completeness"));
-                let (Some(xm), Some(ym)) = (x.mean, y.mean) else { continue };
-                dots.push(Dot {
-                    color: method_color(charts, m),
-                    x: xm,
-                    x_bar: bar(x, 1.0),
-                    y: 100.0 * ym,
-                    y_bar: bar(y, 100.0),
-                    label: point_text(c),
-                });
-            }
-        }
-        let pts: Vec<(f64, f64)> = dots.iter().map(|d| (d.x, d.y)).collect();
-        panels.push(StudyPanel::Scatter(ScatterPanel {
-            title: (charts.scenarios.len() > 1).then(|| format!("scenario {s}")),
-            x_label: "TA energy per scorable object (J)".into(),
-            y_label: "track completeness (%)".into(),
-            log_x: false,
-            front: front(&pts),
-            dots,
-            hline: Some(100.0 * charts.completeness_required),
-        }));
-    }
-    let mut legend = method_legend(charts);
-    legend.push((format!("{} % required", fmt_num(100.0 * charts.completeness_required)), Swatch::Dashed(BLACK)));
-    legend.push(("non-dominated front".into(), Swatch::Line(RGBColor(150, 150, 150), 2)));
-    legend.push(("bars: 95 % confidence intervals of the means".into(), Swatch::Line(RGBColor(90, 90, 90), 1)));
-    StudyChart {
-        title: format!("Energy against completeness — {}", charts.title),
-        columns: charts.scenarios.len().clamp(1, 4),
-        panels,
-        legend,
-    }
-}
-
 pub(super) fn compute_vs_accuracy(charts: &StudyCharts) -> StudyChart {
     let several = charts.scenarios.len() > 1;
+    // Machine-independent reference Kalman-filter cycles when every run measured them.
+    let kfu = charts.cells.iter().all(|c| c.runs == c.failed || c.ta_kfu_per_sim_s.is_some());
+    let x_label = if kfu {
+        "TA compute per simulated second (reference EKF cycles, log)"
+    } else {
+        "TA CPU seconds per simulated second (log)"
+    };
     let panel = |metric: &str, y_label: &str| {
         let mut dots = Vec::new();
         for m in &charts.methods {
             for s in &charts.scenarios {
                 for c in shown(charts, m, s) {
-                    let (Some(x), Some(y)) = (c.ta_cpu_per_sim_s, c.get(metric).mean) else { continue };
+                    let x = if kfu { c.ta_kfu_per_sim_s } else { c.ta_cpu_per_sim_s };
+                    let (Some(x), Some(y)) = (x, c.get(metric).mean) else { continue };
                     if x <= 0.0 {
                         continue;
                     }
@@ -179,7 +134,7 @@ pub(super) fn compute_vs_accuracy(charts: &StudyCharts) -> StudyChart {
         }
         StudyPanel::Scatter(ScatterPanel {
             title: None,
-            x_label: "TA CPU seconds per simulated second (log)".into(),
+            x_label: x_label.into(),
             y_label: y_label.into(),
             log_x: true,
             dots,

@@ -2,7 +2,7 @@
 //!
 //! | file stem | content |
 //! |---|---|
-//! | `energy_vs_completeness` | per scenario (one panel each), a point per method: the test article's energy per scorable object (x) against track completeness (y), both with their 95 % confidence intervals as bars, the required completeness as a dashed line and the non-dominated front (less energy, more completeness) as a grey step line |
+//! | `energy_vs_completeness` | per scenario (one panel each), each family as a curve through its points in knob order (an unswept method is a single point): the test article's energy per scorable object (x) against mean track completeness (y), both with their 95 % confidence intervals as bars; MIMO families solid with dots, conventional ones dashed with open squares; the required completeness as a dashed line and each family's interpolated crossing as a triangle with its bootstrap interval |
 //! | `compute_vs_accuracy` | a point per method and scenario: the test article's CPU seconds per simulated second (log x) against position RMSE and against GOSPA |
 //! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; each method's failure point (the first value, from the least to the most stressing, where mean completeness falls below the requirement or a run fails) marked with a cross |
 //!
@@ -14,13 +14,15 @@
 //! `paint` draws panels with plotters.
 
 mod figure;
+mod frontier;
 mod paint;
 
 pub(crate) use paint::draw_study_chart;
 
 use crate::{Chart, ReportError, ensure_font, save};
 pub(crate) use figure::StudyChart;
-use figure::{compute_vs_accuracy, energy_vs_completeness, stability};
+use figure::{compute_vs_accuracy, stability};
+use frontier::energy_frontier;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -56,12 +58,43 @@ pub struct StudyCell {
     pub metrics: BTreeMap<String, Estimate>,
     /// Mean test-article CPU seconds per simulated second (from the costs table).
     pub ta_cpu_per_sim_s: Option<f64>,
+    /// The same in reference Kalman-filter cycles per simulated second (`None` when a run has no
+    /// reference measurement).
+    pub ta_kfu_per_sim_s: Option<f64>,
 }
 
 impl StudyCell {
     fn get(&self, name: &str) -> Estimate {
         self.metrics.get(name).copied().unwrap_or_default()
     }
+}
+
+/// One point of a family: a method at one knob value.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FamilyPoint {
+    /// The knob value (`None` for an unswept method).
+    pub knob: Option<f64>,
+    /// TA energy per scorable object (J).
+    pub energy_j: Estimate,
+    /// Track completeness (fraction).
+    pub completeness: Estimate,
+}
+
+/// A family (a swept method, or an unswept one as a single point) on one scenario, as the
+/// energy-frontier chart draws it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StudyFamily {
+    /// The family's name.
+    pub name: String,
+    /// MIMO (solid) or conventional (dashed).
+    pub mimo: bool,
+    /// Scenario label.
+    pub scenario: String,
+    /// Points in knob order.
+    pub points: Vec<FamilyPoint>,
+    /// TA energy per scorable object where the curve crosses the requirement, with its
+    /// bootstrap interval (an end `None` lies beyond the sweep).
+    pub crossing: Option<Estimate>,
 }
 
 /// An axis of the study as the stability charts need it.
@@ -90,6 +123,8 @@ pub struct StudyCharts {
     pub axes: Vec<StudyAxis>,
     /// Every cell.
     pub cells: Vec<StudyCell>,
+    /// Every family on every scenario (at the baseline stress point), for the energy frontier.
+    pub families: Vec<StudyFamily>,
     /// The completeness required (0.98).
     pub completeness_required: f64,
 }
@@ -108,7 +143,7 @@ pub fn render_study(charts: &StudyCharts, dir: &Path) -> Result<Vec<PathBuf>, Re
     std::fs::create_dir_all(dir).map_err(|err| ReportError::Io { path: dir.to_path_buf(), detail: err.to_string() })?;
     let mut out = Vec::new();
     let mut all = vec![
-        ("energy_vs_completeness".to_string(), energy_vs_completeness(charts)),
+        ("energy_vs_completeness".to_string(), energy_frontier(charts)),
         ("compute_vs_accuracy".to_string(), compute_vs_accuracy(charts)),
     ];
     for ax in &charts.axes {
@@ -123,15 +158,8 @@ pub fn render_study(charts: &StudyCharts, dir: &Path) -> Result<Vec<PathBuf>, Re
 
 #[cfg(test)]
 mod tests {
-    use super::figure::{failure_point, front, sweep_cells};
+    use super::figure::{failure_point, sweep_cells};
     use super::*;
-
-    #[test]
-    fn the_front_keeps_the_non_dominated_points() {
-        // (energy, completeness): (3, 99) is dominated by (2, 99.5); (1, 90) and (5, 100) are not.
-        let pts = [(3.0, 99.0), (1.0, 90.0), (2.0, 99.5), (5.0, 100.0), (6.0, 100.0)];
-        assert_eq!(front(&pts), vec![(1.0, 90.0), (2.0, 99.5), (5.0, 100.0)]);
-    }
 
     fn cell(method: &str, v: f64, completeness: f64, failed: u32) -> StudyCell {
         let mut metrics = BTreeMap::new();
@@ -146,6 +174,21 @@ mod tests {
             failed,
             metrics,
             ta_cpu_per_sim_s: Some(0.01),
+            ta_kfu_per_sim_s: Some(5000.0),
+        }
+    }
+
+    fn family(name: &str, mimo: bool, pts: &[(f64, f64, f64)], crossing: Option<f64>) -> StudyFamily {
+        let est = |m: f64, d: f64| Estimate { mean: Some(m), lo: Some(m - d), hi: Some(m + d) };
+        StudyFamily {
+            name: name.into(),
+            mimo,
+            scenario: "7".into(),
+            points: pts
+                .iter()
+                .map(|&(k, x, y)| FamilyPoint { knob: Some(k), energy_j: est(x, 50.0), completeness: est(y, 0.005) })
+                .collect(),
+            crossing: crossing.map(|c| Estimate { mean: Some(c), lo: Some(c - 100.0), hi: None }),
         }
     }
 
@@ -165,6 +208,7 @@ mod tests {
             scenarios: vec!["7".into()],
             axes: vec![ax.clone()],
             cells: cells.to_vec(),
+            families: vec![family("a", true, &[(1.0, 900.0, 0.97), (2.0, 1500.0, 0.99)], Some(1200.0))],
             completeness_required: 0.98,
         };
         let sw = sweep_cells(&charts, "rcs_offset_db", "a", "7");

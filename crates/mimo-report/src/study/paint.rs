@@ -14,7 +14,7 @@ fn x_fmt(log: bool) -> impl Fn(&f64) -> String {
     move |v: &f64| if log { format!("{:.1e}", 10f64.powf(*v)) } else { fmt_num(*v) }
 }
 
-fn padded(lo: f64, hi: f64) -> (f64, f64) {
+pub(super) fn padded(lo: f64, hi: f64) -> (f64, f64) {
     if !(lo.is_finite() && hi.is_finite()) {
         return (0.0, 1.0);
     }
@@ -26,15 +26,15 @@ fn padded(lo: f64, hi: f64) -> (f64, f64) {
     (lo - d, hi + d)
 }
 
-fn range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+pub(super) fn range<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
     values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)))
 }
 
-type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+pub(super) type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 /// A panel's axes and grid: an optional title, the ranges, the axis labels, `1eN` tick labels on
 /// a log10 x axis.
-fn framed<'a, DB: DrawingBackend>(
+pub(super) fn framed<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     title: Option<&str>,
     x: (f64, f64),
@@ -157,6 +157,7 @@ pub(crate) fn draw_study_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>
         match p {
             StudyPanel::Scatter(s) => draw_scatter(cell, s)?,
             StudyPanel::Bands(b) => draw_bands(cell, b)?,
+            StudyPanel::Curves(c) => super::frontier::draw_curves(cell, c)?,
         }
     }
     draw_legend(&legend_area, &c.legend)
