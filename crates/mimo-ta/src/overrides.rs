@@ -67,16 +67,20 @@ pub fn toml_to_json(v: &toml::Value, key: &str) -> Result<Value, ConfigError> {
         toml::Value::Float(x) if !x.is_finite() => {
             Err(ConfigError::BadValue { key: key.to_string(), why: format!("expected a finite number, got {x}") })
         }
-        toml::Value::Table(t) => {
-            t.iter().map(|(k, v)| Ok((k.clone(), toml_to_json(v, &at(k))?))).collect::<Result<Map<_, _>, _>>().map(Value::Object)
-        }
+        toml::Value::Table(t) => t
+            .iter()
+            .map(|(k, v)| Ok((k.clone(), toml_to_json(v, &at(k))?)))
+            .collect::<Result<Map<_, _>, _>>()
+            .map(Value::Object),
         toml::Value::Array(a) => a
             .iter()
             .enumerate()
             .map(|(i, v)| toml_to_json(v, &format!("{key}[{i}]")))
             .collect::<Result<Vec<_>, _>>()
             .map(Value::Array),
-        other => serde_json::to_value(other).map_err(|e| ConfigError::BadValue { key: key.to_string(), why: e.to_string() }),
+        other => {
+            serde_json::to_value(other).map_err(|e| ConfigError::BadValue { key: key.to_string(), why: e.to_string() })
+        }
     }
 }
 
