@@ -403,6 +403,41 @@ const CASES: &[Case] = &[
         code: 1,
         fragment: "plain",
     },
+    Case {
+        name: "power budget zero",
+        setup: none,
+        args: &["simulate", "--scenario", "small.toml", "--set", "resource_manager.power_budget_w=0", "--out", "pb"],
+        code: 2,
+        fragment: "--set: key 'resource_manager.power_budget_w': a power in watts, positive and finite, got 0",
+    },
+    Case {
+        name: "power budget negative",
+        setup: none,
+        args: &["simulate", "--scenario", "small.toml", "--set", "resource_manager.power_budget_w=-4", "--out", "pb"],
+        code: 2,
+        fragment: "--set: key 'resource_manager.power_budget_w': a power in watts, positive and finite, got -4",
+    },
+    Case {
+        name: "power budget infinite",
+        setup: none,
+        args: &["simulate", "--scenario", "small.toml", "--set", "resource_manager.power_budget_w=inf", "--out", "pb"],
+        code: 2,
+        fragment: "--set: key 'resource_manager.power_budget_w': expected a finite number, got inf",
+    },
+    Case {
+        name: "power budget not a number",
+        setup: none,
+        args: &["simulate", "--scenario", "small.toml", "--set", "resource_manager.power_budget_w=nan", "--out", "pb"],
+        code: 2,
+        fragment: "--set: key 'resource_manager.power_budget_w': expected a finite number, got NaN",
+    },
+    Case {
+        name: "power budget text",
+        setup: none,
+        args: &["simulate", "--scenario", "small.toml", "--set", "resource_manager.power_budget_w=four", "--out", "pb"],
+        code: 2,
+        fragment: "--set: key 'resource_manager.power_budget_w': a power in watts, positive and finite, got \"four\"",
+    },
 ];
 
 /// Run one case in a fresh copy of the template; returns what went wrong, if anything.

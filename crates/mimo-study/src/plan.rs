@@ -323,7 +323,7 @@ fn method(ctx: &Ctx, i: usize, v: &Toml) -> Result<Vec<Method>, PlanError> {
     let overrides = match t.get("config") {
         None => Value::Object(serde_json::Map::new()),
         Some(c) if c.is_table() => {
-            serde_json::to_value(c).map_err(|e| ctx.err(format!("{p}.config"), e.to_string()))?
+            mimo_ta::overrides::toml_to_json(c, "").map_err(|e| config_err(ctx, &format!("{p}.config"), e))?
         }
         Some(c) => return Err(ctx.err(format!("{p}.config"), format!("expected a table, got {c}"))),
     };
@@ -617,6 +617,9 @@ search_pulses = [1, 2]
             ),
             ("{ mimo = false }", "{ mimoo = false }", "methods[1].config.resource_manager.mimoo"),
             ("{ mimo = false }", "{ pd_target = 2.0 }", "methods[1].config.resource_manager.pd_target"),
+            ("{ mimo = false }", "{ power_budget_w = 0.0 }", "methods[1].config.resource_manager.power_budget_w"),
+            ("{ mimo = false }", "{ power_budget_w = inf }", "methods[1].config.resource_manager.power_budget_w"),
+            ("{ mimo = false }", "{ power_budget_w = \"4\" }", "methods[1].config.resource_manager.power_budget_w"),
             ("pfa = [1e-6, 1e-5]", "pfa = [2.0]", "axes.pfa[0]"),
             ("pfa = [1e-6, 1e-5]", "formation_spacing_scale = [-1.0]", "axes.formation_spacing_scale[0]"),
             ("pfa = [1e-6, 1e-5]", "pfa = []", "axes.pfa"),

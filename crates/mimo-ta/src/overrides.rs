@@ -56,7 +56,32 @@ pub fn read_file(path: &Path) -> Result<Value, ConfigError> {
     let file = |why: String| ConfigError::File { path: path.display().to_string(), why };
     let text = std::fs::read_to_string(path).map_err(|e| file(e.to_string()))?;
     let t: toml::Table = toml::from_str(&text).map_err(|e| file(e.message().to_string()))?;
-    serde_json::to_value(t).map_err(|e| file(e.to_string()))
+    toml_to_json(&toml::Value::Table(t), "")
+}
+
+/// A TOML value as JSON. NaN and ±∞ are refused, naming the key path (`key`, dotted; empty at
+/// the root): JSON cannot hold them, and converted they would read as an unset `null`.
+pub fn toml_to_json(v: &toml::Value, key: &str) -> Result<Value, ConfigError> {
+    let at = |k: &str| if key.is_empty() { k.to_string() } else { format!("{key}.{k}") };
+    match v {
+        toml::Value::Float(x) if !x.is_finite() => {
+            Err(ConfigError::BadValue { key: key.to_string(), why: format!("expected a finite number, got {x}") })
+        }
+        toml::Value::Table(t) => t
+            .iter()
+            .map(|(k, v)| Ok((k.clone(), toml_to_json(v, &at(k))?)))
+            .collect::<Result<Map<_, _>, _>>()
+            .map(Value::Object),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .map(|(i, v)| toml_to_json(v, &format!("{key}[{i}]")))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Value::Array),
+        other => {
+            serde_json::to_value(other).map_err(|e| ConfigError::BadValue { key: key.to_string(), why: e.to_string() })
+        }
+    }
 }
 
 /// Parse one `--set key.path=value`: the value is read as a TOML value (`true`, `3.5`, `"x"`,
@@ -69,7 +94,10 @@ pub fn parse_set(arg: &str) -> Result<(String, Value), ConfigError> {
     }
     let text = text.trim();
     let value = match toml::from_str::<toml::Table>(&format!("v = {text}")) {
-        Ok(t) => t.get("v").map(|v| serde_json::to_value(v).unwrap_or(Value::Null)).unwrap_or(Value::Null),
+        Ok(t) => match t.get("v") {
+            Some(v) => toml_to_json(v, key)?,
+            None => Value::Null,
+        },
         Err(_) => Value::String(text.to_string()),
     };
     Ok((key.to_string(), value))
@@ -162,6 +190,14 @@ mod tests {
         assert_eq!(parse_set("l=[1, 2]").expect("ok"), ("l".to_string(), json!([1, 2])));
         assert!(matches!(parse_set("novalue"), Err(ConfigError::BadSet(_))));
         assert!(matches!(parse_set("a..b=1"), Err(ConfigError::BadSet(_))));
+        // JSON has no NaN or infinity: they would read as an unset key, so they are refused.
+        for text in ["inf", "-inf", "nan", "[1.0, inf]"] {
+            let e = parse_set(&format!("rm.power_budget_w={text}")).expect_err(text);
+            assert!(matches!(&e, ConfigError::BadValue { key, .. } if key.starts_with("rm.power_budget_w")), "{e}");
+        }
+        let t: toml::Value = toml::from_str("a = { b = [1.0, nan] }").expect("toml");
+        let e = toml_to_json(&t, "").expect_err("nan");
+        assert_eq!(e, ConfigError::BadValue { key: "a.b[1]".into(), why: "expected a finite number, got NaN".into() });
     }
 
     #[test]

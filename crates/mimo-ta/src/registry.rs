@@ -2,7 +2,7 @@
 //! configurations, and how to build one from a (merged) configuration.
 
 use crate::cued::{Cued, CuedConfig};
-use crate::default_ta::{DefaultTa, DefaultTaConfig};
+use crate::default_ta::{DefaultTa, DefaultTaConfig, check_optional_numbers};
 use crate::overrides::{ConfigError, merge, parse};
 use crate::passive::Passive;
 use mimo_sim::World;
@@ -101,6 +101,7 @@ pub fn resolve_config(name: &str, overrides: &Value) -> Result<Value, ConfigErro
     let merged = merge(&default_config(name)?, overrides)?;
     match builtin(name)?.name {
         "default" | "gnn" | "imm" | "jpda" | "imm-jpda" => {
+            check_optional_numbers(&merged).map_err(|(key, why)| ConfigError::BadValue { key, why })?;
             let c: DefaultTaConfig = parse(&merged)?;
             c.tracker.validate().map_err(|e| ConfigError::BadValue { key: "tracker".into(), why: e.to_string() })?;
             c.resource_manager.validate().map_err(|(key, why)| ConfigError::BadValue { key, why })?;

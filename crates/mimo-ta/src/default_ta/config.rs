@@ -67,6 +67,13 @@ pub struct ResourceConfig {
     /// How early a track may be looked at as a member of another track's group look (s).
     /// Default 1.
     pub group_lookahead_s: f64,
+    /// Average transmit power (W) each radar may spend on the test article's own dwells over any
+    /// `power_window_s` window (docs/model.md §7.6); background search is not charged. Looks at
+    /// confirmed tracks come first, then confirmations by the strength of their detection; a
+    /// request that does not fit waits. Default `None`: unlimited.
+    pub power_budget_w: Option<f64>,
+    /// Window of `power_budget_w` (s). Default 10.
+    pub power_window_s: f64,
 }
 
 impl Default for ResourceConfig {
@@ -91,6 +98,8 @@ impl Default for ResourceConfig {
             group_beam_fraction: 0.25,
             group_radius_m: 1500.0,
             group_lookahead_s: 1.0,
+            power_budget_w: None,
+            power_window_s: 10.0,
         }
     }
 }
@@ -121,6 +130,15 @@ impl ResourceConfig {
         pos("resource_manager.rx_busy_window_s", self.rx_busy_window_s)?;
         pos("resource_manager.group_beam_fraction", self.group_beam_fraction)?;
         pos("resource_manager.group_radius_m", self.group_radius_m)?;
+        pos("resource_manager.power_window_s", self.power_window_s)?;
+        if let Some(p) = self.power_budget_w
+            && !(p.is_finite() && p > 0.0)
+        {
+            return Err((
+                "resource_manager.power_budget_w".into(),
+                format!("a power in watts, positive and finite, got {p}"),
+            ));
+        }
         if !(self.group_lookahead_s.is_finite() && self.group_lookahead_s >= 0.0) {
             return Err((
                 "resource_manager.group_lookahead_s".into(),
@@ -140,6 +158,17 @@ impl ResourceConfig {
             ));
         }
         Ok(())
+    }
+}
+
+/// Check the optional settings of a merged configuration before it is parsed: an optional number
+/// takes any JSON value when merged (its default is `null`), so one that is not a number is named
+/// here with its key path rather than by the parser.
+pub fn check_optional_numbers(merged: &serde_json::Value) -> Result<(), (String, String)> {
+    let key = "resource_manager.power_budget_w";
+    match merged.get("resource_manager").and_then(|r| r.get("power_budget_w")) {
+        None | Some(serde_json::Value::Null | serde_json::Value::Number(_)) => Ok(()),
+        Some(v) => Err((key.into(), format!("a power in watts, positive and finite, got {v}"))),
     }
 }
 

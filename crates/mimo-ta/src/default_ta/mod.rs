@@ -13,15 +13,18 @@
 //!   position and pulses sized for the wanted detection probability (§7.2); MIMO dwells for
 //!   confirmed tracks more than one radar can see (§7.5).
 
+mod afford;
 mod budget;
 mod config;
 pub mod group;
 pub mod planner;
+pub mod power;
 pub mod snapshot;
 
-pub use config::{DefaultTaConfig, ResourceConfig};
+pub use config::{DefaultTaConfig, ResourceConfig, check_optional_numbers};
 
 use crate::geometry::ShipGeometry;
+use afford::Afford;
 use budget::RadarBudget;
 use mimo_core::ids::RadarId;
 use mimo_core::records::Requester;
@@ -79,6 +82,8 @@ pub struct DefaultTa {
     merged_last: BTreeSet<u64>,
     /// Tracks held as unresolved: not looked at again before this time (s).
     hold_until: BTreeMap<u64, f64>,
+    /// The power budget (docs/model.md §7.6); `None` when unlimited.
+    afford: Option<Afford>,
 }
 
 impl DefaultTa {
@@ -86,13 +91,14 @@ impl DefaultTa {
     pub fn new(name: &str, cfg: DefaultTaConfig) -> DefaultTa {
         DefaultTa {
             name: name.to_string(),
-            cfg,
             state: None,
             pending: BTreeMap::new(),
             next_wake_s: f64::INFINITY,
             budget: RadarBudget::default(),
             merged_last: BTreeSet::new(),
             hold_until: BTreeMap::new(),
+            afford: Afford::of(&cfg.resource_manager),
+            cfg,
         }
     }
 
@@ -139,7 +145,13 @@ impl DefaultTa {
         } else {
             Vec::new()
         };
-        for info in st.tracker.track_dues() {
+        let mut dues: Vec<_> = st.tracker.track_dues().collect();
+        if let Some(a) = &mut self.afford {
+            a.begin_pass(now);
+            a.order(&mut dues);
+        }
+        let mut waiting = false;
+        for info in dues {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
@@ -149,7 +161,11 @@ impl DefaultTa {
                 // the tracker wants it again at its shortest revisit.
                 let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
                 let trouble = info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min;
-                let planned = planner::plan(rm, &snap, &info, &over_budget, &busy_rx, trouble);
+                let planned = match &mut self.afford {
+                    None => planner::plan(rm, &snap, &info, &over_budget, &[], &busy_rx, trouble),
+                    Some(a) => a.plan(rm, &snap, &info, &over_budget, &busy_rx, trouble),
+                };
+                waiting |= planned.is_none() && self.afford.is_some();
                 if let Some((mut req, unresolved)) = planned {
                     if unresolved {
                         self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);
@@ -187,6 +203,18 @@ impl DefaultTa {
                 next = next.min(due);
             }
         }
+        if self.afford.is_some() {
+            // Requests go out in the tracker's order, whatever order the budget planned them in,
+            // so that a budget that never binds places exactly the same dwells.
+            out.sort_by_key(|r| match r {
+                Request::Dwell(d) => d.tag.first().copied().unwrap_or(u64::MAX),
+                _ => u64::MAX,
+            });
+        }
+        if waiting && let Some(t) = self.afford.as_ref().and_then(Afford::next_release_s) {
+            // A look waits for the budget: plan again when the window frees energy.
+            next = next.min(t);
+        }
         if next.is_finite() && (next < self.next_wake_s - 1e-9 || self.next_wake_s <= now) {
             self.next_wake_s = next;
             out.push(Request::WakeAt(next));
@@ -212,6 +240,7 @@ impl TestArticle for DefaultTa {
         self.budget.clear();
         self.merged_last.clear();
         self.hold_until.clear();
+        self.afford = Afford::of(&self.cfg.resource_manager);
         Ok(Reply::default())
     }
     fn on_dwell(&mut self, report: &DwellReport) -> Result<Reply, TaFault> {
@@ -233,6 +262,9 @@ impl TestArticle for DefaultTa {
         let dctx = dwell_context(st.run, report.group_id, report.kind, report.t_s, &report.parts);
         let rows = st.tracker.process_dwell(&dctx, &report.measurements, &st.geom);
         let changed = !rows.is_empty() || !report.tag.is_empty();
+        if let Some(a) = &mut self.afford {
+            a.on_dwell(report, report.requested_by == Requester::Ta, &rows, &st.geom);
+        }
         for r in &rows {
             if r.status == TrackStatus::Deleted {
                 self.pending.remove(&r.track_id);

@@ -20,6 +20,9 @@ pub const MAX_REDWELLS: u32 = 2;
 ///   receive for another radar's MIMO dwell, so that they keep searching; a confirmed track
 ///   whose only possible transmitters are over budget gets no dwell now (`None`) and is
 ///   planned again at the next event;
+/// * radars in `tx_starved` (their power budget cannot pay for this look, docs/model.md §7.6)
+///   are the last choice of transmitter, and a look whose transmitter would be one of them is not
+///   planned (`None`); they still receive;
 /// * the transmitter is the radar with the best predicted monostatic SNR for an
 ///   `assumed_rcs_m2` target at the predicted position; after [`MAX_REDWELLS`] misses in a row
 ///   the best radar may not see the target at all (a track just above its predicted horizon,
@@ -39,6 +42,7 @@ pub fn plan(
     snap: &Snapshot,
     info: &TrackDue,
     over_budget: &[RadarId],
+    tx_starved: &[RadarId],
     busy_rx: &[RadarId],
     trouble: bool,
 ) -> Option<(DwellRequest, bool)> {
@@ -56,16 +60,18 @@ pub fn plan(
         .collect();
     // Best predicted SNR first (ties by radar id, so the choice is deterministic).
     // Radars within their budget come first.
+    let last = |r: &RadarId| over_budget.contains(r) || tx_starved.contains(r);
     candidates.sort_by(|a, b| {
-        (over_budget.contains(&a.0), b.1, a.0)
-            .partial_cmp(&(over_budget.contains(&b.0), a.1, b.0))
-            .unwrap_or(std::cmp::Ordering::Equal)
+        (last(&a.0), b.1, a.0).partial_cmp(&(last(&b.0), a.1, b.0)).unwrap_or(std::cmp::Ordering::Equal)
     });
     if candidates.is_empty() {
         return None;
     }
     let k = (misses / (MAX_REDWELLS + 1)) as usize % candidates.len();
     let (tx, snr1, face) = candidates[k];
+    if tx_starved.contains(&tx) {
+        return None;
+    }
     if over_budget.contains(&tx) && status == TrackStatus::Confirmed {
         // Every radar that could look is over its budget: the look waits until the radar's
         // share drops (docs/model.md §7.3).
