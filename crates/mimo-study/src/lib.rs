@@ -10,6 +10,7 @@
 
 #![warn(missing_docs)]
 
+pub mod beams;
 pub mod charts;
 pub mod cpu;
 pub mod estimate;
