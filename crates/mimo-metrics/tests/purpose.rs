@@ -222,10 +222,12 @@ fn without_beams_every_look_holds_nothing_and_the_outputs_are_written() {
 
     let out = dir.path().join("score");
     mimo_metrics::write_outputs(&score, &out).expect("write");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary")).expect("json");
-    let usage = json["usage"].as_object().expect("usage");
-    assert_eq!(usage.keys().last().map(String::as_str), Some("by_purpose"), "new keys after the old ones");
+    let text = std::fs::read_to_string(out.join("summary.json")).expect("summary");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("json");
+    // New keys after the old ones: `usage.by_purpose` last in `usage`, before `challenge`.
+    let at = |key: &str| text.find(&format!("\"{key}\"")).expect("key");
+    assert!(at("ta_energy_j") < at("by_purpose") && at("total_energy_j") < at("by_purpose"));
+    assert!(at("by_purpose") < at("challenge"));
     for p in Purpose::ALL {
         for key in ["dwell_time_s", "energy_j"] {
             assert!(json["usage"]["by_purpose"][p.name()][key].is_number(), "usage.by_purpose.{}.{key}", p.name());
