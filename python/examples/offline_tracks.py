@@ -8,8 +8,8 @@ feeds every dwell to the tracker of ``simple_ta.py`` in the order ``mimo`` deliv
 time, then group id), as the same protocol events a test article receives in the closed loop,
 writes ``OUT/tracks/run-NNNN.parquet`` and a manifest whose ``parent`` is RUN (the layout of a
 ``mimo track`` output, docs/design.md §2), then runs ``mimo score OUT`` (``--mimo`` names the
-binary; default: ``mimo`` on the PATH, else ``target/release`` or ``target/debug`` of the
-repository).
+binary; default: the environment's ``mimo`` (the wheel's, then the PATH:
+``mimo_ta.binary.find_mimo_bin``), else ``target/release`` or ``target/debug`` of the repository).
 
 This is open loop (docs/design.md §1): the recording's dwell schedule is fixed, so it measures
 the tracker alone. The dwells table does not record which track a dwell was aimed at, so a look
@@ -40,6 +40,7 @@ except ImportError:  # pragma: no cover - said plainly to the user
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from simple_ta import SimpleTa  # noqa: E402  (also puts the checkout's mimo_ta on sys.path)
 
+from mimo_ta.binary import find_mimo_bin  # noqa: E402
 from mimo_ta.geo import Ship, ecef_to_geodetic  # noqa: E402
 from mimo_ta.messages import PROTOCOL_VERSION  # noqa: E402
 
@@ -161,8 +162,10 @@ def write_tracks(path: Path, rows: list) -> int:
 def find_mimo(given: str | None) -> str:
     if given:
         return given
-    if shutil.which("mimo"):
-        return "mimo"
+    try:
+        return find_mimo_bin()  # the environment's scripts directory (the wheel), then the PATH
+    except FileNotFoundError:
+        pass
     repo = Path(__file__).resolve().parents[2]
     for profile in ("release", "debug"):
         exe = Path(os.environ.get("CARGO_TARGET_DIR", repo / "target")) / profile / "mimo"

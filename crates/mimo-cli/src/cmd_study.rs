@@ -2,7 +2,7 @@
 
 use crate::CliError;
 use mimo_study::grid::Shard;
-use mimo_study::{Options, Plan, StudyError, run_study};
+use mimo_study::{Options, Outcome, Plan, StudyError, run_study};
 use std::path::PathBuf;
 
 /// Run a study: methods × scenarios × stress values, Monte Carlo runs per cell, all scored.
@@ -30,6 +30,14 @@ pub struct Args {
     /// Only merge the finished runs of OUT into the study tables, charts and report.
     #[arg(long, conflicts_with_all = ["shard", "resume"])]
     pub merge: bool,
+    /// Only create OUT for the plan (or check that it holds this plan's study), after checking
+    /// the plan and building its worlds; nothing runs. A batch script does this before it submits
+    /// the shards.
+    #[arg(long, conflicts_with_all = ["shard", "resume", "merge", "force"])]
+    pub init: bool,
+    /// Only tell how far the study in OUT is: items done, per shard, failed items; writes nothing.
+    #[arg(long, conflicts_with_all = ["shard", "resume", "merge", "force", "init"])]
+    pub status: bool,
     /// Replace OUT if it holds a study (never a directory that is not one).
     #[arg(long)]
     pub force: bool,
@@ -56,6 +64,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let text = std::fs::read_to_string(&a.plan)
         .map_err(|e| CliError::input(format!("{}: cannot read the plan: {e}", a.plan.display())))?;
     let plan = Plan::parse(&text, &a.plan).map_err(|e| CliError::input(e.to_string()))?;
+    if a.status {
+        let st = mimo_study::status::study_status(&plan, &text, &a.out).map_err(study_err)?;
+        crate::outln!("{}", st.text(&a.out).trim_end());
+        return Ok(());
+    }
     let opts = Options {
         out: a.out.clone(),
         resume: a.resume,
@@ -63,6 +76,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         shard,
         merge: a.merge,
         threads: a.threads.unwrap_or(0),
+        init: a.init,
     };
     let pb = crate::progress::bar(0, "study", a.quiet);
     let progress = |done: u64, total: u64| {
@@ -73,27 +87,48 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let outcome = run_study(&plan, &text, &opts, &progress).map_err(study_err)?;
     pb.finish_and_clear();
     if !a.quiet {
-        let share = match shard {
-            Some(s) => format!("shard {}/{}: ", s.k, s.n),
-            None => String::new(),
-        };
-        crate::outln!(
-            "{share}ran {} of {} runs in {:.1} s ({} already done, {} failed)",
-            outcome.ran,
-            outcome.items,
-            t0.elapsed().as_secs_f64(),
-            outcome.skipped,
-            outcome.failed
-        );
-        if outcome.merged {
-            crate::outln!("results, summary, charts and report -> {}", a.out.join("report.md").display());
-        } else {
-            crate::outln!(
-                "when every shard is done: mimo study {} --out {} --merge",
-                a.plan.display(),
-                a.out.display()
-            );
-        }
+        say(&a, shard, &outcome, t0.elapsed().as_secs_f64());
     }
     Ok(())
+}
+
+/// What the call did, in a sentence or two.
+fn say(a: &Args, shard: Option<Shard>, o: &Outcome, wall_s: f64) {
+    let (plan, out) = (a.plan.display(), a.out.display());
+    if a.init {
+        crate::outln!("{out}: ready for {plan} ({} runs in {} cells)", o.items, o.cells);
+        return;
+    }
+    match (shard, o.merged) {
+        (_, Some(m)) if a.merge => crate::outln!(
+            "merged {} runs of {} cells ({} failed) in {wall_s:.1} s: results, summary, charts and report -> {}",
+            m.items,
+            o.cells,
+            m.failed,
+            a.out.join("report.md").display()
+        ),
+        (Some(s), _) => {
+            crate::outln!(
+                "shard {}/{}: ran {} of its {} runs in {wall_s:.1} s ({} already done, {} failed; the study has {})",
+                s.k,
+                s.n,
+                o.ran,
+                o.ran + o.skipped,
+                o.skipped,
+                o.failed,
+                o.items
+            );
+            crate::outln!("when every shard is done: mimo study {plan} --out {out} --merge");
+        }
+        (None, _) => {
+            crate::outln!(
+                "ran {} of {} runs in {wall_s:.1} s ({} already done, {} failed)",
+                o.ran,
+                o.items,
+                o.skipped,
+                o.failed
+            );
+            crate::outln!("results, summary, charts and report -> {}", a.out.join("report.md").display());
+        }
+    }
 }

@@ -3,7 +3,7 @@
 //! plain pages (`run` uint32, the labels utf8, `duration_s` and `energy_j` float64) and
 //! byte-stream-split pages (`t_s`). Each label is mapped to its index as its bytes are read, so
 //! no string array is built. Any other layout (optional columns, dictionary pages, other
-//! encodings or types) gives `None`, and the file is read with polars instead
+//! encodings or types) gives `None`, and the file is read with the Arrow reader instead
 //! ([`crate::dwell_read`]), as is a file whose values break a check.
 
 use crate::dwell_sums::{DwellSums, FilePass, Labels, Rows};

@@ -3,18 +3,16 @@
 //! checks of the dwells columns and table rule (docs/design.md §3, §7) made on the way, and the
 //! transmit dwells' duration and energy added to their (run, radar, interval) group.
 //!
-//! The sums are the very additions of the polars group-by this replaces (`usage::transmit_sums`
-//! per slice of [`DWELL_SLICE_ROWS`] rows, slices and files summed again by key), see [`Sum`]:
-//! within a slice, a group's rows in row order; the slices' sums of a group in slice order; the
-//! files' sums in file order. Groups come out in order of first appearance. Any check
-//! that fails makes the pass give up (`None`): the caller then reads the file the polars way,
-//! which names the file, column, row and rule exactly as before. The columns are read by
-//! `crate::dwell_read`.
+//! The additions are fixed, so that the same dwells give the same bits on every machine (see
+//! [`Sum`]): within a slice of [`DWELL_SLICE_ROWS`] rows, a group's rows in row order; the
+//! slices' sums of a group in slice order; the files' sums in file order. Groups come out in
+//! order of first appearance. Any check that fails makes the pass give up (`None`): the caller
+//! then reads the file with every check (`crate::read`), which names the file, column, row and
+//! rule. The columns are read by `crate::dwell_read`.
 
-use crate::MetricsError;
 use crate::load::{KINDS, REQUESTERS, ROLES};
+use crate::mean::KahanSum;
 use mimo_core::ids::RadarId;
-use polars::prelude::*;
 use std::collections::{BTreeSet, HashMap};
 
 /// Rows of a dwells file read at a time: the file is reduced slice by slice, so that memory
@@ -25,16 +23,15 @@ pub(crate) const DWELL_SLICE_ROWS: usize = 1 << 18;
 /// No group yet / no partial sum yet.
 const NONE: usize = usize::MAX;
 
-/// A sum of the four usage figures as polars' grouped `sum` of a float column adds (in-memory
-/// group-by, `agg_sum` of polars-core 0.55): a group of one value is that value, a group of more
-/// a compensated (Kahan) sum from 0 over the values in row order, with the error term kept only
-/// while finite.
+/// A sum of the four usage figures: a group of one value is that value, a group of more a
+/// compensated (Kahan) sum from 0 over the values in row order, with the error term kept only
+/// while finite (the additions of a grouped float sum in polars 0.55, which scored these tables
+/// before; the score files are bit for bit those it wrote).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Sum {
     n: u32,
     first: [f64; 4],
-    sum: [f64; 4],
-    err: [f64; 4],
+    sum: [KahanSum; 4],
 }
 
 impl Sum {
@@ -44,20 +41,14 @@ impl Sum {
             self.first = v;
         }
         self.n = self.n.saturating_add(1);
-        for ((v, sum), err) in v.iter().zip(&mut self.sum).zip(&mut self.err) {
-            let y = v - *err;
-            let new_sum = *sum + y;
-            let new_err = (new_sum - *sum) - y;
-            *sum = new_sum;
-            if new_err.is_finite() {
-                *err = new_err;
-            }
+        for (v, sum) in v.iter().zip(&mut self.sum) {
+            sum.add(*v);
         }
     }
 
     /// The group's sums (0 for no value).
-    fn value(&self) -> [f64; 4] {
-        if self.n == 1 { self.first } else { self.sum }
+    pub(crate) fn value(&self) -> [f64; 4] {
+        if self.n == 1 { self.first } else { self.sum.map(|s| s.value()) }
     }
 }
 
@@ -105,60 +96,6 @@ impl DwellSums {
             self.sums[g].add(s.value());
         }
     }
-
-    /// The sums of a `usage::transmit_sums` frame (groups in its row order) and the radars named.
-    pub(crate) fn from_frame(df: &DataFrame, radars: BTreeSet<String>) -> Result<DwellSums, MetricsError> {
-        let bug = || crate::error::internal("usage sums");
-        let radar_names: Vec<String> = radars.into_iter().collect();
-        let radar_map: HashMap<&str, usize> = radar_names.iter().enumerate().map(|(i, r)| (r.as_str(), i)).collect();
-        let run = df.column("run").map_err(bug())?.u32().map_err(bug())?;
-        let radar = df.column("radar").map_err(bug())?.str().map_err(bug())?;
-        let interval = df.column("interval").map_err(bug())?.i64().map_err(bug())?;
-        let mut groups = Vec::with_capacity(df.height());
-        for ((r, name), k) in run.iter().zip(radar.iter()).zip(interval.iter()) {
-            let (Some(r), Some(name), Some(k)) = (r, name, k) else {
-                return Err(MetricsError::Internal { context: "usage sums", detail: "a null key".into() });
-            };
-            let i = radar_map.get(name).copied().ok_or_else(|| MetricsError::Internal {
-                context: "usage sums",
-                detail: format!("radar {name} not among the radars named"),
-            })?;
-            groups.push((r, i, k));
-        }
-        let mut values = vec![[0.0; 4]; groups.len()];
-        for (q, name) in crate::usage::SUMS.iter().enumerate() {
-            let c = df.column(name).map_err(bug())?.f64().map_err(bug())?;
-            for (s, v) in values.iter_mut().zip(c.iter()) {
-                s[q] = v.unwrap_or(0.0);
-            }
-        }
-        let sums = values
-            .into_iter()
-            .map(|v| {
-                let mut s = Sum::default();
-                s.add(v);
-                s
-            })
-            .collect();
-        Ok(DwellSums { radar_names, groups, sums })
-    }
-
-    /// The groups as the frame `usage::usage` takes: `run`, `radar`, `interval` and the sums.
-    pub(crate) fn into_frame(self) -> Result<DataFrame, MetricsError> {
-        let run: Vec<u32> = self.groups.iter().map(|g| g.0).collect();
-        let radar: Vec<&str> = self.groups.iter().map(|g| self.radar_names[g.1].as_str()).collect();
-        let interval: Vec<i64> = self.groups.iter().map(|g| g.2).collect();
-        let mut columns = vec![
-            Column::new("run".into(), run),
-            Column::new("radar".into(), radar),
-            Column::new("interval".into(), interval),
-        ];
-        for (q, name) in crate::usage::SUMS.iter().enumerate() {
-            let v: Vec<f64> = self.sums.iter().map(|s| s.value()[q]).collect();
-            columns.push(Column::new((*name).into(), v));
-        }
-        DataFrame::new_infer_height(columns).map_err(crate::error::internal("usage sums"))
-    }
 }
 
 /// The latest state of one (run, radar) of a file.
@@ -172,16 +109,15 @@ struct KeyState {
 }
 
 /// A utf8 column's distinct strings, each mapped to a small index once. A string is recognised
-/// by its polars view when short enough to sit inline in it (12 bytes: the view is then its
-/// length and bytes), else by comparison with the strings seen.
+/// by its [`short_key`] when short enough (12 bytes), else by comparison with the strings seen.
 pub(crate) struct Labels {
     names: Vec<String>,
     views: Vec<(u128, u8)>,
     accept: fn(&str) -> bool,
 }
 
-/// The key of a string of at most 12 bytes: its length and bytes laid out as a polars inline
-/// string view (`View::as_u128`), so that a view and the bytes it holds give the same key.
+/// The key of a string of at most 12 bytes: its length and bytes in one integer (the layout of an
+/// inline Arrow string view), compared in one instruction.
 #[inline]
 pub(crate) fn short_key(bytes: &[u8]) -> Option<u128> {
     let len = u32::try_from(bytes.len()).ok().filter(|&l| l <= 12)?;
@@ -268,8 +204,7 @@ pub(crate) struct FilePass<'r> {
 }
 
 impl<'r> FilePass<'r> {
-    /// A pass whose sums are split every `slice_rows` rows (at least one) of the file, as the
-    /// polars read in slices of that many rows split them.
+    /// A pass whose sums are split every `slice_rows` rows (at least one) of the file.
     pub(crate) fn new(runs: &'r BTreeSet<u32>, interval_s: f64, slice_rows: usize) -> FilePass<'r> {
         let mut role = Labels::fixed(ROLES);
         let mut requested_by = Labels::fixed(REQUESTERS);
@@ -355,8 +290,8 @@ impl<'r> FilePass<'r> {
             if rows.role[i] == self.rx {
                 continue;
             }
-            // `(t_s / interval_s).cast(Int64) + 1` of `usage::transmit_sums`; beyond i64 the
-            // polars read decides.
+            // `floor(t_s / interval_s) + 1` (docs/design.md §6) as an i64; beyond that the
+            // checked read decides.
             let q = t / self.interval_s;
             if q.is_nan() || q >= 9.0e18 {
                 return None;

@@ -154,8 +154,3 @@ impl MetricsError {
         !matches!(self, MetricsError::Write { .. } | MetricsError::Internal { .. })
     }
 }
-
-/// Wrap a polars error from an internal (not input-caused) operation.
-pub(crate) fn internal(context: &'static str) -> impl FnOnce(polars::error::PolarsError) -> MetricsError {
-    move |e| MetricsError::Internal { context, detail: e.to_string() }
-}

@@ -105,7 +105,9 @@ mod dwell_pages;
 mod dwell_read;
 mod dwell_sums;
 mod error;
+mod frame;
 mod load;
+mod mean;
 pub mod ospa;
 mod output;
 mod parts;
@@ -123,12 +125,11 @@ mod usage;
 pub use error::MetricsError;
 pub use output::{NamedList, write_outputs};
 pub use purpose_rule::{BeamGeometry, Purpose};
-pub use polars;
 pub use results::*;
 
 use glam::DVec3;
 use load::*;
-use polars::prelude::*;
+use mean::GroupMean;
 use read::list_parquet;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -300,7 +301,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     let mut radars: Vec<String> = radars.into_iter().collect();
     usage::sort_radars(&mut radars);
     let u = usage::usage(
-        dwell_sums,
+        &dwell_sums,
         &usage::UsageInput { interval_s: opts.interval_s, runs: &runs, radars: &radars, n_scorable: &n_scorable },
     )?;
 
@@ -336,62 +337,57 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
     })
 }
 
-/// Average the per-run rows over runs at each scoring time (polars group-by on `k`).
+/// Average the per-run rows over runs at each scoring time `k` (rows of a time in row order,
+/// [`GroupMean`]s; RMSE pooled over the assigned pairs of every run).
 fn mean_over_runs(rows: &[TrackMetricsRow]) -> Result<Vec<TrackMetricsMeanRow>, MetricsError> {
-    if rows.is_empty() {
-        return Ok(Vec::new());
+    #[derive(Default)]
+    struct Time {
+        t_s: f64,
+        ratios: [GroupMean; 5],
+        counts: [GroupMean; 4],
+        sq_sums: [GroupMean; 3],
     }
-    let df = output::track_metrics_frame(rows)?;
-    let ratios = ["completeness", "redundant_ratio", "spurious_ratio", "ospa_m", "gospa_m"];
-    let mut aggs: Vec<Expr> = ratios.iter().map(|c| col(*c).mean()).collect();
-    aggs.extend([
-        col("t_s").first(),
-        col("run").count().alias("runs"),
-        col("n_scorable").cast(DataType::Float64).mean().alias("n_scorable_mean"),
-        col("n_tracks").cast(DataType::Float64).mean().alias("n_tracks_mean"),
-        col("cum_breaks").cast(DataType::Float64).mean().alias("cum_breaks_mean"),
-        col("cum_switches").cast(DataType::Float64).mean().alias("cum_switches_mean"),
-        col("position_sq_sum_m2").sum(),
-        col("velocity_sq_sum_m2ps2").sum(),
-        col("n_assigned").cast(DataType::Float64).sum().alias("n_assigned_sum"),
-    ]);
-    let m = df
-        .lazy()
-        .group_by_stable([col("k")])
-        .agg(aggs)
-        .sort(["k"], SortMultipleOptions::default())
-        .collect()
-        .map_err(error::internal("mean over runs"))?;
-    let get = |name: &str| -> Result<Vec<Option<f64>>, MetricsError> {
-        let c = m.column(name).map_err(error::internal("mean over runs"))?;
-        let c = c.cast(&DataType::Float64).map_err(error::internal("mean over runs"))?;
-        Ok(c.f64().map_err(error::internal("mean over runs"))?.iter().collect())
-    };
-    let (k, t, runs) = (get("k")?, get("t_s")?, get("runs")?);
-    let (ns, nt, cb, cs) =
-        (get("n_scorable_mean")?, get("n_tracks_mean")?, get("cum_breaks_mean")?, get("cum_switches_mean")?);
-    let (ps, vs, na) = (get("position_sq_sum_m2")?, get("velocity_sq_sum_m2ps2")?, get("n_assigned_sum")?);
-    let r: Vec<Vec<Option<f64>>> = ratios.iter().map(|c| get(c)).collect::<Result<_, _>>()?;
-    let rmse = |sq: Option<f64>, n: Option<f64>| match (sq, n) {
-        (Some(sq), Some(n)) if n > 0.0 => Some((sq / n).sqrt()),
-        _ => None,
-    };
-    Ok((0..m.height())
-        .map(|i| TrackMetricsMeanRow {
-            k: k[i].unwrap_or(0.0) as u32,
-            t_s: t[i].unwrap_or(f64::NAN),
-            runs: runs[i].unwrap_or(0.0) as u32,
-            n_scorable_mean: ns[i].unwrap_or(0.0),
-            n_tracks_mean: nt[i].unwrap_or(0.0),
-            completeness: r[0][i],
-            redundant_ratio: r[1][i],
-            spurious_ratio: r[2][i],
-            ospa_m: r[3][i],
-            gospa_m: r[4][i],
-            cum_breaks_mean: cb[i].unwrap_or(0.0),
-            cum_switches_mean: cs[i].unwrap_or(0.0),
-            position_rmse_m: rmse(ps[i], na[i]),
-            velocity_rmse_mps: rmse(vs[i], na[i]),
+    let mut by_k: BTreeMap<u32, Time> = BTreeMap::new();
+    for r in rows {
+        let time = by_k.entry(r.k).or_insert_with(|| Time { t_s: r.t_s, ..Time::default() });
+        for (m, v) in
+            time.ratios.iter_mut().zip([r.completeness, r.redundant_ratio, r.spurious_ratio, r.ospa_m, r.gospa_m])
+        {
+            m.push(v);
+        }
+        for (m, v) in time.counts.iter_mut().zip([r.n_scorable, r.n_tracks, r.cum_breaks, r.cum_switches]) {
+            m.push(Some(f64::from(v)));
+        }
+        for (m, v) in
+            time.sq_sums.iter_mut().zip([r.position_sq_sum_m2, r.velocity_sq_sum_m2ps2, f64::from(r.n_assigned)])
+        {
+            m.push(Some(v));
+        }
+    }
+    let rmse = |sq: f64, n: f64| (n > 0.0).then(|| (sq / n).sqrt());
+    Ok(by_k
+        .into_iter()
+        .map(|(k, time)| {
+            let [completeness, redundant_ratio, spurious_ratio, ospa_m, gospa_m] = time.ratios.map(|m| m.value());
+            let [n_scorable_mean, n_tracks_mean, cum_breaks_mean, cum_switches_mean] =
+                time.counts.map(|m| m.value().unwrap_or(0.0));
+            let [position_sq, velocity_sq, n_assigned] = time.sq_sums.map(|m| m.sum());
+            TrackMetricsMeanRow {
+                k,
+                t_s: time.t_s,
+                runs: time.counts[0].count(),
+                n_scorable_mean,
+                n_tracks_mean,
+                completeness,
+                redundant_ratio,
+                spurious_ratio,
+                ospa_m,
+                gospa_m,
+                cum_breaks_mean,
+                cum_switches_mean,
+                position_rmse_m: rmse(position_sq, n_assigned),
+                velocity_rmse_mps: rmse(velocity_sq, n_assigned),
+            }
         })
         .collect())
 }

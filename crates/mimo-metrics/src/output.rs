@@ -1,7 +1,7 @@
 //! Writing `score/`: each score table through its spec in `mimo_store::score_schema` (units in
 //! the Parquet metadata, mirrored to `schemas/score_*.json`), and `summary.json`.
 
-use crate::error::{MetricsError, internal};
+use crate::error::MetricsError;
 use crate::{
     AssignmentRow, RadarUsage, Score, TrackMetricsMeanRow, TrackMetricsRow, UsageByPurposeRow, UsageRow, UsageTotalRow,
 };
@@ -11,7 +11,6 @@ use mimo_store::score_schema::{
     SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN, SCORE_USAGE, SCORE_USAGE_BY_PURPOSE,
     SCORE_USAGE_RADAR, SCORE_USAGE_TOTAL, score_file_name,
 };
-use polars::prelude::{DataFrame, NamedFrom, Series};
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use std::fs::File;
 use std::io::Write;
@@ -103,32 +102,6 @@ fn usage_by_purpose_columns(rows: &[UsageByPurposeRow]) -> Vec<Column> {
         u32 run, u32 interval, f64 t_start_s, f64 t_end_s, str radar, str purpose, u32 dwells, f64 dwell_time_s,
         f64 energy_j,
     ]
-}
-
-/// A polars frame of store columns named by `spec` (for aggregations over the score rows).
-pub(crate) fn frame(spec: &TableSpec, columns: Vec<Column>) -> Result<DataFrame, MetricsError> {
-    let cols: Vec<polars::prelude::Column> = spec
-        .columns
-        .iter()
-        .zip(columns)
-        .map(|(s, c)| {
-            let name = s.name.into();
-            polars::prelude::Column::from(match c {
-                Column::U32(v) => Series::new(name, v),
-                Column::U64(v) => Series::new(name, v),
-                Column::OptU32(v) => Series::new(name, v),
-                Column::OptU64(v) => Series::new(name, v),
-                Column::F64(v) => Series::new(name, v),
-                Column::Utf8(v) => Series::new(name, v),
-            })
-        })
-        .collect();
-    DataFrame::new_infer_height(cols).map_err(internal("building a score frame"))
-}
-
-/// `track_metrics` as a polars frame.
-pub(crate) fn track_metrics_frame(rows: &[TrackMetricsRow]) -> Result<DataFrame, MetricsError> {
-    frame(&SCORE_TRACK_METRICS, track_metrics_columns(rows))
 }
 
 impl Score {

@@ -31,8 +31,8 @@ pub(crate) struct Part {
 /// The runs named in one file's `run` column.
 fn file_runs(table: &'static str, path: &std::path::Path) -> Result<BTreeSet<u32>, MetricsError> {
     let df = read_file(table, path, &[rcol("run", Want::U32, Check::Any)])?;
-    let runs = crate::load::u32s(&df, "run")?;
-    Ok(runs.into_iter().collect())
+    let runs = df.u32s("run")?;
+    Ok(runs.iter().copied().collect())
 }
 
 /// Union–find root with path halving.

@@ -261,7 +261,9 @@ fn file_sums(
     let mut order: Vec<usize> = (0..rows.parts.len()).collect();
     order.sort_by_key(|&i| (rows.parts[i].run, rows.parts[i].group, rows.parts[i].row));
     let mut classified = Vec::new();
-    for look in order.chunk_by(|&a, &b| (rows.parts[a].run, rows.parts[a].group) == (rows.parts[b].run, rows.parts[b].group)) {
+    for look in
+        order.chunk_by(|&a, &b| (rows.parts[a].run, rows.parts[a].group) == (rows.parts[b].run, rows.parts[b].group))
+    {
         let run = rows.parts[look[0]].run;
         classify_look(&rows, look, input.geometry, truth.get(&run), &mut classified);
     }
@@ -292,9 +294,8 @@ pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, Metr
             truth_files.entry(run).or_default().push(i);
         }
     }
-    let per_file = crate::parts::parallel(input.dwells, input.threads, &|path: &PathBuf| {
-        file_sums(path, input, &truth_files)
-    });
+    let per_file =
+        crate::parts::parallel(input.dwells, input.threads, &|path: &PathBuf| file_sums(path, input, &truth_files));
     let mut out = PurposeSums::new();
     for file in per_file {
         let (radars, sums) = file?;

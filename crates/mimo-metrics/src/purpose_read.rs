@@ -4,12 +4,10 @@
 //! column and the row.
 
 use crate::MetricsError;
-use arrow::array::{
-    Array, ArrayRef, AsArray, Float64Array, StringArray, UInt8Array, UInt32Array, UInt64Array,
-};
-use arrow::record_batch::RecordBatch;
+use arrow::array::{Array, ArrayRef, AsArray, Float64Array, StringArray, UInt8Array, UInt32Array, UInt64Array};
 use arrow::compute::{CastOptions, cast_with_options};
 use arrow::datatypes::{DataType, Float64Type, UInt8Type, UInt32Type, UInt64Type};
+use arrow::record_batch::RecordBatch;
 use parquet::arrow::ProjectionMask;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::fs::File;

@@ -5,11 +5,18 @@
 //! files of a table are stacked. Errors therefore always name the file, the column, the row and
 //! what was expected. Compatible physical types are accepted and converted (any integer type for an
 //! integer column, f32 for f64, large/view/dictionary strings for utf8), so tables written by other
-//! tools (pyarrow, DuckDB) score too.
+//! tools (pyarrow, DuckDB, polars) score too. Files are read with the parquet crate's Arrow
+//! reader into a [`Frame`] of Arrow arrays.
 
-use crate::error::{MetricsError, internal};
+use crate::error::MetricsError;
+use crate::frame::Frame;
+use arrow::array::{Array, ArrayRef, AsArray};
+use arrow::compute::{CastOptions, cast_with_options};
+use arrow::datatypes::{DataType as ArrowDataType, UInt32Type};
+use arrow::util::display::array_value_to_string;
 use mimo_core::ids::RadarId;
-use polars::prelude::*;
+use parquet::arrow::ProjectionMask;
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::collections::BTreeSet;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -33,12 +40,12 @@ impl Want {
         }
     }
 
-    fn polars(self) -> DataType {
+    pub(crate) fn arrow(self) -> ArrowDataType {
         match self {
-            Want::U32 => DataType::UInt32,
-            Want::U64 => DataType::UInt64,
-            Want::F64 => DataType::Float64,
-            Want::Utf8 => DataType::String,
+            Want::U32 => ArrowDataType::UInt32,
+            Want::U64 => ArrowDataType::UInt64,
+            Want::F64 => ArrowDataType::Float64,
+            Want::Utf8 => ArrowDataType::Utf8,
         }
     }
 
@@ -50,7 +57,7 @@ impl Want {
         match self {
             Want::U32 | Want::U64 => is_int,
             Want::F64 => matches!(dt, A::Float32 | A::Float64),
-            Want::Utf8 => is_str(dt) || matches!(dt, A::Dictionary(_, inner, _) if is_str(inner)),
+            Want::Utf8 => is_str(dt) || matches!(dt, A::Dictionary(_, inner) if is_str(inner)),
         }
     }
 }
@@ -108,7 +115,7 @@ pub(crate) const fn col<'a>(name: &'static str, want: Want, check: Check<'a>) ->
 
 /// Read `paths` as one table with the given columns (in that order), validating every file.
 /// A check of one file's frame (its table rules) before the files are stacked.
-pub(crate) type FileCheck<'a> = &'a dyn Fn(&Path, &DataFrame) -> Result<(), MetricsError>;
+pub(crate) type FileCheck<'a> = &'a dyn Fn(&Path, &Frame) -> Result<(), MetricsError>;
 
 /// Read and stack the files of a table, with `check` run on each file's frame (row numbers are then the file's).
 pub(crate) fn read_table_checked(
@@ -116,7 +123,7 @@ pub(crate) fn read_table_checked(
     paths: &[PathBuf],
     cols: &[Col<'_>],
     check: FileCheck<'_>,
-) -> Result<DataFrame, MetricsError> {
+) -> Result<Frame, MetricsError> {
     if paths.is_empty() {
         return Err(MetricsError::MissingTable {
             table,
@@ -124,35 +131,42 @@ pub(crate) fn read_table_checked(
             detail: "no Parquet files given".into(),
         });
     }
-    let mut out: Option<DataFrame> = None;
+    let mut frames = Vec::with_capacity(paths.len());
     for path in paths {
-        let df = read_file(table, path, cols)?;
-        check(path, &df)?;
-        match out.as_mut() {
-            None => out = Some(df),
-            Some(acc) => {
-                acc.vstack_mut_owned(df).map_err(internal("stacking files"))?;
-            }
-        }
+        let frame = read_file(table, path, cols)?;
+        check(path, &frame)?;
+        frames.push(frame);
     }
-    let mut df = out.ok_or_else(|| MetricsError::Internal { context: "reading", detail: "no files".into() })?;
-    df.rechunk_mut();
-    Ok(df)
+    Frame::stack(frames)
 }
 
 /// Read one file of `table` with the given columns (in that order), validated.
-pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<DataFrame, MetricsError> {
+pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<Frame, MetricsError> {
     read_file_slice(table, path, cols, None)
+}
+
+fn open(table: &'static str, path: &Path) -> Result<File, MetricsError> {
+    File::open(path).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            MetricsError::MissingTable { table, path: path.to_path_buf(), detail: "file does not exist".into() }
+        } else {
+            MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() }
+        }
+    })
+}
+
+fn read_error<'a>(table: &'static str, path: &'a Path) -> impl Fn(parquet::errors::ParquetError) -> MetricsError + 'a {
+    move |e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() }
 }
 
 /// The number of rows of one file of `table` (from its footer).
 pub(crate) fn file_rows(table: &'static str, path: &Path) -> Result<usize, MetricsError> {
-    let file =
-        File::open(path).map_err(|e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() })?;
-    ParquetReader::new(file).num_rows().map_err(|e| MetricsError::Read {
+    let builder = ParquetRecordBatchReaderBuilder::try_new(open(table, path)?).map_err(read_error(table, path))?;
+    let rows = builder.metadata().file_metadata().num_rows();
+    usize::try_from(rows).map_err(|_| MetricsError::Read {
         table,
         path: path.to_path_buf(),
-        detail: e.to_string(),
+        detail: format!("the footer gives {rows} rows"),
     })
 }
 
@@ -163,7 +177,7 @@ pub(crate) fn read_file_slice(
     path: &Path,
     cols: &[Col<'_>],
     slice: Option<(usize, usize)>,
-) -> Result<DataFrame, MetricsError> {
+) -> Result<Frame, MetricsError> {
     read_file_slice_checking(table, path, cols, slice, true)
 }
 
@@ -175,9 +189,12 @@ pub(crate) fn read_file_slice_unchecked(
     path: &Path,
     cols: &[Col<'_>],
     slice: Option<(usize, usize)>,
-) -> Result<DataFrame, MetricsError> {
+) -> Result<Frame, MetricsError> {
     read_file_slice_checking(table, path, cols, slice, false)
 }
+
+/// Rows decoded per Arrow batch.
+const BATCH_ROWS: usize = 1 << 16;
 
 fn read_file_slice_checking(
     table: &'static str,
@@ -185,90 +202,91 @@ fn read_file_slice_checking(
     cols: &[Col<'_>],
     slice: Option<(usize, usize)>,
     check: bool,
-) -> Result<DataFrame, MetricsError> {
-    let file = File::open(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::NotFound {
-            MetricsError::MissingTable { table, path: path.to_path_buf(), detail: "file does not exist".into() }
-        } else {
-            MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() }
-        }
-    })?;
-    let read_err = |e: PolarsError| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() };
-    let mut reader = ParquetReader::new(file);
-    let schema = reader.schema().map_err(read_err)?;
+) -> Result<Frame, MetricsError> {
+    let read_err = read_error(table, path);
+    let builder = ParquetRecordBatchReaderBuilder::try_new(open(table, path)?).map_err(&read_err)?;
+    let schema = builder.schema().clone();
+    let mut roots = Vec::with_capacity(cols.len());
     for c in cols {
-        let field = schema.get(c.name).ok_or_else(|| MetricsError::MissingColumn {
+        let (index, field) = schema.column_with_name(c.name).ok_or_else(|| MetricsError::MissingColumn {
             table,
             path: path.to_path_buf(),
             column: c.name,
             expected: c.want.name(),
         })?;
-        if !c.want.accepts(&field.dtype) {
+        if !c.want.accepts(field.data_type()) {
             return Err(MetricsError::ColumnType {
                 table,
                 path: path.to_path_buf(),
                 column: c.name,
                 expected: c.want.name(),
-                found: type_name(&field.dtype),
+                found: type_name(field.data_type()),
             });
         }
+        roots.push(index);
     }
-    let names: Vec<String> = cols.iter().map(|c| c.name.to_string()).collect();
-    let df = reader.with_columns(Some(names.clone())).with_slice(slice).finish().map_err(read_err)?;
-    let df = df.select(names).map_err(read_err)?;
+    let mask = ProjectionMask::roots(builder.parquet_schema(), roots);
+    let mut builder = builder.with_projection(mask).with_batch_size(BATCH_ROWS);
+    if let Some((first, len)) = slice {
+        builder = builder.with_offset(first).with_limit(len);
+    }
+    let reader = builder.build().map_err(&read_err)?;
+    let mut parts: Vec<Vec<ArrayRef>> = vec![Vec::new(); cols.len()];
+    for batch in reader {
+        let batch = batch.map_err(|e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() })?;
+        for (c, part) in cols.iter().zip(&mut parts) {
+            let array = batch.column_by_name(c.name).ok_or_else(|| MetricsError::Internal {
+                context: "reading a column",
+                detail: format!("{} missing from a batch", c.name),
+            })?;
+            part.push(array.clone());
+        }
+    }
     let mut columns = Vec::with_capacity(cols.len());
-    for c in cols {
-        let column = df.column(c.name).map_err(read_err)?;
+    for (c, part) in cols.iter().zip(parts) {
+        let column = crate::frame::concat(part, c.want)?;
         let column = convert(table, path, c, column)?;
         if check {
             check_values(table, path, c, &column)?;
         }
-        columns.push(column);
+        columns.push((c.name, column));
     }
-    DataFrame::new(df.height(), columns).map_err(internal("rebuilding a frame"))
+    Frame::new(columns)
 }
 
 /// Cast to the wanted type; a value that does not fit (e.g. a negative id) is an input error.
-fn convert(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) -> Result<Column, MetricsError> {
-    let want = c.want.polars();
-    if column.dtype() == &want {
-        return Ok(column.clone());
+fn convert(table: &'static str, path: &Path, c: &Col<'_>, column: ArrayRef) -> Result<ArrayRef, MetricsError> {
+    let want = c.want.arrow();
+    if column.data_type() == &want {
+        return Ok(column);
     }
-    let cast = column
-        .cast_with_options(&want, polars::chunked_array::cast::CastOptions::NonStrict)
-        .map_err(|e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() })?;
+    let options = CastOptions { safe: true, ..Default::default() };
+    let cast = cast_with_options(&column, &want, &options).map_err(|e| MetricsError::Read {
+        table,
+        path: path.to_path_buf(),
+        detail: e.to_string(),
+    })?;
     if cast.null_count() > column.null_count() {
-        // Find the first value that did not survive the cast.
-        let orig = column.as_materialized_series();
-        let new = cast.as_materialized_series();
-        for row in 0..column.len() {
-            let o = orig.get(row).map_err(internal("reading a value"))?;
-            let n = new.get(row).map_err(internal("reading a value"))?;
-            if !o.is_null() && n.is_null() {
-                return Err(MetricsError::InvalidValue {
-                    table,
-                    path: path.to_path_buf(),
-                    column: c.name,
-                    row,
-                    value: o.to_string(),
-                    expected: format!("a value that fits {}", c.want.name()),
-                });
-            }
+        // The first value that did not survive the cast.
+        if let Some(row) = (0..column.len()).find(|&i| column.is_valid(i) && cast.is_null(i)) {
+            let value = array_value_to_string(&column, row).unwrap_or_else(|_| "?".into());
+            return Err(MetricsError::InvalidValue {
+                table,
+                path: path.to_path_buf(),
+                column: c.name,
+                row,
+                value,
+                expected: format!("a value that fits {}", c.want.name()),
+            });
         }
     }
     Ok(cast)
 }
 
-fn first_null(column: &Column) -> Option<usize> {
-    if column.null_count() == 0 {
-        return None;
-    }
-    let s = column.as_materialized_series();
-    (0..s.len()).find(|&i| s.get(i).map(|v| v.is_null()).unwrap_or(true))
-}
-
-fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) -> Result<(), MetricsError> {
-    if let Some(row) = first_null(column) {
+fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &ArrayRef) -> Result<(), MetricsError> {
+    if column.null_count() > 0
+        && let Some(row) = (0..column.len()).find(|&i| column.is_null(i))
+    {
         return Err(MetricsError::Null { table, path: path.to_path_buf(), column: c.name, row });
     }
     let invalid = |row: usize, value: String, expected: String| MetricsError::InvalidValue {
@@ -279,78 +297,53 @@ fn check_values(table: &'static str, path: &Path, c: &Col<'_>, column: &Column) 
         value,
         expected,
     };
-    let bug = internal("checking values");
     match c.check {
         Check::Any => {}
         Check::Finite | Check::FiniteNonNeg => {
-            let ca = column.f64().map_err(bug)?;
-            let mut offset = 0;
-            for arr in ca.downcast_iter() {
-                let values = arr.values().as_slice();
-                let non_neg = matches!(c.check, Check::FiniteNonNeg);
-                if let Some(i) = values.iter().position(|v| !v.is_finite() || (non_neg && *v < 0.0)) {
-                    let (row, v) = (offset + i, values[i]);
-                    if !v.is_finite() {
-                        return Err(MetricsError::NonFinite {
-                            table,
-                            path: path.to_path_buf(),
-                            column: c.name,
-                            row,
-                            value: v,
-                        });
-                    }
-                    return Err(invalid(row, v.to_string(), "a value >= 0".into()));
+            let values = crate::frame::f64_values(column)?;
+            let non_neg = matches!(c.check, Check::FiniteNonNeg);
+            if let Some(row) = values.iter().position(|v| !v.is_finite() || (non_neg && *v < 0.0)) {
+                let v = values[row];
+                if !v.is_finite() {
+                    return Err(MetricsError::NonFinite {
+                        table,
+                        path: path.to_path_buf(),
+                        column: c.name,
+                        row,
+                        value: v,
+                    });
                 }
-                offset += values.len();
+                return Err(invalid(row, v.to_string(), "a value >= 0".into()));
             }
         }
-        Check::OneOf(allowed) => check_one_of(column, allowed)
+        Check::OneOf(allowed) => check_strings(column, |s| allowed.contains(&s))
             .map_err(|(row, value)| invalid(row, value, format!("one of {}", allowed.join(", "))))?,
         Check::Radar => check_strings(column, |s| RadarId::parse(s).is_some())
             .map_err(|(row, value)| invalid(row, value, "a radar id R1, R2, …".into()))?,
         Check::RunIn(runs) => {
-            let distinct = column.unique().map_err(internal("checking runs"))?;
-            let distinct = distinct.u32().map_err(internal("checking runs"))?;
-            if distinct.iter().flatten().any(|v| !runs.contains(&v)) {
-                let ca = column.u32().map_err(bug)?;
-                if let Some((row, v)) = ca.iter().enumerate().find(|(_, v)| v.is_some_and(|v| !runs.contains(&v))) {
-                    let list: Vec<String> = runs.iter().take(8).map(|r| r.to_string()).collect();
-                    let more = if runs.len() > 8 { ", …" } else { "" };
-                    return Err(invalid(
-                        row,
-                        v.map(|v| v.to_string()).unwrap_or_default(),
-                        format!("a run present in the truth table ({}{more})", list.join(", ")),
-                    ));
-                }
+            let values = column.as_primitive::<UInt32Type>().values();
+            if let Some(row) = values.iter().position(|v| !runs.contains(v)) {
+                let list: Vec<String> = runs.iter().take(8).map(|r| r.to_string()).collect();
+                let more = if runs.len() > 8 { ", …" } else { "" };
+                return Err(invalid(
+                    row,
+                    values[row].to_string(),
+                    format!("a run present in the truth table ({}{more})", list.join(", ")),
+                ));
             }
         }
     }
     Ok(())
 }
 
-/// Vectorized membership test against a few allowed labels, then locate the first offender.
-fn check_one_of(column: &Column, allowed: &[&str]) -> Result<(), (usize, String)> {
-    let Ok(ca) = column.str() else {
-        return Err((0, "<not a string>".into()));
-    };
-    let mut hits: usize = 0;
-    for a in allowed {
-        hits += ca.equal(*a).sum().unwrap_or(0) as usize;
-    }
-    if hits == ca.len() - ca.null_count() {
-        return Ok(());
-    }
-    check_strings(column, |s| allowed.contains(&s))
-}
-
 /// Check every value in one pass, calling `ok` only when a value differs from the previous one
 /// (the label columns hold long runs of one value); the first offending row and its value.
-fn check_strings(column: &Column, ok: impl Fn(&str) -> bool) -> Result<(), (usize, String)> {
-    let Ok(ca) = column.str() else {
+fn check_strings(column: &ArrayRef, ok: impl Fn(&str) -> bool) -> Result<(), (usize, String)> {
+    let Some(strings) = column.as_string_opt::<i32>() else {
         return Err((0, "<not a string>".into()));
     };
     let mut last: Option<&str> = None;
-    for (row, v) in ca.iter().enumerate() {
+    for (row, v) in strings.iter().enumerate() {
         let Some(v) = v else { continue };
         if last == Some(v) {
             continue;

@@ -1,15 +1,15 @@
 //! The order in which the scorer walks the rows of the truth and tracks tables: by run, then by
-//! target or track, then by time, ties kept in table order — the order of the stable polars
-//! sort on those columns it replaces (`sort([run, key, t_s])` with `maintain_order`), found
+//! target or track, then by time, ties kept in table order — the order of a stable sort on
+//! those columns (`sort([run, key, t_s])` with `maintain_order` in polars terms), found
 //! without comparing strings per row: the rows are put in buckets by (run, key) in table
 //! order, the buckets sorted by key, and a bucket sorted (stably) by time only when its times
 //! are not already in order (each table file's times are, docs/design.md §7).
 
-use polars::prelude::PlHashMap;
 use std::cmp::Ordering;
+use std::collections::HashMap;
 use std::hash::Hash;
 
-/// Times compared as polars' total order compares finite floats (`-0.0 == 0.0`); the tables'
+/// Times compared as a total order compares finite floats (`-0.0 == 0.0`); the tables'
 /// times are checked finite before.
 fn by_time(a: f64, b: f64) -> Ordering {
     a.partial_cmp(&b).unwrap_or(Ordering::Equal)
@@ -17,7 +17,7 @@ fn by_time(a: f64, b: f64) -> Ordering {
 
 /// The row indices in the order of a stable sort by (`run`, `key`, `t_s`).
 pub(crate) fn stable_order<K: Ord + Hash + Copy>(run: &[u32], key: &[K], t_s: &[f64]) -> Vec<usize> {
-    let mut slot: PlHashMap<(u32, K), usize> = PlHashMap::default();
+    let mut slot: HashMap<(u32, K), usize> = HashMap::new();
     let mut buckets: Vec<((u32, K), Vec<usize>)> = Vec::new();
     let mut last: Option<((u32, K), usize)> = None;
     for (i, (&r, &k)) in run.iter().zip(key).enumerate() {

@@ -3,21 +3,20 @@
 //! would otherwise be re-sorted into a different (and wrong) track history, silently.
 
 use crate::MetricsError;
-use crate::load::{f64s, u32s, u64s};
+use crate::frame::Frame;
 use mimo_core::table_rules::{
     Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, times_nearly_ordered_per_key, times_ordered_per_key,
 };
-use polars::prelude::DataFrame;
 use std::path::Path;
 
 fn to_err<'a>(table: &'static str, path: &'a Path) -> impl FnOnce(Violation) -> MetricsError + 'a {
     move |v| MetricsError::BrokenRule { table, path: path.to_path_buf(), column: v.column, row: v.row, why: v.why }
 }
 
-/// A utf8 column's values, borrowed from the frame (no string copied).
-fn strs<'a>(df: &'a DataFrame, name: &str) -> Result<Vec<&'a str>, MetricsError> {
-    let c = df.column(name).map_err(crate::error::internal("column"))?;
-    Ok(c.str().map_err(crate::error::internal("column"))?.no_null_iter().collect())
+/// A utf8 column's values, borrowed from the frame (no string copied; checked columns hold no
+/// null).
+fn strs<'a>(df: &'a Frame, name: &str) -> Result<Vec<&'a str>, MetricsError> {
+    Ok(df.strs(name)?.iter().map(|s| s.unwrap_or_default()).collect())
 }
 
 /// Keys beyond which [`ordered_few_keys`] gives up (tables hold a few radars or targets a file).
@@ -56,28 +55,28 @@ fn ordered_few_keys<K: PartialEq>(keys: impl IntoIterator<Item = K>, t_s: &[f64]
 }
 
 /// Tracks: no row more than `TRACK_OUT_OF_SEQUENCE_S` before its track's latest earlier row.
-pub(crate) fn check_tracks(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
-    let (run, id, t) = (u32s(df, "run")?, u64s(df, "track_id")?, f64s(df, "t_s")?);
-    let keys = run.iter().zip(&id).map(|(r, i)| Key2(*r, *i));
-    times_nearly_ordered_per_key(keys, &t, TRACK_OUT_OF_SEQUENCE_S, "track").map_err(to_err("tracks", path))
+pub(crate) fn check_tracks(path: &Path, df: &Frame) -> Result<(), MetricsError> {
+    let (run, id, t) = (df.u32s("run")?, df.u64s("track_id")?, df.f64s("t_s")?);
+    let keys = run.iter().zip(id).map(|(r, i)| Key2(*r, *i));
+    times_nearly_ordered_per_key(keys, t, TRACK_OUT_OF_SEQUENCE_S, "track").map_err(to_err("tracks", path))
 }
 
 /// Truth: one row per (run, target, t_s), times increasing within each target.
-pub(crate) fn check_truth(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
-    let (run, target, t) = (u32s(df, "run")?, strs(df, "target")?, f64s(df, "t_s")?);
+pub(crate) fn check_truth(path: &Path, df: &Frame) -> Result<(), MetricsError> {
+    let (run, target, t) = (df.u32s("run")?, strs(df, "target")?, df.f64s("t_s")?);
     let keys = || run.iter().zip(&target).map(|(r, s)| Key2(*r, *s));
-    if ordered_few_keys(keys(), &t, true) {
+    if ordered_few_keys(keys(), t, true) {
         return Ok(());
     }
-    times_ordered_per_key(keys(), &t, true, "target").map_err(to_err("truth", path))
+    times_ordered_per_key(keys(), t, true, "target").map_err(to_err("truth", path))
 }
 
 /// Dwells: start times non-decreasing per (run, radar).
-pub(crate) fn check_dwells(path: &Path, df: &DataFrame) -> Result<(), MetricsError> {
-    let (run, radar, t) = (u32s(df, "run")?, strs(df, "radar")?, f64s(df, "t_s")?);
+pub(crate) fn check_dwells(path: &Path, df: &Frame) -> Result<(), MetricsError> {
+    let (run, radar, t) = (df.u32s("run")?, strs(df, "radar")?, df.f64s("t_s")?);
     let keys = || run.iter().zip(&radar).map(|(r, s)| Key2(*r, *s));
-    if ordered_few_keys(keys(), &t, false) {
+    if ordered_few_keys(keys(), t, false) {
         return Ok(());
     }
-    times_ordered_per_key(keys(), &t, false, "radar").map_err(to_err("dwells", path))
+    times_ordered_per_key(keys(), t, false, "radar").map_err(to_err("dwells", path))
 }

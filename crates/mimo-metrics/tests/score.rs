@@ -1,13 +1,15 @@
-//! Hand-made cases with known answers. Every case writes small Parquet tables with polars into a
+//! Hand-made cases with known answers. Every case writes small Parquet tables (arrow-rs) into a
 //! temporary run directory and scores them.
 
+use arrow::array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray, UInt32Array, UInt64Array};
+use arrow::datatypes::{Field, Schema};
 use glam::DVec3;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, Requester, Role, TrackRow, TrackStatus, TruthRow};
-use mimo_metrics::polars::prelude::*;
 use mimo_metrics::{MetricsError, ScorablePredicate, Score, ScoreInput, ScoreOptions, always_scorable, score};
 use std::fs::File;
 use std::path::Path;
+use std::sync::Arc;
 use tempfile::TempDir;
 
 // ---------------------------------------------------------------------------------------------
@@ -125,11 +127,64 @@ fn dwell(
     }
 }
 
-fn col_of<T, P: ?Sized>(name: &str, v: Vec<T>) -> Column
-where
-    Series: NamedFrom<Vec<T>, P>,
-{
-    Column::from(Series::new(name.into(), v))
+/// A table to write: named Arrow columns.
+#[derive(Clone)]
+struct DataFrame(Vec<(String, ArrayRef)>);
+
+impl DataFrame {
+    fn new_infer_height(columns: Vec<(String, ArrayRef)>) -> Result<DataFrame, String> {
+        Ok(DataFrame(columns))
+    }
+
+    fn replace(&mut self, name: &str, column: (String, ArrayRef)) -> Result<(), String> {
+        let slot = self.0.iter_mut().find(|(n, _)| n == name).ok_or_else(|| format!("no column {name}"))?;
+        slot.1 = column.1;
+        Ok(())
+    }
+
+    fn drop(mut self, name: &str) -> Result<DataFrame, String> {
+        self.0.retain(|(n, _)| n != name);
+        Ok(self)
+    }
+}
+
+/// A vector as an Arrow array.
+trait ToArray {
+    fn to_array(self) -> ArrayRef;
+}
+impl ToArray for Vec<u32> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(UInt32Array::from(self))
+    }
+}
+impl ToArray for Vec<u64> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(UInt64Array::from(self))
+    }
+}
+impl ToArray for Vec<Option<u64>> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(UInt64Array::from(self))
+    }
+}
+impl ToArray for Vec<i64> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(Int64Array::from(self))
+    }
+}
+impl ToArray for Vec<f64> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(Float64Array::from(self))
+    }
+}
+impl ToArray for Vec<String> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(StringArray::from(self))
+    }
+}
+
+fn col_of<T: ToArray>(name: &str, v: T) -> (String, ArrayRef) {
+    (name.to_string(), v.to_array())
 }
 
 fn truth_frame(rows: &[TruthRow]) -> DataFrame {
@@ -210,10 +265,15 @@ fn dwells_frame(rows: &[DwellRow]) -> DataFrame {
     .expect("dwells frame")
 }
 
-fn write(path: &Path, mut df: DataFrame) {
+fn write(path: &Path, df: DataFrame) {
     std::fs::create_dir_all(path.parent().expect("parent")).expect("mkdir");
+    let fields: Vec<Field> = df.0.iter().map(|(n, a)| Field::new(n, a.data_type().clone(), true)).collect();
+    let schema = Arc::new(Schema::new(fields));
+    let batch = RecordBatch::try_new(schema.clone(), df.0.into_iter().map(|(_, a)| a).collect()).expect("batch");
     let f = File::create(path).expect("create");
-    ParquetWriter::new(f).finish(&mut df).expect("write parquet");
+    let mut w = parquet::arrow::ArrowWriter::try_new(f, schema, None).expect("writer");
+    w.write(&batch).expect("write parquet");
+    w.close().expect("close");
 }
 
 fn default_dwells() -> Vec<DwellRow> {
@@ -593,10 +653,12 @@ fn writes_outputs_with_the_design_keys() {
     assert_eq!(json["track"]["completeness"], 1.0);
     for spec in mimo_store::score_schema::SCORE_TABLES {
         let file = out.join(mimo_store::score_schema::score_file_name(&spec));
-        let df = ParquetReader::new(File::open(&file).expect("open")).finish().expect("read");
-        assert!(df.height() > 0, "{} is empty", spec.name);
+        let reader =
+            parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(File::open(&file).expect("open"))
+                .expect("parquet");
+        assert!(reader.metadata().file_metadata().num_rows() > 0, "{} is empty", spec.name);
         // The columns are the spec's, in its order, and the file carries the units.
-        let names: Vec<&str> = df.get_column_names().iter().map(|n| n.as_str()).collect();
+        let names: Vec<&str> = reader.schema().fields().iter().map(|f| f.name().as_str()).collect();
         let want: Vec<&str> = spec.columns.iter().map(|c| c.name).collect();
         assert_eq!(names, want, "{}", spec.name);
         let arrow =
@@ -610,9 +672,15 @@ fn writes_outputs_with_the_design_keys() {
             assert_eq!(field.is_nullable(), c.nullable, "{}.{}", spec.name, c.name);
         }
     }
-    let tm = ParquetReader::new(File::open(out.join("track_metrics.parquet")).expect("open")).finish().expect("read");
-    assert_eq!(tm.height(), 5);
-    assert_eq!(tm.column("completeness").expect("col").dtype(), &DataType::Float64);
+    let tm = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(
+        File::open(out.join("track_metrics.parquet")).expect("open"),
+    )
+    .expect("parquet");
+    assert_eq!(tm.metadata().file_metadata().num_rows(), 5);
+    assert_eq!(
+        tm.schema().field_with_name("completeness").expect("col").data_type(),
+        &arrow::datatypes::DataType::Float64
+    );
 }
 
 #[test]

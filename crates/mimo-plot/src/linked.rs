@@ -10,9 +10,12 @@
 
 use crate::PlotError;
 use crate::source::{RunSource, RunTables};
+use arrow::array::{ArrayRef, AsArray, RecordBatch};
+use arrow::compute::cast;
+use arrow::datatypes::{DataType, Float64Type, UInt64Type};
 use mimo_core::records::{DwellRow, Requester};
-use mimo_metrics::polars::prelude::*;
 use mimo_metrics::{ScorablePredicate, ScoreInput, ScoreOptions};
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::Path;
@@ -46,27 +49,43 @@ fn bad(file: &Path, why: impl std::fmt::Display) -> PlotError {
     PlotError::BadScore { file: file.to_path_buf(), why: why.to_string() }
 }
 
-fn read_frame(file: &Path) -> Result<DataFrame, PlotError> {
+/// A score table's batches (the whole file; score tables are small).
+fn read_frame(file: &Path) -> Result<Vec<RecordBatch>, PlotError> {
     let f = File::open(file).map_err(|e| bad(file, e))?;
-    ParquetReader::new(f).finish().map_err(|e| bad(file, format!("not a readable score table ({e})")))
+    let unreadable = |e: &dyn std::fmt::Display| bad(file, format!("not a readable score table ({e})"));
+    let reader = ParquetRecordBatchReaderBuilder::try_new(f).and_then(|b| b.build()).map_err(|e| unreadable(&e))?;
+    reader.collect::<Result<Vec<_>, _>>().map_err(|e| unreadable(&e))
 }
 
-fn col_f64(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<f64>>, PlotError> {
-    let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
-    let c = c.cast(&DataType::Float64).map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
-    Ok(c.f64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.iter().collect())
+/// Column `name` of every batch, cast to `want`.
+fn column(batches: &[RecordBatch], file: &Path, name: &str, want: &DataType) -> Result<Vec<ArrayRef>, PlotError> {
+    let mut out = Vec::with_capacity(batches.len());
+    for b in batches {
+        let c = b.column_by_name(name).ok_or_else(|| bad(file, format!("no column `{name}`")))?;
+        out.push(cast(c, want).map_err(|e| bad(file, format!("column `{name}`: {e}")))?);
+    }
+    if batches.is_empty() {
+        return Err(bad(file, format!("no column `{name}`")));
+    }
+    Ok(out)
 }
 
-fn col_u64(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<u64>>, PlotError> {
-    let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
-    let c = c.cast(&DataType::UInt64).map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
-    Ok(c.u64().map_err(|e| bad(file, format!("column `{name}`: {e}")))?.iter().collect())
+fn col_f64(df: &[RecordBatch], file: &Path, name: &str) -> Result<Vec<Option<f64>>, PlotError> {
+    let parts = column(df, file, name, &DataType::Float64)?;
+    Ok(parts.iter().flat_map(|a| a.as_primitive::<Float64Type>().iter().collect::<Vec<_>>()).collect())
 }
 
-fn col_str(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<Option<String>>, PlotError> {
-    let c = df.column(name).map_err(|_| bad(file, format!("no column `{name}`")))?;
-    let s = c.str().map_err(|e| bad(file, format!("column `{name}`: {e}")))?;
-    Ok(s.iter().map(|x| x.map(str::to_string)).collect())
+fn col_u64(df: &[RecordBatch], file: &Path, name: &str) -> Result<Vec<Option<u64>>, PlotError> {
+    let parts = column(df, file, name, &DataType::UInt64)?;
+    Ok(parts.iter().flat_map(|a| a.as_primitive::<UInt64Type>().iter().collect::<Vec<_>>()).collect())
+}
+
+fn col_str(df: &[RecordBatch], file: &Path, name: &str) -> Result<Vec<Option<String>>, PlotError> {
+    let parts = column(df, file, name, &DataType::Utf8)?;
+    Ok(parts
+        .iter()
+        .flat_map(|a| a.as_string::<i32>().iter().map(|x| x.map(str::to_string)).collect::<Vec<_>>())
+        .collect())
 }
 
 /// Read run `run`'s figures from a `mimo score` output directory.

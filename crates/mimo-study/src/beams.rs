@@ -10,6 +10,11 @@ pub fn beam_geometry(scenario: &Scenario) -> BeamGeometry {
     let model = scenario.fidelity.pattern;
     scenario.ships.iter().fold(BeamGeometry::none(), |g, ship| {
         let frames = ShipFrames::new(ship, scenario.duration_s);
-        g.with_radar(&ship.id.to_string(), &ship.radar, model, Box::new(move |t_s, face| frames.face_at(t_s, usize::from(face))))
+        g.with_radar(
+            &ship.id.to_string(),
+            &ship.radar,
+            model,
+            Box::new(move |t_s, face| frames.face_at(t_s, usize::from(face))),
+        )
     })
 }

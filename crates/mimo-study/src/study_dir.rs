@@ -1,8 +1,10 @@
 //! The study directory and who may write into it.
 //!
 //! `DIR/study.json` marks a directory as a mimo study and records the plan's text; it is written
-//! first. A study directory is continued (`--resume`), shared by shards (`--shard K/N`) and
-//! merged (`--merge`) only for the same plan; `--force` replaces a study directory, and nothing
+//! first, whole and atomically, so that any number of shards may start at once on a new or empty
+//! directory: one creates the study, the others find its mark and join it. A study directory is
+//! continued (`--resume`), shared by shards (`--shard K/N`) and merged (`--merge`) only for the
+//! same plan; `--force` replaces a study directory, and nothing
 //! replaces a directory that is not one.
 //!
 //! ```text
@@ -80,41 +82,93 @@ pub fn read_mark(dir: &Path) -> Result<Option<StudyMark>, DirError> {
     }
 }
 
-fn is_empty_dir(dir: &Path) -> Result<bool, DirError> {
-    Ok(std::fs::read_dir(dir).map_err(io(dir))?.next().is_none())
+/// Whether `name` is a mark being written (see [`claim`]).
+fn is_mark_temp(name: &str) -> bool {
+    name.starts_with(&format!(".{STUDY_FILE}.tmp-"))
 }
 
-fn create(dir: &Path, mark: &StudyMark) -> Result<(), DirError> {
-    std::fs::create_dir_all(dir.join("runs")).map_err(io(dir))?;
-    let write = |name: &str, text: &str| -> Result<(), DirError> {
-        let path = dir.join(name);
-        let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-        std::fs::write(&tmp, text).map_err(io(&tmp))?;
-        std::fs::rename(&tmp, &path).map_err(io(&path))
+/// Whether `dir` is empty but for marks other processes are writing: a directory that a study
+/// may claim.
+fn is_fresh(dir: &Path) -> Result<bool, DirError> {
+    for e in std::fs::read_dir(dir).map_err(io(dir))? {
+        let e = e.map_err(io(dir))?;
+        if !is_mark_temp(&e.file_name().to_string_lossy()) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// A name no other process, on this machine or another sharing the directory, writes.
+fn unique_suffix() -> String {
+    let t = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+    format!("{}-{t}", std::process::id())
+}
+
+/// Claim `dir` (absent, or fresh) for `mark`: the mark is written whole to a temporary file and
+/// hard-linked to `study.json`, which fails if another process linked its own first, so that
+/// any number of shards may start at once and every one finds either no mark or a whole one.
+/// Returns whether this call created the study (`false`: another process did; judge its mark).
+fn claim(dir: &Path, mark: &StudyMark) -> Result<bool, DirError> {
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let json = serde_json::to_string_pretty(mark).map_err(|e| refused(dir, e.to_string()))? + "\n";
+    let path = dir.join(STUDY_FILE);
+    let tmp = dir.join(format!(".{STUDY_FILE}.tmp-{}", unique_suffix()));
+    std::fs::write(&tmp, &json).map_err(io(&tmp))?;
+    let linked = std::fs::hard_link(&tmp, &path);
+    let _ = std::fs::remove_file(&tmp);
+    let created = match linked {
+        Ok(()) => true,
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => false,
+        // A file system without hard links: create the mark exclusively; a reader that finds it
+        // still empty waits for it (`read_mark_settled`).
+        Err(_) => match std::fs::OpenOptions::new().write(true).create_new(true).open(&path) {
+            Ok(mut f) => {
+                std::io::Write::write_all(&mut f, json.as_bytes()).map_err(io(&path))?;
+                true
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => false,
+            Err(e) => return Err(io(&path)(e)),
+        },
     };
-    write("plan.toml", &mark.plan)?;
-    let json = serde_json::to_string_pretty(mark).map_err(|e| refused(dir, e.to_string()))?;
-    write(STUDY_FILE, &(json + "\n"))
+    if created {
+        std::fs::create_dir_all(dir.join("runs")).map_err(io(dir))?;
+        let plan = dir.join("plan.toml");
+        let tmp = dir.join(format!(".plan.toml.tmp-{}", unique_suffix()));
+        std::fs::write(&tmp, &mark.plan).map_err(io(&tmp))?;
+        std::fs::rename(&tmp, &plan).map_err(io(&plan))?;
+    }
+    Ok(created)
+}
+
+/// [`read_mark`], waiting up to about five seconds for a mark that another process is still
+/// writing (only where the file system has no hard links) before calling it bad.
+fn read_mark_settled(dir: &Path) -> Result<Option<StudyMark>, DirError> {
+    let mut tries = 0;
+    loop {
+        match read_mark(dir) {
+            Err(DirError::Refused { .. }) if tries < 50 => {
+                tries += 1;
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+            other => return other,
+        }
+    }
 }
 
 /// Make `dir` ready for the study `mark` under `access`. Returns whether it was created (or
 /// replaced) rather than continued.
 pub fn open(dir: &Path, mark: &StudyMark, access: Access) -> Result<bool, DirError> {
-    if !dir.exists() {
-        if access.merge {
-            return Err(refused(dir, "no such study directory to merge (run the study or its shards first)"));
-        }
-        create(dir, mark)?;
-        return Ok(true);
+    if access.merge && !dir.exists() {
+        return Err(refused(dir, "no such study directory to merge (run the study or its shards first)"));
     }
-    if !dir.is_dir() {
+    if dir.exists() && !dir.is_dir() {
         return Err(refused(dir, "exists and is not a directory"));
     }
-    let Some(found) = read_mark(dir)? else {
-        if !access.merge && is_empty_dir(dir)? {
-            create(dir, mark)?;
-            return Ok(true);
-        }
+    if !access.merge && (!dir.exists() || is_fresh(dir)?) && claim(dir, mark)? {
+        return Ok(true);
+    }
+    let Some(found) = read_mark_settled(dir)? else {
         return Err(refused(
             dir,
             format!("exists and is not a mimo study (no {STUDY_FILE}); refusing to write into it, even with --force"),
@@ -132,7 +186,7 @@ pub fn open(dir: &Path, mark: &StudyMark, access: Access) -> Result<bool, DirErr
         ));
         std::fs::rename(dir, &old).map_err(io(dir))?;
         std::fs::remove_dir_all(&old).map_err(io(&old))?;
-        create(dir, mark)?;
+        claim(dir, mark)?;
         return Ok(true);
     }
     if same {
@@ -182,5 +236,25 @@ mod tests {
         let e = open(&precious, &mark("a"), Access { force: true, ..NEW }).expect_err("refused");
         assert!(e.to_string().contains("not a mimo study"), "{e}");
         assert!(precious.join("thesis.tex").exists());
+    }
+
+    #[test]
+    fn the_mark_is_claimed_once_and_a_mark_being_written_is_not_a_foreign_file() {
+        let tmp = tempfile::tempdir().expect("tmp");
+        let dir = tmp.path().join("study");
+        assert!(claim(&dir, &mark("a")).expect("first"));
+        assert!(!claim(&dir, &mark("b")).expect("second"), "the first mark stays");
+        assert_eq!(read_mark(&dir).expect("read"), Some(mark("a")));
+        let names: Vec<String> =
+            std::fs::read_dir(&dir).expect("dir").map(|e| e.expect("e").file_name().to_string_lossy().into()).collect();
+        assert!(names.iter().all(|n| !n.contains(".tmp-")), "{names:?}");
+        // A directory holding only another process's mark in the making is claimed, not refused.
+        let fresh = tmp.path().join("fresh");
+        std::fs::create_dir_all(&fresh).expect("mkdir");
+        std::fs::write(fresh.join(".study.json.tmp-99-1"), "{").expect("write");
+        assert!(open(&fresh, &mark("a"), Access { resume: true, ..NEW }).expect("claimed"));
+        // Shards of the same plan join; another plan is refused.
+        assert!(!open(&fresh, &mark("a"), Access { resume: true, ..NEW }).expect("join"));
+        assert!(open(&fresh, &mark("b"), Access { resume: true, ..NEW }).is_err());
     }
 }

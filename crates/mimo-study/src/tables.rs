@@ -1,5 +1,5 @@
 //! The study tables (`results.parquet`, `costs.parquet`, `summary.parquet`), built from the item
-//! records of every cell. Their columns are declared once in `mimo_store::schema`
+//! records of every cell, each reduced to a [`ResultRow`] as it is read. Their columns are declared once in `mimo_store::schema`
 //! (`STUDY_RESULTS`, `STUDY_COSTS`, `STUDY_SUMMARY`); rows follow the grid order (methods ×
 //! scenarios × stress points, then runs), so the tables are the same however the items were
 //! split over machines.
@@ -7,7 +7,7 @@
 use crate::estimate::mean_ci;
 use crate::grid::Cell;
 use crate::plan::{Axis, Plan};
-use crate::record::ItemRecord;
+use crate::record::{ItemCosts, ItemRecord};
 use mimo_store::StoreError;
 use mimo_store::columns::{Column, write_columns};
 use mimo_store::schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY};
@@ -28,20 +28,48 @@ pub struct CellSummary {
     pub ta_cpu_per_sim_s: Option<f64>,
 }
 
-/// Summarise each cell's records.
-pub fn summarize(records: &[Vec<ItemRecord>]) -> Vec<CellSummary> {
-    records
-        .iter()
+/// One row of the results and costs tables: an item record less its table files and the test
+/// article's configuration (a cell's manifest keeps those), so that merging a study holds a few
+/// hundred bytes per item however large the records are.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResultRow {
+    /// Monte Carlo run.
+    pub run: u32,
+    /// Master seed.
+    pub seed: u64,
+    /// Simulated seconds.
+    pub duration_s: f64,
+    /// Why it failed; `None` when it completed.
+    pub failure: Option<String>,
+    /// The metrics, in `STUDY_METRICS` order.
+    pub metrics: Vec<Option<f64>>,
+    /// Costs.
+    pub costs: ItemCosts,
+}
+
+impl ResultRow {
+    /// The row of a record.
+    pub fn of(r: &ItemRecord) -> ResultRow {
+        ResultRow {
+            run: r.run,
+            seed: r.seed,
+            duration_s: r.duration_s,
+            failure: r.failure.clone(),
+            metrics: STUDY_METRICS.iter().map(|(name, _, _)| r.metrics.get(*name).copied().flatten()).collect(),
+            costs: r.costs,
+        }
+    }
+}
+
+/// Summarise each cell's rows.
+pub fn summarize(rows: &[Vec<ResultRow>]) -> Vec<CellSummary> {
+    rows.iter()
         .map(|recs| {
             let failed = recs.iter().filter(|r| r.failure.is_some()).count() as u32;
-            let estimates = STUDY_METRICS
-                .iter()
-                .map(|(name, _, _)| {
-                    let v: Vec<f64> = recs
-                        .iter()
-                        .filter(|r| r.failure.is_none())
-                        .filter_map(|r| r.metrics.get(*name).copied().flatten())
-                        .collect();
+            let estimates = (0..STUDY_METRICS.len())
+                .map(|k| {
+                    let v: Vec<f64> =
+                        recs.iter().filter(|r| r.failure.is_none()).filter_map(|r| r.metrics[k]).collect();
                     mean_ci(&v)
                 })
                 .collect();
@@ -72,8 +100,8 @@ fn id_columns(plan: &Plan, cells: &[Cell], rows: &[usize]) -> Vec<Column> {
 }
 
 /// Write `results.parquet` and `costs.parquet` into `dir`.
-pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ItemRecord>], dir: &Path) -> Result<(), StoreError> {
-    let rows: Vec<(usize, &ItemRecord)> =
+pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], dir: &Path) -> Result<(), StoreError> {
+    let rows: Vec<(usize, &ResultRow)> =
         records.iter().enumerate().flat_map(|(c, recs)| recs.iter().map(move |r| (c, r))).collect();
     let cell_of: Vec<usize> = rows.iter().map(|(c, _)| *c).collect();
     let run = Column::U32(rows.iter().map(|(_, r)| r.run).collect());
@@ -82,8 +110,8 @@ pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ItemRecord>], d
     let mut results = id_columns(plan, cells, &cell_of);
     results.push(run.clone());
     results.push(seed.clone());
-    for (name, _, _) in STUDY_METRICS {
-        results.push(Column::F64(rows.iter().map(|(_, r)| r.metrics.get(*name).copied().flatten()).collect()));
+    for k in 0..STUDY_METRICS.len() {
+        results.push(Column::F64(rows.iter().map(|(_, r)| r.metrics[k]).collect()));
     }
     results.push(Column::Utf8(rows.iter().map(|(_, r)| r.failure.clone()).collect()));
     write_columns(&dir.join("results.parquet"), &STUDY_RESULTS, results)?;
@@ -91,7 +119,7 @@ pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ItemRecord>], d
     let mut costs = id_columns(plan, cells, &cell_of);
     costs.push(run);
     costs.push(seed);
-    let f = |g: fn(&ItemRecord) -> f64| Column::F64(rows.iter().map(|(_, r)| Some(g(r))).collect());
+    let f = |g: fn(&ResultRow) -> f64| Column::F64(rows.iter().map(|(_, r)| Some(g(r))).collect());
     costs.push(f(|r| r.duration_s));
     costs.push(f(|r| r.costs.ta_cpu_s));
     costs.push(f(|r| r.costs.sim_cpu_s));

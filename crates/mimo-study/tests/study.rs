@@ -14,7 +14,7 @@ const PLAN: &str = "title = \"test\"\nscenarios = [1]\nruns = 2\nduration_s = 25
     [axes]\nrcs_offset_db = [0, -6]\n";
 
 fn opts(out: &Path) -> Options {
-    Options { out: out.to_path_buf(), resume: false, force: false, shard: None, merge: false, threads: 2 }
+    Options { out: out.to_path_buf(), resume: false, force: false, shard: None, merge: false, threads: 2, init: false }
 }
 
 fn plan(text: &str, dir: &Path) -> Plan {
@@ -42,7 +42,9 @@ fn tree(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
                 let timed =
                     name.ends_with("costs.parquet") || name.contains(".items") || name.ends_with("manifest.json");
                 let drawn = name.starts_with("charts") || name.ends_with("report.md");
-                if !timed && !drawn {
+                // Which shard ran where and when: only a sharded study has them.
+                let shards = name.starts_with("shards");
+                if !timed && !drawn && !shards {
                     out.push((rel, bytes(p)));
                 }
             }
@@ -58,7 +60,7 @@ fn shards_and_resume_give_the_bytes_of_one_run() {
     let p = plan(PLAN, tmp.path());
     let whole = tmp.path().join("whole");
     let o = run_study(&p, PLAN, &opts(&whole), &|_, _| {}).expect("study");
-    assert_eq!((o.items, o.ran, o.skipped, o.failed, o.merged), (8, 8, 0, 0, true));
+    assert_eq!((o.items, o.ran, o.skipped, o.failed, o.merged.map(|m| m.items)), (8, 8, 0, 0, Some(8)));
     for f in ["results.parquet", "costs.parquet", "summary.parquet", "report.md", "charts/energy_vs_completeness.png"] {
         assert!(whole.join(f).is_file(), "{f}");
     }
@@ -77,13 +79,13 @@ fn shards_and_resume_give_the_bytes_of_one_run() {
         let o =
             run_study(&p, PLAN, &Options { shard: Some(Shard { k, n: 3 }), threads: 1, ..opts(&sharded) }, &|_, _| {})
                 .expect("shard");
-        assert!(!o.merged);
+        assert!(o.merged.is_none());
         ran += o.ran;
     }
     assert_eq!(ran, 8);
     assert!(!sharded.join("results.parquet").exists(), "shards do not merge");
     let o = run_study(&p, PLAN, &Options { merge: true, ..opts(&sharded) }, &|_, _| {}).expect("merge");
-    assert_eq!((o.ran, o.merged), (0, true));
+    assert_eq!((o.ran, o.merged), (0, Some(mimo_study::merge::Merged { items: 8, failed: 0 })));
     let (a, b) = (tree(&whole), tree(&sharded));
     assert_eq!(a.iter().map(|x| &x.0).collect::<Vec<_>>(), b.iter().map(|x| &x.0).collect::<Vec<_>>());
     for ((name, x), (_, y)) in a.iter().zip(&b) {
@@ -96,10 +98,11 @@ fn shards_and_resume_give_the_bytes_of_one_run() {
     let merge_early = run_study(&p, PLAN, &Options { merge: true, ..opts(&resumed) }, &|_, _| {});
     let e = merge_early.expect_err("an incomplete study does not merge");
     assert!(e.is_input() && e.to_string().contains("4 of 8 runs are not finished"), "{e}");
+    assert!(e.to_string().contains("missing by shard: shard 0/2: 4"), "{e}");
     let again = run_study(&p, PLAN, &opts(&resumed), &|_, _| {}).expect_err("no --resume");
     assert!(again.to_string().contains("--resume"), "{again}");
     let o = run_study(&p, PLAN, &Options { resume: true, ..opts(&resumed) }, &|_, _| {}).expect("resume");
-    assert_eq!((o.ran, o.skipped, o.merged), (4, 4, true));
+    assert_eq!((o.ran, o.skipped, o.merged.map(|m| m.items)), (4, 4, Some(8)));
     assert!(tree(&whole) == tree(&resumed), "resumed study differs");
 }
 
@@ -129,7 +132,7 @@ fn a_failing_method_is_recorded_and_the_others_finish() {
     let p = plan(text, tmp.path());
     let out = tmp.path().join("s");
     let o = run_study(&p, text, &opts(&out), &|_, _| {}).expect("the study finishes");
-    assert_eq!((o.ran, o.failed, o.merged), (4, 2, true));
+    assert_eq!((o.ran, o.failed, o.merged), (4, 2, Some(mimo_study::merge::Merged { items: 4, failed: 2 })));
     let results = out.join("results.parquet");
     let method = column(&results, "method");
     let failure = column(&results, "failure");
