@@ -38,6 +38,9 @@ impl PurposeSum {
     }
 }
 
+/// One file's sums per (run, index of the radar among the file's radars, interval).
+type FileSums = HashMap<(u32, usize, i64), [PurposeSum; 5]>;
+
 /// Sums per (run, radar, interval), one per purpose in [`Purpose::ALL`] order.
 pub(crate) type PurposeSums = BTreeMap<(u32, String, i64), [PurposeSum; 5]>;
 
@@ -251,7 +254,7 @@ fn file_sums(
     path: &Path,
     input: &PurposeInput<'_>,
     truth_files: &BTreeMap<u32, Vec<usize>>,
-) -> Result<(Vec<String>, HashMap<(u32, usize, i64), [PurposeSum; 5]>), MetricsError> {
+) -> Result<(Vec<String>, FileSums), MetricsError> {
     let mut rows = FileRows::default();
     for_batches("dwells", path, &COLUMNS, |b| rows.batch(b, input.interval_s))?;
     let runs: BTreeSet<u32> = rows.parts.iter().map(|p| p.run).collect();

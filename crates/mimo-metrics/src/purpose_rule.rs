@@ -196,7 +196,13 @@ mod tests {
         let (tx, aim) = mono();
         let at = |du: f64, dv: f64| tx.frame.from_ruv(100_000.0, 0.1 + du, 0.05 + dv);
         let h = THETA / 2.0;
-        for (du, dv) in [(h, 0.0), (-h, 0.0), (0.0, h), (0.0, -h), (h * 0.7071, h * 0.7071)] {
+        for (du, dv) in [
+            (h, 0.0),
+            (-h, 0.0),
+            (0.0, h),
+            (0.0, -h),
+            (h * std::f64::consts::FRAC_1_SQRT_2, h * std::f64::consts::FRAC_1_SQRT_2),
+        ] {
             assert!(holds_truth(&tx, &[tx], aim, at(0.999 * du, 0.999 * dv)), "just inside at ({du}, {dv})");
             assert!(!holds_truth(&tx, &[tx], aim, at(1.001 * du, 1.001 * dv)), "just outside at ({du}, {dv})");
         }
