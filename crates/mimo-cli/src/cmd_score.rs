@@ -92,7 +92,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let scorable: mimo_metrics::ScorablePredicate =
         Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt)));
     let input = ScoreInput::from_dirs(&src.join("truth"), &src.join("dwells"), &a.run.join("tracks"), scorable)
-        .map_err(metrics_err)?;
+        .map_err(metrics_err)?
+        .with_beams(mimo_study::beams::beam_geometry(&scenario));
     let opts = ScoreOptions {
         scenario: scenario.name.clone(),
         interval_s: a.interval,

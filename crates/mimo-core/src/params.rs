@@ -182,6 +182,18 @@ impl RadarParams {
     pub fn beamwidth_v(&self) -> f64 {
         self.beamwidth_factor * self.wavelength_m() / self.aperture_y_m
     }
+    /// Sine-space half-power beamwidths `(θ_u, θ_v)` under a pattern model (docs/model.md §2.1–§2.3):
+    /// `κλ/D` for model A (Gaussian), `0.886 λ/D` for model B (uniform aperture, independent of κ).
+    /// The power of one way is 3 dB down at `θ/2` from the beam centre in either model.
+    pub fn half_power_beamwidths(&self, model: PatternModel) -> (f64, f64) {
+        match model {
+            PatternModel::Gaussian => (self.beamwidth_u(), self.beamwidth_v()),
+            PatternModel::UniformAperture => {
+                let lambda = self.wavelength_m();
+                (0.886 * lambda / self.aperture_x_m, 0.886 * lambda / self.aperture_y_m)
+            }
+        }
+    }
     /// Range cell ΔR = c/(2B) (m).
     pub fn range_cell_m(&self) -> f64 {
         crate::SPEED_OF_LIGHT_MPS / (2.0 * self.bandwidth_hz)

@@ -87,6 +87,12 @@
 //!   averaged over runs. `total_*` sum them over radars.
 //! * Radars: every radar named in the dwells table (any role) plus [`ScoreOptions::radars`];
 //!   a radar without transmit dwells reports zeros.
+//! * **By purpose** (table `usage_by_purpose`, `summary.json` `usage.by_purpose` and each
+//!   `per_run[].by_purpose`): every transmit row attributed to `search`, `confirm_true`,
+//!   `confirm_false`, `track` or `track_false` by whether a truth was in its beam and range
+//!   window ([`purpose_rule`], with the radars' faces of [`ScoreInput::beams`]); one row per run,
+//!   radar, scoring interval and purpose, zeros included; the summary's totals cover every dwell
+//!   and add up, over purposes, to the usage totals.
 //!
 //! ## Errors
 //!
@@ -105,6 +111,9 @@ mod mean;
 pub mod ospa;
 mod output;
 mod parts;
+mod purpose;
+mod purpose_read;
+pub mod purpose_rule;
 mod read;
 mod results;
 mod row_order;
@@ -115,6 +124,7 @@ mod usage;
 
 pub use error::MetricsError;
 pub use output::{NamedList, write_outputs};
+pub use purpose_rule::{BeamGeometry, Purpose};
 pub use results::*;
 
 use glam::DVec3;
@@ -145,6 +155,8 @@ pub struct ScoreInput {
     pub tracks: Vec<PathBuf>,
     /// Scorability of a truth at a time.
     pub scorable: ScorablePredicate,
+    /// The radars' faces and beams, for the usage by purpose ([`purpose_rule`]).
+    pub beams: BeamGeometry,
 }
 
 impl ScoreInput {
@@ -161,7 +173,14 @@ impl ScoreInput {
             dwells: list_parquet("dwells", dwells_dir)?,
             tracks: list_parquet("tracks", tracks_dir)?,
             scorable,
+            beams: BeamGeometry::none(),
         })
+    }
+
+    /// The same input with the radars' faces and beams `beams` (without them, every
+    /// confirmation, track and MIMO look counts as holding no truth).
+    pub fn with_beams(self, beams: BeamGeometry) -> ScoreInput {
+        ScoreInput { beams, ..self }
     }
 
     /// `run_dir/truth`, `run_dir/dwells` and `run_dir/tracks`.
@@ -286,7 +305,22 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         &usage::UsageInput { interval_s: opts.interval_s, runs: &runs, radars: &radars, n_scorable: &n_scorable },
     )?;
 
-    let summary = summarize(opts, &runs, &target_names, &track_metrics, &tally, &u)?;
+    let purpose_input = purpose::PurposeInput {
+        dwells: &input.dwells,
+        truth: &input.truth,
+        geometry: &input.beams,
+        interval_s: opts.interval_s,
+        threads,
+    };
+    let n_times: BTreeMap<u32, usize> = n_scorable.iter().map(|(&run, n)| (run, n.len())).collect();
+    let by_purpose =
+        purpose::purpose_output(&purpose::purpose_sums(&purpose_input)?, &runs, &radars, &n_times, opts.interval_s);
+
+    let mut summary = summarize(opts, &runs, &target_names, &track_metrics, &tally, &u)?;
+    summary.usage.by_purpose = by_purpose.mean;
+    for r in &mut summary.per_run {
+        r.by_purpose = by_purpose.per_run.get(&r.run).copied().unwrap_or_default();
+    }
     Ok(Score {
         options: opts.clone(),
         runs,
@@ -298,6 +332,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         usage_total: u.total,
         usage_radar: u.per_radar,
         usage_run: u.per_run,
+        usage_by_purpose: by_purpose.rows,
         summary,
     })
 }
@@ -416,6 +451,7 @@ fn summarize(
         ta_dwell_time_s: u.per_radar.iter().map(|r| r.ta_dwell_time_s).sum(),
         ta_energy_j: u.per_radar.iter().map(|r| r.ta_energy_j).sum(),
         per_radar,
+        by_purpose: PurposeUsage::default(),
     };
     let per_run = runs
         .iter()
@@ -443,6 +479,7 @@ fn summarize(
                 total_energy_j: usage_of(|x| x.energy_j),
                 ta_dwell_time_s: usage_of(|x| x.ta_dwell_time_s),
                 ta_energy_j: usage_of(|x| x.ta_energy_j),
+                by_purpose: PurposeUsage::default(),
             }
         })
         .collect();

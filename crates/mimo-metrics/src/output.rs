@@ -2,12 +2,14 @@
 //! the Parquet metadata, mirrored to `schemas/score_*.json`), and `summary.json`.
 
 use crate::error::MetricsError;
-use crate::{AssignmentRow, RadarUsage, Score, TrackMetricsMeanRow, TrackMetricsRow, UsageRow, UsageTotalRow};
+use crate::{
+    AssignmentRow, RadarUsage, Score, TrackMetricsMeanRow, TrackMetricsRow, UsageByPurposeRow, UsageRow, UsageTotalRow,
+};
 use mimo_store::columns::{Column, write_columns};
 use mimo_store::schema::TableSpec;
 use mimo_store::score_schema::{
-    SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN, SCORE_USAGE, SCORE_USAGE_RADAR,
-    SCORE_USAGE_TOTAL, score_file_name,
+    SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN, SCORE_USAGE, SCORE_USAGE_BY_PURPOSE,
+    SCORE_USAGE_RADAR, SCORE_USAGE_TOTAL, score_file_name,
 };
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use std::fs::File;
@@ -95,6 +97,13 @@ fn usage_radar_columns(rows: &[RadarUsage]) -> Vec<Column> {
     columns![rows; str radar, f64 dwell_time_s, f64 energy_j, f64 ta_dwell_time_s, f64 ta_energy_j]
 }
 
+fn usage_by_purpose_columns(rows: &[UsageByPurposeRow]) -> Vec<Column> {
+    columns![rows;
+        u32 run, u32 interval, f64 t_start_s, f64 t_end_s, str radar, str purpose, u32 dwells, f64 dwell_time_s,
+        f64 energy_j,
+    ]
+}
+
 impl Score {
     /// `summary.json` text (pretty-printed, docs/design.md §6 keys first).
     pub fn summary_json(&self) -> Result<String, MetricsError> {
@@ -124,7 +133,8 @@ fn write_table(score_dir: &Path, spec: &TableSpec, columns: Vec<Column>) -> Resu
 
 /// Write the score tables and `summary.json` into `score_dir` (created if needed):
 /// `track_metrics.parquet`, `track_metrics_mean.parquet`, `assignments.parquet`, `usage.parquet`,
-/// `usage_total.parquet`, `usage_radar.parquet` and `summary.json` (written last). Each file is
+/// `usage_total.parquet`, `usage_radar.parquet`, `usage_by_purpose.parquet` and `summary.json`
+/// (written last). Each file is
 /// written under a temporary name and renamed. Files already there are replaced; other files are
 /// left alone (the caller clears a stale `score/` first if it wants).
 pub fn write_outputs(score: &Score, score_dir: &Path) -> Result<(), MetricsError> {
@@ -136,6 +146,7 @@ pub fn write_outputs(score: &Score, score_dir: &Path) -> Result<(), MetricsError
     write_table(score_dir, &SCORE_USAGE, usage_columns(&score.usage))?;
     write_table(score_dir, &SCORE_USAGE_TOTAL, usage_total_columns(&score.usage_total))?;
     write_table(score_dir, &SCORE_USAGE_RADAR, usage_radar_columns(&score.usage_radar))?;
+    write_table(score_dir, &SCORE_USAGE_BY_PURPOSE, usage_by_purpose_columns(&score.usage_by_purpose))?;
     let json = score.summary_json()?;
     write_atomic(&score_dir.join("summary.json"), format!("{json}\n").as_bytes())
 }

@@ -221,6 +221,67 @@ pub struct RunRadarUsage {
     pub ta_energy_j: f64,
 }
 
+/// Transmit dwell time and energy of one purpose.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct UsagePair {
+    /// Transmit dwell time (s).
+    pub dwell_time_s: f64,
+    /// Transmitted energy (J).
+    pub energy_j: f64,
+}
+
+/// Transmit dwell time and energy by purpose (docs/design.md §6, "Usage by purpose").
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct PurposeUsage {
+    /// Search dwells (kind `search`, whoever requested them).
+    pub search: UsagePair,
+    /// Confirmation looks with a truth in beam and range window.
+    pub confirm_true: UsagePair,
+    /// Confirmation looks with none (looks at false alarms).
+    pub confirm_false: UsagePair,
+    /// Track and MIMO looks with a truth in beam and range window.
+    pub track: UsagePair,
+    /// Track and MIMO looks with none (tracks following no object).
+    pub track_false: UsagePair,
+}
+
+impl PurposeUsage {
+    /// The figures of `purpose`.
+    pub fn get(&self, purpose: crate::Purpose) -> UsagePair {
+        match purpose {
+            crate::Purpose::Search => self.search,
+            crate::Purpose::ConfirmTrue => self.confirm_true,
+            crate::Purpose::ConfirmFalse => self.confirm_false,
+            crate::Purpose::Track => self.track,
+            crate::Purpose::TrackFalse => self.track_false,
+        }
+    }
+}
+
+/// Transmit usage of one radar in one scoring interval of one run for one purpose
+/// (`score/usage_by_purpose.parquet`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UsageByPurposeRow {
+    /// Monte Carlo run index.
+    pub run: u32,
+    /// Interval index j (1-based), covering `[t_start_s, t_end_s)`.
+    pub interval: u32,
+    /// Interval start (s).
+    pub t_start_s: f64,
+    /// Interval end (s).
+    pub t_end_s: f64,
+    /// Radar id R1…R4.
+    pub radar: String,
+    /// `search`, `confirm_true`, `confirm_false`, `track` or `track_false`.
+    pub purpose: String,
+    /// Transmit dwell rows (role tx or txrx) starting in the interval.
+    pub dwells: u32,
+    /// Their dwell time (s).
+    pub dwell_time_s: f64,
+    /// Their energy (J).
+    pub energy_j: f64,
+}
+
 /// `summary.json` `track`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TrackSummary {
@@ -266,6 +327,8 @@ pub struct UsageSummary {
     pub ta_dwell_time_s: f64,
     /// As `total_energy_j`, TA-requested dwells only (J).
     pub ta_energy_j: f64,
+    /// Per-run totals over radars by purpose, mean over runs.
+    pub by_purpose: PurposeUsage,
 }
 
 /// `summary.json` `challenge`.
@@ -331,6 +394,8 @@ pub struct RunSummary {
     pub ta_dwell_time_s: f64,
     /// As `total_energy_j`, TA-requested dwells only (J).
     pub ta_energy_j: f64,
+    /// The run's totals over radars by purpose.
+    pub by_purpose: PurposeUsage,
 }
 
 /// One target's figures over all runs (extra `per_target` map in `summary.json`).
@@ -411,6 +476,8 @@ pub struct Score {
     pub usage_radar: Vec<RadarUsage>,
     /// Per run and radar over the whole run.
     pub usage_run: Vec<RunRadarUsage>,
+    /// Per run, radar, scoring interval and purpose.
+    pub usage_by_purpose: Vec<UsageByPurposeRow>,
     /// What `summary.json` holds.
     pub summary: Summary,
 }

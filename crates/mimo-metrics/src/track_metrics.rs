@@ -99,7 +99,7 @@ pub(crate) fn n_scoring_times(t_end: f64, interval_s: f64) -> usize {
 
 /// Truth state at `t` by cubic Hermite interpolation of position (with the sampled velocities)
 /// and linear interpolation of velocity and altitude. `None` outside the sampled span.
-fn truth_at(samples: &[TruthSample], cursor: &mut usize, t: f64) -> Option<(DVec3, DVec3, f64)> {
+pub(crate) fn truth_at(samples: &[TruthSample], cursor: &mut usize, t: f64) -> Option<(DVec3, DVec3, f64)> {
     let first = samples.first()?;
     let last = samples.last()?;
     if t < first.t - T_EPS || t > last.t + T_EPS {

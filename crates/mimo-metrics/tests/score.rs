@@ -716,6 +716,7 @@ fn missing_tracks_table() {
         dwells: vec![dir.path().join("dwells/run-0000.parquet")],
         tracks: vec![dir.path().join("tracks/run-0000.parquet")],
         scorable: always_scorable(),
+        beams: mimo_metrics::BeamGeometry::none(),
     };
     let e = score(&input, &ScoreOptions::default()).expect_err("must fail");
     assert!(matches!(e, MetricsError::MissingTable { table: "tracks", .. }), "{e}");

@@ -142,6 +142,8 @@ pub fn computed(src: &RunSource, tables: &RunTables) -> Result<RunScore, PlotErr
         dwells: vec![tables.files[1].clone()],
         tracks: vec![tables.files[3].clone()],
         scorable,
+        // The page shows completeness only: the usage by purpose is not needed.
+        beams: mimo_metrics::BeamGeometry::none(),
     };
     let opts = ScoreOptions {
         scenario: src.scenario.name.clone(),

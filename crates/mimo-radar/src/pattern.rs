@@ -152,6 +152,16 @@ mod tests {
     use super::*;
 
     #[test]
+    fn params_give_the_antennas_half_power_beamwidths() {
+        // The score's beam footprints (docs/design.md §6) take the beamwidths from the params.
+        let p = RadarParams { aperture_x_m: 3.6, aperture_y_m: 2.4, beamwidth_factor: 1.2, ..RadarParams::default() };
+        for model in [PatternModel::Gaussian, PatternModel::UniformAperture] {
+            let a = Antenna::new(&p, model);
+            assert_eq!(p.half_power_beamwidths(model), (a.theta_u(), a.theta_v()), "{model:?}");
+        }
+    }
+
+    #[test]
     fn gaussian_pattern_constants() {
         let p = RadarParams::default();
         let a = Antenna::new(&p, PatternModel::Gaussian);

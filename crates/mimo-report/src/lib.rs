@@ -9,6 +9,7 @@
 //! | `energy_per_interval`, `dwell_time_per_interval` | per radar (one panel each), emitted energy and dwell time per scoring interval per scorable object (the paper's `E[m,j]`, `T[m,j]`), all dwells and TA-requested dwells |
 //! | `cumulative_energy`, `cumulative_dwell_time` | cumulative energy and dwell time over time, stacked by radar (one sees when each radar starts to work), with the TA-requested total |
 //! | `radar_energy`, `radar_dwell_time` | sensor totals per radar over a run (bars), all dwells and TA-requested |
+//! | `energy_by_purpose` | energy per scoring interval summed over radars, stacked by purpose: search, confirmation looks at objects and at false alarms, track looks on objects and on nothing (moving averages) |
 //! | `redundant_ratio`, `spurious_ratio`, `breaks`, `switches`, `position_rmse`, `velocity_rmse`, `ospa` | the other track metrics over time |
 //!
 //! Every time chart carries a labelled trend: a centred moving average (window given in the
@@ -27,6 +28,7 @@
 
 mod draw;
 mod fidelity;
+mod purpose_chart;
 pub mod study;
 
 pub use draw::{linear_fit, moving_average};
@@ -354,6 +356,8 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
         });
         save(&c, charts_dir, stem, (WIDTH, HEIGHT), &mut out)?;
     }
+
+    purpose_chart::render(score, charts_dir, &mut out)?;
 
     // Other track metrics over time.
     type Metric<'a> = (&'a str, &'a str, &'a str, fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>);

@@ -380,6 +380,16 @@ study_tables![
     ("energy_per_object_j", "J", "energy per scorable object: sum over scoring intervals of energy / scorable objects"),
     ("ta_energy_per_object_j", "J", "the same for the dwells the test article requested"),
     ("ta_dwell_time_per_object_s", "s", "sum over scoring intervals of TA dwell time / scorable objects"),
+    ("energy_search_j", "J", "energy of search dwells in the run (docs/design.md §6, usage by purpose)"),
+    ("energy_confirm_true_j", "J", "energy of confirmation looks with a truth in beam and range window"),
+    ("energy_confirm_false_j", "J", "energy of confirmation looks with no truth in beam and range window"),
+    ("energy_track_j", "J", "energy of track and MIMO looks with a truth in beam and range window"),
+    ("energy_track_false_j", "J", "energy of track and MIMO looks with no truth in beam and range window"),
+    ("dwell_time_search_s", "s", "transmit dwell time of search dwells in the run"),
+    ("dwell_time_confirm_true_s", "s", "transmit dwell time of confirmation looks with a truth in them"),
+    ("dwell_time_confirm_false_s", "s", "transmit dwell time of confirmation looks with no truth in them"),
+    ("dwell_time_track_s", "s", "transmit dwell time of track and MIMO looks with a truth in them"),
+    ("dwell_time_track_false_s", "s", "transmit dwell time of track and MIMO looks with no truth in them"),
 ];
 
 /// `DIR/results.parquet` of a study.

@@ -136,14 +136,39 @@ pub const SCORE_USAGE_RADAR: TableSpec = TableSpec {
     ],
 };
 
+/// `score/usage_by_purpose.parquet`: one row per run, radar, scoring interval and purpose.
+pub const SCORE_USAGE_BY_PURPOSE: TableSpec = TableSpec {
+    name: "score_usage_by_purpose",
+    description: "Transmit dwell time and energy per run, radar, scoring interval and purpose (docs/design.md §6, \
+                  \"Usage by purpose\"); every (run, radar, interval, purpose) of the scoring intervals has a row, \
+                  zeros included",
+    columns: &[
+        RUN,
+        col("interval", U32, "", "interval index j, 1-based; a dwell belongs to it by its start time"),
+        col("t_start_s", F64, "s", "interval start"),
+        col("t_end_s", F64, "s", "interval end"),
+        col("radar", Utf8, "", "radar id R1…R4"),
+        col(
+            "purpose",
+            Utf8,
+            "",
+            "search, confirm_true, confirm_false, track or track_false (docs/design.md §6, \"Usage by purpose\")",
+        ),
+        col("dwells", U32, "", "transmit dwell rows (role tx or txrx) of the radar starting in the interval"),
+        col("dwell_time_s", F64, "s", "their transmit dwell time"),
+        col("energy_j", F64, "J", "their transmitted energy"),
+    ],
+};
+
 /// Every score table, in the order `mimo score` writes them.
-pub const SCORE_TABLES: [TableSpec; 6] = [
+pub const SCORE_TABLES: [TableSpec; 7] = [
     SCORE_TRACK_METRICS,
     SCORE_TRACK_METRICS_MEAN,
     SCORE_ASSIGNMENTS,
     SCORE_USAGE,
     SCORE_USAGE_TOTAL,
     SCORE_USAGE_RADAR,
+    SCORE_USAGE_BY_PURPOSE,
 ];
 
 /// The file a score table is written to inside `RUN/score/` (`score_usage` → `usage.parquet`).

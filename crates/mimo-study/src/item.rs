@@ -67,6 +67,7 @@ pub fn score_run(world: &World, cell_dir: &Path, run: u32) -> Result<Score, Metr
         dwells: file("dwells"),
         tracks: file("tracks"),
         scorable: Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt))),
+        beams: crate::beams::beam_geometry(&world.scenario),
     };
     let opts = ScoreOptions {
         scenario: world.scenario.name.clone(),
@@ -148,6 +149,18 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
         ("ta_energy_per_object_j", per_object(3)),
         ("ta_dwell_time_per_object_s", per_object(2)),
     ];
+    let by = &r.by_purpose;
+    let purposes = [
+        ("search", by.search),
+        ("confirm_true", by.confirm_true),
+        ("confirm_false", by.confirm_false),
+        ("track", by.track),
+        ("track_false", by.track_false),
+    ];
+    for (name, pair) in purposes {
+        m.insert(format!("energy_{name}_j"), Some(pair.energy_j));
+        m.insert(format!("dwell_time_{name}_s"), Some(pair.dwell_time_s));
+    }
     for (k, v) in values {
         m.insert(k.to_string(), v);
     }

@@ -10,6 +10,7 @@
 
 #![warn(missing_docs)]
 
+pub mod beams;
 pub mod bootstrap;
 pub mod challenge;
 pub mod challenge_report;

@@ -1,0 +1,393 @@
+//! Usage by purpose (docs/design.md §6): every transmit `dwells` row (role `tx` or `txrx`)
+//! attributed to one [`Purpose`] by [`crate::purpose_rule`], its count, dwell time and energy
+//! summed per run, radar and scoring interval.
+//!
+//! Each dwells file is read once, batch by batch ([`crate::purpose_read`]): search rows are added
+//! as they come; the other rows (a few per cent) are kept, grouped into their looks by
+//! `(run, group_id)` and classified with the truth of their run at each look's mid-time (the
+//! truth samples interpolated as the track metrics interpolate them), then added in row order,
+//! so the sums never depend on the thread count. Files are summed again in file order.
+
+use crate::purpose_read::{Batch, for_batches};
+use crate::purpose_rule::{BeamGeometry, LookPart, Purpose, holds_truth};
+use crate::track_metrics::{TruthSample, truth_at};
+use crate::{MetricsError, PurposeUsage, UsageByPurposeRow, UsagePair};
+use glam::DVec3;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+
+/// Count, dwell time and energy of some transmit rows.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct PurposeSum {
+    pub dwells: u32,
+    pub dwell_time_s: f64,
+    pub energy_j: f64,
+}
+
+impl PurposeSum {
+    fn add(&mut self, dwell_time_s: f64, energy_j: f64) {
+        self.dwells = self.dwells.saturating_add(1);
+        self.dwell_time_s += dwell_time_s;
+        self.energy_j += energy_j;
+    }
+
+    fn add_sum(&mut self, o: &PurposeSum) {
+        self.dwells = self.dwells.saturating_add(o.dwells);
+        self.dwell_time_s += o.dwell_time_s;
+        self.energy_j += o.energy_j;
+    }
+}
+
+/// One file's sums per (run, index of the radar among the file's radars, interval).
+type FileSums = HashMap<(u32, usize, i64), [PurposeSum; 5]>;
+
+/// Sums per (run, radar, interval), one per purpose in [`Purpose::ALL`] order.
+pub(crate) type PurposeSums = BTreeMap<(u32, String, i64), [PurposeSum; 5]>;
+
+/// Where the usage by purpose reads from, and how.
+pub(crate) struct PurposeInput<'a> {
+    pub dwells: &'a [PathBuf],
+    pub truth: &'a [PathBuf],
+    pub geometry: &'a BeamGeometry,
+    pub interval_s: f64,
+    pub threads: usize,
+}
+
+/// The role of a part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Role {
+    Tx,
+    Rx,
+    TxRx,
+}
+
+/// One non-search row of a dwells file.
+#[derive(Debug, Clone)]
+struct Part {
+    row: usize,
+    run: u32,
+    group: u64,
+    radar: usize,
+    role: Role,
+    kind: &'static str,
+    t_s: f64,
+    duration_s: f64,
+    energy_j: f64,
+    face: u8,
+    beam: (f64, f64),
+    aim: DVec3,
+}
+
+/// A file's rows as read: the search sums and the other parts.
+#[derive(Default)]
+struct FileRows {
+    radars: Vec<String>,
+    sums: HashMap<(u32, usize, i64), [PurposeSum; 5]>,
+    parts: Vec<Part>,
+}
+
+const COLUMNS: [&str; 14] = [
+    "run",
+    "group_id",
+    "radar",
+    "role",
+    "kind",
+    "t_s",
+    "duration_s",
+    "energy_j",
+    "face",
+    "beam_u",
+    "beam_v",
+    "aim_x_m",
+    "aim_y_m",
+    "aim_z_m",
+];
+
+fn interval_of(t_s: f64, interval_s: f64) -> i64 {
+    (t_s / interval_s) as i64 + 1
+}
+
+impl FileRows {
+    fn radar_index(&mut self, name: &str) -> usize {
+        match self.radars.iter().position(|r| r == name) {
+            Some(i) => i,
+            None => {
+                self.radars.push(name.to_string());
+                self.radars.len() - 1
+            }
+        }
+    }
+
+    /// One batch: search rows summed, other rows kept.
+    fn batch(&mut self, b: &Batch<'_>, interval_s: f64) -> Result<(), MetricsError> {
+        let (run, group, face) = (b.u32("run")?, b.u64("group_id")?, b.u8("face")?);
+        let (radar, role, kind) = (b.utf8("radar")?, b.utf8("role")?, b.utf8("kind")?);
+        let (t, dur, energy) = (b.f64("t_s")?, b.f64("duration_s")?, b.f64("energy_j")?);
+        let (bu, bv) = (b.f64("beam_u")?, b.f64("beam_v")?);
+        let (ax, ay, az) = (b.f64("aim_x_m")?, b.f64("aim_y_m")?, b.f64("aim_z_m")?);
+        let (run, group, face) = (run.values(), group.values(), face.values());
+        let (t, dur, energy) = (t.values(), dur.values(), energy.values());
+        let (bu, bv, ax, ay, az) = (bu.values(), bv.values(), ax.values(), ay.values(), az.values());
+        for i in 0..b.len() {
+            let role = match role.value(i) {
+                "tx" => Role::Tx,
+                "rx" => Role::Rx,
+                "txrx" => Role::TxRx,
+                other => return Err(b.invalid("role", i, other.to_string(), "tx, rx or txrx")),
+            };
+            let kind = match kind.value(i) {
+                "search" => "search",
+                "confirm" => "confirm",
+                "track" => "track",
+                "mimo" => "mimo",
+                other => return Err(b.invalid("kind", i, other.to_string(), "search, confirm, track or mimo")),
+            };
+            let r = self.radar_index(radar.value(i));
+            if kind == "search" {
+                if role != Role::Rx {
+                    let slot = self.sums.entry((run[i], r, interval_of(t[i], interval_s))).or_default();
+                    slot[Purpose::Search.index()].add(dur[i], energy[i]);
+                }
+                continue;
+            }
+            self.parts.push(Part {
+                row: b.first_row + i,
+                run: run[i],
+                group: group[i],
+                radar: r,
+                role,
+                kind,
+                t_s: t[i],
+                duration_s: dur[i],
+                energy_j: energy[i],
+                face: face[i],
+                beam: (bu[i], bv[i]),
+                aim: DVec3::new(ax[i], ay[i], az[i]),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Each target's truth samples of one run, sorted by time.
+type RunTruth = Vec<Vec<TruthSample>>;
+
+/// The truth of `runs` from the truth files.
+fn load_truth(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, RunTruth>, MetricsError> {
+    let cols = ["run", "target", "t_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps", "alt_m"];
+    let mut by_target: BTreeMap<(u32, String), Vec<TruthSample>> = BTreeMap::new();
+    for path in paths {
+        for_batches("truth", path, &cols, |b| {
+            let (run, target, t, alt) = (b.u32("run")?, b.utf8("target")?, b.f64("t_s")?, b.f64("alt_m")?);
+            let (x, y, z) = (b.f64("x_m")?, b.f64("y_m")?, b.f64("z_m")?);
+            let (vx, vy, vz) = (b.f64("vx_mps")?, b.f64("vy_mps")?, b.f64("vz_mps")?);
+            let (run, t, alt, x, y, z) = (run.values(), t.values(), alt.values(), x.values(), y.values(), z.values());
+            let (vx, vy, vz) = (vx.values(), vy.values(), vz.values());
+            for i in (0..b.len()).filter(|&i| runs.contains(&run[i])) {
+                let key = (run[i], target.value(i).to_string());
+                let sample = TruthSample {
+                    t: t[i],
+                    p: DVec3::new(x[i], y[i], z[i]),
+                    v: DVec3::new(vx[i], vy[i], vz[i]),
+                    alt: alt[i],
+                };
+                by_target.entry(key).or_default().push(sample);
+            }
+            Ok(())
+        })?;
+    }
+    let mut out: BTreeMap<u32, RunTruth> = BTreeMap::new();
+    for ((run, _), mut samples) in by_target {
+        samples.sort_by(|a, b| a.t.total_cmp(&b.t));
+        out.entry(run).or_default().push(samples);
+    }
+    Ok(out)
+}
+
+/// The position of a target at `t_s`, if inside its sampled span.
+fn position_at(samples: &[TruthSample], t_s: f64) -> Option<DVec3> {
+    let mut cursor = samples.partition_point(|s| s.t <= t_s).saturating_sub(1);
+    truth_at(samples, &mut cursor, t_s).map(|(p, _, _)| p)
+}
+
+/// The look part of `p` at `t_s`, if the geometry knows its radar and face.
+fn look_part(rows: &FileRows, geometry: &BeamGeometry, p: &Part, t_s: f64) -> Option<LookPart> {
+    let (frame, theta_u, theta_v) = geometry.face(&rows.radars[p.radar], p.face, t_s)?;
+    let (beam_u, beam_v) = p.beam;
+    Some(LookPart { frame, theta_u, theta_v, beam_u, beam_v, receives: p.role != Role::Tx })
+}
+
+/// The purpose of each transmit part of one look (its parts, any order), as (row, part index,
+/// purpose).
+fn classify_look(
+    rows: &FileRows,
+    look: &[usize],
+    geometry: &BeamGeometry,
+    truth: Option<&RunTruth>,
+    out: &mut Vec<(usize, usize, Purpose)>,
+) {
+    for &ti in look {
+        let tx = &rows.parts[ti];
+        if tx.role == Role::Rx {
+            continue;
+        }
+        let t_mid = tx.t_s + 0.5 * tx.duration_s;
+        let held = look_part(rows, geometry, tx, t_mid).is_some_and(|tx_part| {
+            let receivers: Vec<LookPart> = look
+                .iter()
+                .map(|&ri| &rows.parts[ri])
+                .filter(|r| r.role != Role::Tx)
+                .filter_map(|r| look_part(rows, geometry, r, t_mid))
+                .collect();
+            truth.into_iter().flatten().any(|samples| {
+                position_at(samples, t_mid).is_some_and(|p| holds_truth(&tx_part, &receivers, tx.aim, p))
+            })
+        });
+        if let Some(purpose) = Purpose::of_look(tx.kind, held) {
+            out.push((tx.row, ti, purpose));
+        }
+    }
+}
+
+/// One dwells file reduced to its sums by purpose.
+fn file_sums(
+    path: &Path,
+    input: &PurposeInput<'_>,
+    truth_files: &BTreeMap<u32, Vec<usize>>,
+) -> Result<(Vec<String>, FileSums), MetricsError> {
+    let mut rows = FileRows::default();
+    for_batches("dwells", path, &COLUMNS, |b| rows.batch(b, input.interval_s))?;
+    let runs: BTreeSet<u32> = rows.parts.iter().map(|p| p.run).collect();
+    let files: BTreeSet<usize> = runs.iter().filter_map(|r| truth_files.get(r)).flatten().copied().collect();
+    let files: Vec<PathBuf> = files.into_iter().map(|i| input.truth[i].clone()).collect();
+    let truth = load_truth(&files, &runs)?;
+    let mut order: Vec<usize> = (0..rows.parts.len()).collect();
+    order.sort_by_key(|&i| (rows.parts[i].run, rows.parts[i].group, rows.parts[i].row));
+    let mut classified = Vec::new();
+    for look in
+        order.chunk_by(|&a, &b| (rows.parts[a].run, rows.parts[a].group) == (rows.parts[b].run, rows.parts[b].group))
+    {
+        let run = rows.parts[look[0]].run;
+        classify_look(&rows, look, input.geometry, truth.get(&run), &mut classified);
+    }
+    classified.sort_by_key(|c| c.0);
+    for (_, i, purpose) in classified {
+        let p = &rows.parts[i];
+        let slot = rows.sums.entry((p.run, p.radar, interval_of(p.t_s, input.interval_s))).or_default();
+        slot[purpose.index()].add(p.duration_s, p.energy_j);
+    }
+    Ok((rows.radars, rows.sums))
+}
+
+/// Every dwells file's transmit rows summed by run, radar, interval and purpose.
+pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, MetricsError> {
+    // Which truth files hold each run (their `run` column only), so that each dwells file reads
+    // the truth of its own runs.
+    let runs_of_file = crate::parts::parallel(input.truth, input.threads, &|path: &PathBuf| {
+        let mut runs = BTreeSet::new();
+        for_batches("truth", path, &["run"], |b| {
+            runs.extend(b.u32("run")?.values().iter().copied());
+            Ok(())
+        })
+        .map(|()| runs)
+    });
+    let mut truth_files: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    for (i, runs) in runs_of_file.into_iter().enumerate() {
+        for run in runs? {
+            truth_files.entry(run).or_default().push(i);
+        }
+    }
+    let per_file =
+        crate::parts::parallel(input.dwells, input.threads, &|path: &PathBuf| file_sums(path, input, &truth_files));
+    let mut out = PurposeSums::new();
+    for file in per_file {
+        let (radars, sums) = file?;
+        // Keys in a fixed order, so files and keys are added in the same order every time.
+        let sorted: BTreeMap<(u32, &str, i64), [PurposeSum; 5]> =
+            sums.into_iter().map(|((run, r, k), s)| ((run, radars[r].as_str(), k), s)).collect();
+        for ((run, radar, k), s) in sorted {
+            let slot = out.entry((run, radar.to_string(), k)).or_default();
+            for (a, b) in slot.iter_mut().zip(&s) {
+                a.add_sum(b);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The table rows and per-run totals of the sums.
+pub(crate) struct PurposeOutput {
+    /// One row per run, radar, scoring interval and purpose.
+    pub rows: Vec<UsageByPurposeRow>,
+    /// Per run: every transmit row of every radar and interval (also after the last scoring time).
+    pub per_run: BTreeMap<u32, PurposeUsage>,
+    /// `per_run` averaged over runs.
+    pub mean: PurposeUsage,
+}
+
+fn usage_of(s: &[PurposeSum; 5]) -> PurposeUsage {
+    let pair = |p: Purpose| UsagePair { dwell_time_s: s[p.index()].dwell_time_s, energy_j: s[p.index()].energy_j };
+    PurposeUsage {
+        search: pair(Purpose::Search),
+        confirm_true: pair(Purpose::ConfirmTrue),
+        confirm_false: pair(Purpose::ConfirmFalse),
+        track: pair(Purpose::Track),
+        track_false: pair(Purpose::TrackFalse),
+    }
+}
+
+/// Rows for every run of `runs`, radar of `radars` (in that order), scoring interval
+/// `1..=K_run` (`n_times[run]`) and purpose, zeros included; totals per run and their mean.
+pub(crate) fn purpose_output(
+    sums: &PurposeSums,
+    runs: &[u32],
+    radars: &[String],
+    n_times: &BTreeMap<u32, usize>,
+    interval_s: f64,
+) -> PurposeOutput {
+    let zero = [PurposeSum::default(); 5];
+    let mut rows = Vec::new();
+    for &run in runs {
+        let k_max = n_times.get(&run).copied().unwrap_or(0);
+        for radar in radars {
+            for k in 1..=k_max {
+                let s = sums.get(&(run, radar.clone(), k as i64)).unwrap_or(&zero);
+                for p in Purpose::ALL {
+                    let v = s[p.index()];
+                    rows.push(UsageByPurposeRow {
+                        run,
+                        interval: k as u32,
+                        t_start_s: (k - 1) as f64 * interval_s,
+                        t_end_s: k as f64 * interval_s,
+                        radar: radar.clone(),
+                        purpose: p.name().to_string(),
+                        dwells: v.dwells,
+                        dwell_time_s: v.dwell_time_s,
+                        energy_j: v.energy_j,
+                    });
+                }
+            }
+        }
+    }
+    let mut totals: BTreeMap<u32, [PurposeSum; 5]> = runs.iter().map(|&r| (r, zero)).collect();
+    for ((run, _, _), s) in sums {
+        if let Some(t) = totals.get_mut(run) {
+            for (a, b) in t.iter_mut().zip(s) {
+                a.add_sum(b);
+            }
+        }
+    }
+    let per_run: BTreeMap<u32, PurposeUsage> = totals.iter().map(|(&r, s)| (r, usage_of(s))).collect();
+    let n = totals.len().max(1) as f64;
+    let mut acc = zero;
+    for s in totals.values() {
+        for (a, b) in acc.iter_mut().zip(s) {
+            a.add_sum(b);
+        }
+    }
+    for a in &mut acc {
+        a.dwell_time_s /= n;
+        a.energy_j /= n;
+    }
+    PurposeOutput { rows, per_run, mean: usage_of(&acc) }
+}
