@@ -180,6 +180,7 @@ fn renders_every_chart() {
         "position_rmse",
         "velocity_rmse",
         "ospa",
+        "energy_by_purpose",
     ];
     assert_eq!(files.len(), 2 * stems.len());
     for stem in stems {

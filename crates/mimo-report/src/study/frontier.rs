@@ -47,20 +47,27 @@ fn bar(e: Estimate, scale: f64) -> Option<(f64, f64)> {
     Some((e.lo? * scale, e.hi? * scale))
 }
 
+/// Energy on the log10 axis (energies span four decades from a starved budget to none; below
+/// 1 J is drawn at 1 J).
+fn log_j(x: f64) -> f64 {
+    x.max(1.0).log10()
+}
+
 fn curve(charts: &StudyCharts, f: &StudyFamily) -> Curve {
     let points = f
         .points
         .iter()
         .filter_map(|p| {
             let (x, y) = (p.energy_j.mean?, p.completeness.mean?);
-            Some((x, bar(p.energy_j, 1.0), 100.0 * y, bar(p.completeness, 100.0), p.knob.map(fmt_num)))
+            let x_bar = bar(p.energy_j, 1.0).map(|(lo, hi)| (log_j(lo), log_j(hi)));
+            Some((log_j(x), x_bar, 100.0 * y, bar(p.completeness, 100.0), p.knob.map(fmt_num)))
         })
         .collect();
     Curve {
         color: family_color(charts, &f.name),
         mimo: f.mimo,
         points,
-        crossing: f.crossing.and_then(|c| Some((c.mean?, c.lo, c.hi))),
+        crossing: f.crossing.and_then(|c| Some((log_j(c.mean?), c.lo.map(log_j), c.hi.map(log_j)))),
     }
 }
 
@@ -93,7 +100,7 @@ pub(super) fn energy_frontier(charts: &StudyCharts) -> StudyChart {
         Swatch::Line(RGBColor(90, 90, 90), 1),
     ));
     StudyChart {
-        title: format!("Energy against completeness — {}", charts.title),
+        title: "TA energy against track completeness (energy on a log scale)".to_string(),
         columns: charts.scenarios.len().clamp(1, 3),
         panels,
         legend,
@@ -133,8 +140,8 @@ fn clip(v: f64, r: (f64, f64)) -> f64 {
 /// Draw a panel of curves.
 pub(super) fn draw_curves<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &CurvePanel) -> DrawResult {
     let (x, y) = axis_ranges(p);
-    let labels = ("TA energy per scorable object (J)", "mean track completeness (%)");
-    let mut chart = framed(area, p.title.as_deref(), x, y, labels, false)?;
+    let labels = ("TA energy per scorable object (J, log scale)", "mean track completeness (%)");
+    let mut chart = framed(area, p.title.as_deref(), x, y, labels, true)?;
     chart
         .draw_series(DashedLineSeries::new(vec![(x.0, p.hline), (x.1, p.hline)], 10, 6, BLACK.stroke_width(2)))
         .map_err(e)?;

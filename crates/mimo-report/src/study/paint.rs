@@ -11,7 +11,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 fn x_fmt(log: bool) -> impl Fn(&f64) -> String {
-    move |v: &f64| if log { format!("{:.1e}", 10f64.powf(*v)) } else { fmt_num(*v) }
+    move |v: &f64| if log { fmt_num(10f64.powf(*v)) } else { fmt_num(*v) }
 }
 
 pub(super) fn padded(lo: f64, hi: f64) -> (f64, f64) {
