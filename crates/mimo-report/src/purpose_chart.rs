@@ -62,7 +62,13 @@ fn stacked(rows: &[(f64, [f64; 5])], purposes: &[Purpose], half: usize) -> Vec<A
             points.push((t, *s));
         }
         let total: f64 = rows.iter().map(|(_, e)| e[p.index()]).sum();
-        let name = format!("{} ({} kJ per run)", label(p), crate::draw::fmt_num((total / 100.0).round() / 10.0));
+        // kJ to one decimal, or J when that would read 0.
+        let amount = if total >= 50.0 {
+            format!("{} kJ", crate::draw::fmt_num((total / 100.0).round() / 10.0))
+        } else {
+            format!("{} J", crate::draw::fmt_num(total.round()))
+        };
+        let name = format!("{} ({amount} per run)", label(p));
         areas.push(Area { label: name, color: color(p), points });
     }
     areas
