@@ -5,53 +5,12 @@
 //! They need `python3` with numpy and Stone Soup (`python3 -m pip install 'stonesoup>=1.9,<1.10'`;
 //! `.ci/run` installs it): without them they fail, saying so.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod child_ta;
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().expect("repository root")
-}
-
-fn mimo(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_mimo")).args(args).current_dir(repo()).output().expect("run mimo")
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().expect("utf-8 path")
-}
-
-fn stderr_of(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use child_ta::{completeness, mimo, p, stderr_of};
 
 fn require_stonesoup() {
-    let ok =
-        Command::new("python3").args(["-c", "import numpy, stonesoup"]).status().map(|s| s.success()).unwrap_or(false);
-    assert!(
-        ok,
-        "these tests need python3 with numpy and Stone Soup (`python3 -m pip install 'stonesoup>=1.9,<1.10'`; \
-         .ci/run installs it): `python3 -c 'import numpy, stonesoup'` failed"
-    );
-}
-
-/// The `completeness` of a scored run's summary.
-fn completeness(run: &Path) -> f64 {
-    let o = mimo(&["score", p(run), "--no-charts", "--quiet"]);
-    assert!(o.status.success(), "mimo score failed: {}", stderr_of(&o));
-    let text = std::fs::read_to_string(run.join("score/summary.json")).expect("summary.json");
-    let v: serde_json::Value = serde_json::from_str(&text).expect("summary is JSON");
-    find_number(&v, "completeness").unwrap_or_else(|| panic!("no completeness in {text}"))
-}
-
-/// The first number under `key` anywhere in a JSON value.
-fn find_number(v: &serde_json::Value, key: &str) -> Option<f64> {
-    match v {
-        serde_json::Value::Object(m) => {
-            m.get(key).and_then(|x| x.as_f64()).or_else(|| m.values().find_map(|x| find_number(x, key)))
-        }
-        serde_json::Value::Array(a) => a.iter().find_map(|x| find_number(x, key)),
-        _ => None,
-    }
+    child_ta::require_python("numpy, stonesoup", "'stonesoup>=1.9,<1.10'");
 }
 
 const STONESOUP_TA: &str = "python3 python/examples/stonesoup_ta.py";
