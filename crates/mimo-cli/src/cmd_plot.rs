@@ -34,7 +34,7 @@ fn plot_err(e: PlotError) -> CliError {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    mimo_store::output::check_file_output(&a.out, a.force)?;
+    mimo_plot::check_out(&a.out, a.force).map_err(plot_err)?;
     let opts = ViewOptions { run: a.run_id, from_s: a.from, to_s: a.to, ..ViewOptions::default() };
     let page = mimo_plot::plot_run(&a.run, &opts).map_err(plot_err)?;
     mimo_plot::write_page(&a.out, &page, a.force).map_err(plot_err)?;

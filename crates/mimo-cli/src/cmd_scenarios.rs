@@ -12,7 +12,7 @@ pub struct Args {
     /// SVG file.
     #[arg(long, value_name = "FILE")]
     pub map: Option<std::path::PathBuf>,
-    /// Replace the --map file if it exists.
+    /// Replace the --map file if it exists and is a map this command drew.
     #[arg(long)]
     pub force: bool,
 }
@@ -35,8 +35,10 @@ fn draw_map(path: &std::path::Path) -> Result<(), CliError> {
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.partial-{}.{ext}", std::process::id()));
     mimo_store::output::register(&tmp);
+    // Marked as mimo's (by content), so that `--force` may replace it later and nothing else.
     let drawn = mimo_report::draw_geometry(&ships, &truth, &title, &tmp)
         .map_err(|e| CliError::Other(format!("{}: write failed: {e}", path.display())))
+        .and_then(|()| Ok(mimo_store::recognise::mark_image(&tmp)?))
         .and_then(|()| {
             std::fs::rename(&tmp, path).map_err(|e| CliError::Other(format!("{}: write failed: {e}", path.display())))
         });
@@ -53,8 +55,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         if !matches!(ext.as_deref(), Some("png" | "svg")) {
             return Err(CliError::input(format!("--map: {}: expected a .png or .svg file name", path.display())));
         }
-        mimo_store::output::check_file_output(path, a.force)?;
-        let _ = crate::interrupt::install();
+        let what = "a map mimo scenarios --map drew";
+        mimo_store::output::check_file_output(path, a.force, mimo_store::recognise::is_map_image, what)?;
         draw_map(path)?;
     }
     let list = mimo_scenario::list_standard()?;

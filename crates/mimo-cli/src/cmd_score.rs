@@ -3,7 +3,10 @@
 use crate::CliError;
 use crate::cmd_track::scenario_of;
 use mimo_metrics::{MetricsError, ScoreInput, ScoreOptions};
+use mimo_store::layout::{RunDir, ScoreDir};
 use mimo_store::manifest::Manifest;
+use mimo_store::output::OutputLock;
+use mimo_store::rundir::replace_dir_locked;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -80,9 +83,13 @@ fn metrics_err(e: MetricsError) -> CliError {
 pub fn run(a: Args) -> Result<(), CliError> {
     let t0 = Instant::now();
     crate::cmd_simulate::check_threads(a.threads)?;
-    let _ = crate::interrupt::install();
     let manifest = Manifest::read(&a.run)?;
     check_options(&a, manifest.duration_s)?;
+    // One scorer per run, and no `simulate --force` replacing the run while it is read: the lock
+    // on RUN/score is taken before any work, and what RUN/score holds is checked to be mimo's.
+    let score_dir = RunDir::new(&a.run).score();
+    let lock = OutputLock::acquire(score_dir.root())?;
+    mimo_store::output::check_score_dir(&score_dir)?;
     let src = mimo_store::lineage::source_dir(&a.run, &manifest)?;
     let scenario = scenario_of(&a.run, &manifest)?;
     let radars: Vec<String> = scenario.ships.iter().map(|s| s.id.to_string()).collect();
@@ -91,7 +98,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let ships = scenario.ships.clone();
     let scorable: mimo_metrics::ScorablePredicate =
         Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt)));
-    let input = ScoreInput::from_dirs(&src.join("truth"), &src.join("dwells"), &a.run.join("tracks"), scorable)
+    let input = ScoreInput::from_runs(&src, &a.run, scorable)
         .map_err(metrics_err)?
         .with_beams(mimo_study::beams::beam_geometry(&scenario));
     let opts = ScoreOptions {
@@ -106,11 +113,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     };
     let score = mimo_metrics::score(&input, &opts).map_err(metrics_err)?;
     let t_score = t0.elapsed().as_secs_f64();
-    let score_dir = a.run.join("score");
-    let replaced = mimo_store::rundir::replace_dir(&score_dir, |dir: &Path| -> Result<(), CliError> {
+    let replaced = replace_dir_locked(score_dir.root(), &lock, |dir: &Path| -> Result<(), CliError> {
         mimo_metrics::write_outputs(&score, dir).map_err(metrics_err)?;
         if !a.no_charts {
-            mimo_report::render_all(&score, &dir.join("charts")).map_err(|e| CliError::Other(e.to_string()))?;
+            let charts = ScoreDir::new(dir).charts();
+            mimo_report::render_all(&score, &charts).map_err(|e| CliError::Other(e.to_string()))?;
         }
         Ok(())
     })?;
@@ -119,7 +126,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         let pct = |x: Option<f64>| x.map(|v| format!("{:.2} %", 100.0 * v)).unwrap_or_else(|| "n/a".into());
         let num = |x: Option<f64>| x.map(|v| format!("{v:.1}")).unwrap_or_else(|| "n/a".into());
         if replaced {
-            crate::outln!("replaced {}", score_dir.display());
+            crate::outln!("replaced {}", score_dir.root().display());
         }
         crate::outln!(
             "{}: {} run(s), completeness {} (challenge {} %: {}), redundant {}, spurious {}, breaks {:.1}, switches {:.1}, RMSE {} m / {} m/s",
@@ -142,7 +149,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             s.usage.total_dwell_time_s,
             s.usage.ta_dwell_time_s,
             t_score,
-            score_dir.display()
+            score_dir.root().display()
         );
     }
     Ok(())

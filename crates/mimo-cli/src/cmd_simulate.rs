@@ -109,11 +109,8 @@ pub fn load_scenario(arg: &str) -> Result<Scenario, CliError> {
     }
 }
 
-pub fn run(a: Args) -> Result<(), CliError> {
-    let t_start = Instant::now();
-    // Validate everything before anything is written.
-    let mut scenario = load_scenario(&a.scenario)?;
-    let _ = crate::interrupt::install();
+/// `--runs` within its limits.
+fn check_runs(a: &Args) -> Result<(), CliError> {
     if a.runs == 0 {
         return Err(CliError::input("--runs: expected at least 1 run"));
     }
@@ -131,6 +128,26 @@ pub fn run(a: Args) -> Result<(), CliError> {
             mimo_store::manifest::MAX_RUNS
         )));
     }
+    Ok(())
+}
+
+/// `--record`: whether voltages are recorded.
+fn parse_record(record: &[String]) -> Result<bool, CliError> {
+    match record {
+        [] => Ok(false),
+        r if r.iter().all(|x| x == "voltages") => Ok(true),
+        r => {
+            let bad: Vec<&String> = r.iter().filter(|x| *x != "voltages").collect();
+            Err(CliError::input(format!("--record: unknown table '{}', expected 'voltages'", bad[0])))
+        }
+    }
+}
+
+/// The scenario with `--duration` and `--fidelity` applied, every flag checked (before anything
+/// is written).
+fn checked_scenario(a: &Args) -> Result<Scenario, CliError> {
+    let mut scenario = load_scenario(&a.scenario)?;
+    check_runs(a)?;
     if let Some(d) = a.duration {
         if !(d.is_finite() && d > 0.0 && d <= mimo_scenario::MAX_DURATION_S) {
             return Err(CliError::input(format!(
@@ -144,14 +161,103 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if let Some(f) = &a.fidelity {
         scenario.fidelity.level = parse_fidelity_level(f)?;
     }
-    let record_voltages = match a.record.as_slice() {
-        [] => false,
-        r if r.iter().all(|x| x == "voltages") => true,
-        r => {
-            let bad: Vec<&String> = r.iter().filter(|x| *x != "voltages").collect();
-            return Err(CliError::input(format!("--record: unknown table '{}', expected 'voltages'", bad[0])));
-        }
+    Ok(scenario)
+}
+
+/// What the Monte Carlo runs gave: files by table (in run order), totals, the test article.
+struct Simulated {
+    tables: BTreeMap<String, Vec<TableFile>>,
+    stats: RunStats,
+    info: TaInfo,
+}
+
+fn poisoned<T>(_: T) -> CliError {
+    CliError::Other("lock poisoned".into())
+}
+
+/// Run every Monte Carlo run, each run's tables streamed into the staging directory as its rows
+/// come (memory flat in duration and `--runs`).
+fn simulate_runs(
+    a: &Args,
+    world: &World,
+    cfg: &EngineConfig,
+    ta: &crate::ta_args::TaChoice,
+    writer: &RunDirWriter,
+) -> Result<Simulated, CliError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| CliError::Other(format!("thread pool: {e}")))?;
+    let runs: Vec<u32> = (0..a.runs).collect();
+    let pb = crate::progress::bar(u64::from(a.runs), "simulate", a.quiet);
+    let files: Mutex<BTreeMap<String, Vec<TableFile>>> = Mutex::new(BTreeMap::new());
+    let totals: Mutex<RunStats> = Mutex::new(RunStats::default());
+    let ta_info: Mutex<Option<TaInfo>> = Mutex::new(None);
+    let make_ta = |_run: u32| ta.build(world);
+    let make_sink = |run: u32| -> Result<ParquetRunSink, CliError> {
+        Ok(ParquetRunSink::create(writer, run, cfg.record_voltages)?)
     };
+    let done = |run: u32, sink: ParquetRunSink, s: RunStats, info: TaInfo| -> Result<(), CliError> {
+        let written = sink.finish()?;
+        let mut f = files.lock().map_err(poisoned)?;
+        for (name, tf) in written {
+            f.entry(name.to_string()).or_default().push(tf);
+        }
+        totals.lock().map_err(poisoned)?.add(&s);
+        let mut i = ta_info.lock().map_err(poisoned)?;
+        if run == 0 || i.is_none() {
+            *i = Some(info);
+        }
+        pb.inc(1);
+        Ok(())
+    };
+    pool.install(|| mimo_sim::run_monte_carlo(world, cfg, &runs, &make_ta, &make_sink, &done))?;
+    pb.finish_and_clear();
+    let mut tables = files.into_inner().map_err(poisoned)?;
+    for v in tables.values_mut() {
+        v.sort_by(|x, y| x.file.cmp(&y.file));
+    }
+    let stats = totals.into_inner().map_err(poisoned)?;
+    let info = ta_info.into_inner().map_err(poisoned)?.ok_or_else(|| CliError::Other("no run finished".into()))?;
+    Ok(Simulated { tables, stats, info })
+}
+
+/// The manifest of the finished runs.
+fn manifest_of(
+    a: &Args,
+    world: &World,
+    cfg: &EngineConfig,
+    schedule: String,
+    (tables, info): (BTreeMap<String, Vec<TableFile>>, TaInfo),
+    timing: BTreeMap<String, f64>,
+) -> Result<Manifest, CliError> {
+    let resolved = serde_json::to_value(&world.scenario).map_err(|e| CliError::Other(e.to_string()))?;
+    let mut fidelity = serde_json::to_value(&world.scenario.fidelity).map_err(|e| CliError::Other(e.to_string()))?;
+    if let Some(obj) = fidelity.as_object_mut() {
+        obj.insert("search".into(), serde_json::to_value(&cfg.search).unwrap_or_default());
+    }
+    Ok(Manifest {
+        mimo_version: env!("CARGO_PKG_VERSION").to_string(),
+        schema_version: mimo_store::schema::SCHEMA_VERSION,
+        scenario: ScenarioInfo { name: world.scenario.name.clone(), resolved },
+        seed: a.seed,
+        runs: a.runs,
+        duration_s: world.scenario.duration_s,
+        fidelity,
+        tracker: Some(TrackerInfo { name: info.name, config: info.config }),
+        schedule,
+        parent: None,
+        parent_check: None,
+        tables,
+        timing_s: timing,
+    })
+}
+
+pub fn run(a: Args) -> Result<(), CliError> {
+    let t_start = Instant::now();
+    // Validate everything before anything is written.
+    let scenario = checked_scenario(&a)?;
+    let record_voltages = parse_record(&a.record)?;
     let ta = a.ta.resolve()?;
     if a.search_pulses == 0 || a.search_pulses > MAX_SEARCH_PULSES {
         return Err(CliError::input(format!(
@@ -162,7 +268,6 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let world = World::new(scenario).map_err(|e| scenario_error(&a.scenario, e))?;
     let t_setup = t_start.elapsed().as_secs_f64();
     let writer = RunDirWriter::create(&a.out, a.force)?;
-
     let cfg = EngineConfig {
         seed: a.seed,
         duration_s: world.scenario.duration_s,
@@ -170,72 +275,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
         search: SearchConfig::default().scaled_pulses(a.search_pulses),
         ta_config: ta.overrides().clone(),
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| CliError::Other(format!("thread pool: {e}")))?;
-    let runs: Vec<u32> = (0..a.runs).collect();
-    let pb = crate::progress::bar(u64::from(a.runs), "simulate", a.quiet);
-    let files: Mutex<BTreeMap<String, Vec<TableFile>>> = Mutex::new(BTreeMap::new());
-    let totals: Mutex<RunStats> = Mutex::new(RunStats::default());
-    let ta_info: Mutex<Option<TaInfo>> = Mutex::new(None);
     let t_sim = Instant::now();
-    let make_ta = |_run: u32| ta.build(&world);
-    // Each run's tables are written as its rows come (memory flat in duration and --runs).
-    let make_sink =
-        |run: u32| -> Result<ParquetRunSink, CliError> { Ok(ParquetRunSink::create(&writer, run, record_voltages)?) };
-    let done = |run: u32, sink: ParquetRunSink, s: RunStats, info: TaInfo| -> Result<(), CliError> {
-        let written = sink.finish()?;
-        let mut f = files.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
-        for (name, tf) in written {
-            f.entry(name.to_string()).or_default().push(tf);
-        }
-        let mut tot = totals.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
-        tot.add(&s);
-        let mut i = ta_info.lock().map_err(|_| CliError::Other("lock poisoned".into()))?;
-        if run == 0 || i.is_none() {
-            *i = Some(info);
-        }
-        pb.inc(1);
-        Ok(())
-    };
-    pool.install(|| mimo_sim::run_monte_carlo(&world, &cfg, &runs, &make_ta, &make_sink, &done))?;
-    pb.finish_and_clear();
+    let Simulated { tables, stats, info } = simulate_runs(&a, &world, &cfg, &ta, &writer)?;
     let sim_s = t_sim.elapsed().as_secs_f64();
-
-    let mut tables = files.into_inner().map_err(|_| CliError::Other("lock poisoned".into()))?;
-    for v in tables.values_mut() {
-        v.sort_by(|x, y| x.file.cmp(&y.file));
-    }
-    let stats = totals.into_inner().map_err(|_| CliError::Other("lock poisoned".into()))?;
-    let info = ta_info
-        .into_inner()
-        .map_err(|_| CliError::Other("lock poisoned".into()))?
-        .ok_or_else(|| CliError::Other("no run finished".into()))?;
     let mut timing = BTreeMap::new();
     timing.insert("setup".to_string(), t_setup);
     timing.insert("simulate_and_write".to_string(), sim_s);
     timing.insert("total".to_string(), t_start.elapsed().as_secs_f64());
-    let resolved = serde_json::to_value(&world.scenario).map_err(|e| CliError::Other(e.to_string()))?;
-    let mut fidelity = serde_json::to_value(&world.scenario.fidelity).map_err(|e| CliError::Other(e.to_string()))?;
-    if let Some(obj) = fidelity.as_object_mut() {
-        obj.insert("search".into(), serde_json::to_value(&cfg.search).unwrap_or_default());
-    }
-    let manifest = Manifest {
-        mimo_version: env!("CARGO_PKG_VERSION").to_string(),
-        schema_version: mimo_store::schema::SCHEMA_VERSION,
-        scenario: ScenarioInfo { name: world.scenario.name.clone(), resolved },
-        seed: a.seed,
-        runs: a.runs,
-        duration_s: world.scenario.duration_s,
-        fidelity,
-        tracker: Some(TrackerInfo { name: info.name, config: info.config }),
-        schedule: ta.schedule(),
-        parent: None,
-        parent_check: None,
-        tables,
-        timing_s: timing,
-    };
+    let manifest = manifest_of(&a, &world, &cfg, ta.schedule(), (tables, info), timing)?;
     let out = writer.finish(&manifest)?;
     if !a.quiet {
         crate::outln!(

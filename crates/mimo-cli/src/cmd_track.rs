@@ -2,10 +2,12 @@
 
 use crate::CliError;
 use crate::ta_args::TaArgs;
-use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, RunTables};
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow};
 use mimo_scenario::Scenario;
 use mimo_sim::{EngineConfig, SearchConfig, World};
+use mimo_store::layout::RunDir;
 use mimo_store::manifest::{Manifest, TableFile, TrackerInfo};
+use mimo_store::run_sink::ParquetRunSink;
 use mimo_store::rundir::RunDirWriter;
 use mimo_ta::replay::{DwellKey, ReplayError, ReplayFrom, replay_selected};
 use rayon::prelude::*;
@@ -46,7 +48,7 @@ pub struct Args {
 
 /// The scenario a run directory was made from, checked.
 pub fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, CliError> {
-    let file = run_dir.join("manifest.json");
+    let file = RunDir::new(run_dir).manifest();
     let s: Scenario = serde_json::from_value(m.scenario.resolved.clone())
         .map_err(|e| CliError::input(format!("{}: field 'scenario.resolved': {e}", file.display())))?;
     // The scenario's own errors name fields, not files: say which manifest holds it.
@@ -59,17 +61,98 @@ fn dwell_keys(k: &mimo_store::dwell_keys::DwellKeys) -> Vec<DwellKey> {
     DwellKey::from_columns(&k.run, &k.dwell_id, &k.group_id, &k.radar, &k.face, &k.requested_by)
 }
 
-fn run_file(dir: &Path, table: &str, run: u32) -> PathBuf {
-    dir.join(table).join(mimo_store::run_file_name(run))
+/// `--from`, and the table it reads.
+fn parse_from(from: &str) -> Result<(ReplayFrom, &'static str), CliError> {
+    match from {
+        "primitives" => Ok((ReplayFrom::Primitives, "primitives")),
+        "measurements" => Ok((ReplayFrom::Measurements, "measurements")),
+        other => Err(CliError::input(format!("--from: expected primitives or measurements, got '{other}'"))),
+    }
+}
+
+/// Every input file of every run is there (checked before anything is written).
+fn check_inputs(run: &RunDir, runs: u32, source: &str) -> Result<(), CliError> {
+    for k in 0..runs {
+        for t in ["dwells", source] {
+            let f = run.table_file(t, k);
+            if !f.is_file() {
+                return Err(CliError::input(format!("{}: missing (table '{t}' of run {k})", f.display())));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What a re-run of one Monte Carlo run needs.
+struct Rerun<'a> {
+    input: RunDir,
+    world: &'a World,
+    cfg: EngineConfig,
+    from: ReplayFrom,
+    ta: &'a crate::ta_args::TaChoice,
+    writer: &'a RunDirWriter,
+}
+
+/// What a re-run of one Monte Carlo run gave: its files, measurements delivered, the tracker.
+type Reran = (Vec<(&'static str, TableFile)>, u64, mimo_sim::TaInfo);
+
+impl Rerun<'_> {
+    /// Re-run run `k`, its tables streamed into the output's staging directory as they come.
+    fn one(&self, k: u32) -> Result<Reran, CliError> {
+        // The dwells' keys first; whole rows only for the groups the test article is sent.
+        let dwells_file = self.input.table_file("dwells", k);
+        let store_keys = mimo_store::dwell_keys::read_dwell_keys(&dwells_file)?;
+        let keys = dwell_keys(&store_keys);
+        let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
+            Ok(mimo_store::dwell_keys::read_dwell_rows(&dwells_file, &store_keys, at)?)
+        };
+        let (prims, meas): (Vec<PrimitiveRow>, Vec<MeasurementRow>) = match self.from {
+            ReplayFrom::Primitives => (mimo_store::read_table(&self.input.table_file("primitives", k))?, Vec::new()),
+            ReplayFrom::Measurements => {
+                (Vec::new(), mimo_store::read_table(&self.input.table_file("measurements", k))?)
+            }
+        };
+        let mut tester = self.ta.build(self.world)?;
+        let mut sink = ParquetRunSink::for_rerun(self.writer, k, self.from == ReplayFrom::Primitives)?;
+        let (world, cfg, from) = (self.world, &self.cfg, self.from);
+        let stats = replay_selected(world, cfg, tester.as_mut(), k, &keys, &mut load, &prims, &meas, from, &mut sink)
+            .map_err(|e| match e {
+            ReplayError::UnknownDwell { .. } | ReplayError::UnknownFace { .. } => {
+                CliError::input(format!("{}: {e}", self.input.root().display()))
+            }
+            other => CliError::from(other),
+        })?;
+        let files = sink.finish()?;
+        let info = mimo_sim::TaInfo { name: tester.name().to_string(), config: tester.config() };
+        Ok((files, stats.measurements, info))
+    }
+}
+
+/// The re-runs' files by table (in run order), measurements delivered, and the tracker.
+fn gather(
+    results: Vec<Result<Reran, CliError>>,
+) -> Result<(BTreeMap<String, Vec<TableFile>>, u64, mimo_sim::TaInfo), CliError> {
+    let mut tables: BTreeMap<String, Vec<TableFile>> = BTreeMap::new();
+    let mut n_meas = 0u64;
+    let mut info = None;
+    for r in results {
+        let (files, n, i) = r?;
+        n_meas += n;
+        info.get_or_insert(i);
+        for (t, f) in files {
+            tables.entry(t.to_string()).or_default().push(f);
+        }
+    }
+    for v in tables.values_mut() {
+        v.sort_by(|x, y| x.file.cmp(&y.file));
+    }
+    let info = info.ok_or_else(|| CliError::Other("no run was re-run".into()))?;
+    Ok((tables, n_meas, info))
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
     let t_start = Instant::now();
-    let from = match a.from.as_str() {
-        "primitives" => ReplayFrom::Primitives,
-        "measurements" => ReplayFrom::Measurements,
-        other => return Err(CliError::input(format!("--from: expected primitives or measurements, got '{other}'"))),
-    };
+    let (from, source) = parse_from(&a.from)?;
     let ta = a.ta.resolve()?;
     if !ta.tracks() {
         return Err(CliError::input(format!(
@@ -78,25 +161,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     crate::cmd_simulate::check_threads(a.threads)?;
-    let _ = crate::interrupt::install();
     mimo_store::lineage::check_output_apart(&a.run, &a.out)?;
     let manifest = Manifest::read(&a.run)?;
     // The replay needs the ships' faces, never the targets: their trajectories are not built.
     let world = World::ships_only(scenario_of(&a.run, &manifest)?);
-    let runs: Vec<u32> = (0..manifest.runs).collect();
-    // Check every input file before writing anything.
-    let source = match from {
-        ReplayFrom::Primitives => "primitives",
-        ReplayFrom::Measurements => "measurements",
-    };
-    for &k in &runs {
-        for t in ["dwells", source] {
-            let f = run_file(&a.run, t, k);
-            if !f.is_file() {
-                return Err(CliError::input(format!("{}: missing (table '{t}' of run {k})", f.display())));
-            }
-        }
-    }
+    let input = RunDir::new(&a.run);
+    check_inputs(&input, manifest.runs, source)?;
     let writer = RunDirWriter::create(&a.out, a.force)?;
     let (parent, parent_check) = mimo_store::lineage::link(&a.out, &a.run, &manifest)?;
     let cfg = EngineConfig {
@@ -106,69 +176,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
         search: SearchConfig::default(),
         ta_config: ta.overrides().clone(),
     };
+    let rerun = Rerun { input, world: &world, cfg, from, ta: &ta, writer: &writer };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
         .map_err(|e| CliError::Other(format!("thread pool: {e}")))?;
-    let pb = crate::progress::bar(runs.len() as u64, "track", a.quiet);
+    let pb = crate::progress::bar(u64::from(manifest.runs), "track", a.quiet);
     let t_track = Instant::now();
-    type RunResult = Result<(u32, Vec<(String, TableFile)>, u64, mimo_sim::TaInfo), CliError>;
-    let results: Vec<RunResult> = pool.install(|| {
-        runs.par_iter()
-            .map(|&k| {
-                // The dwells' keys first; whole rows only for the groups the test article is sent.
-                let dwells_file = run_file(&a.run, "dwells", k);
-                let store_keys = mimo_store::dwell_keys::read_dwell_keys(&dwells_file)?;
-                let keys = dwell_keys(&store_keys);
-                let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
-                    Ok(mimo_store::dwell_keys::read_dwell_rows(&dwells_file, &store_keys, at)?)
-                };
-                let (prims, meas): (Vec<PrimitiveRow>, Vec<MeasurementRow>) = match from {
-                    ReplayFrom::Primitives => (mimo_store::read_table(&run_file(&a.run, "primitives", k))?, Vec::new()),
-                    ReplayFrom::Measurements => {
-                        (Vec::new(), mimo_store::read_table(&run_file(&a.run, "measurements", k))?)
-                    }
-                };
-                let mut tester = ta.build(&world)?;
-                let mut out = RunTables::default();
-                let stats =
-                    replay_selected(&world, &cfg, tester.as_mut(), k, &keys, &mut load, &prims, &meas, from, &mut out)
-                        .map_err(|e| match e {
-                            ReplayError::UnknownDwell { .. } | ReplayError::UnknownFace { .. } => {
-                                CliError::input(format!("{}: {e}", a.run.display()))
-                            }
-                            other => CliError::from(other),
-                        })?;
-                let mut files = vec![("tracks".to_string(), writer.write_run_table("tracks", k, &out.tracks)?)];
-                if from == ReplayFrom::Primitives {
-                    files.push((
-                        "measurements".to_string(),
-                        writer.write_run_table("measurements", k, &out.measurements)?,
-                    ));
-                }
-                pb.inc(1);
-                let info = mimo_sim::TaInfo { name: tester.name().to_string(), config: tester.config() };
-                Ok((k, files, stats.measurements, info))
-            })
-            .collect()
-    });
+    let results: Vec<Result<Reran, CliError>> =
+        pool.install(|| (0..manifest.runs).into_par_iter().map(|k| rerun.one(k).inspect(|_| pb.inc(1))).collect());
     pb.finish_and_clear();
     let track_s = t_track.elapsed().as_secs_f64();
-    let mut tables: BTreeMap<String, Vec<TableFile>> = BTreeMap::new();
-    let mut n_meas = 0u64;
-    let mut info = None;
-    for r in results {
-        let (_, files, n, i) = r?;
-        n_meas += n;
-        info.get_or_insert(i);
-        for (t, f) in files {
-            tables.entry(t).or_default().push(f);
-        }
-    }
-    for v in tables.values_mut() {
-        v.sort_by(|x, y| x.file.cmp(&y.file));
-    }
-    let info = info.ok_or_else(|| CliError::Other("no run was re-run".into()))?;
+    let (tables, n_meas, info) = gather(results)?;
     let mut timing = BTreeMap::new();
     timing.insert("track".to_string(), track_s);
     timing.insert("total".to_string(), t_start.elapsed().as_secs_f64());

@@ -104,7 +104,9 @@ where
             return code;
         }
     };
-    match run(cli) {
+    let result = run(cli);
+    interrupt::settle();
+    match result {
         Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");
@@ -113,8 +115,11 @@ where
     }
 }
 
-/// Run a parsed command.
+/// Run a parsed command (interrupts handled as docs/design.md §7 says: [`interrupt`]).
 pub fn run(cli: Cli) -> Result<(), CliError> {
+    // Without a handler an interrupt still stops the command, but leaves its staging behind for
+    // the next writer to remove: not worth failing the command over.
+    let _ = interrupt::install();
     match cli.command {
         Command::Scenarios(a) => cmd_scenarios::run(a),
         Command::Simulate(a) => cmd_simulate::run(a),

@@ -130,6 +130,7 @@ pub use results::*;
 use glam::DVec3;
 use load::*;
 use mean::GroupMean;
+use mimo_store::layout::RunDir;
 use read::list_parquet;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -185,7 +186,14 @@ impl ScoreInput {
 
     /// `run_dir/truth`, `run_dir/dwells` and `run_dir/tracks`.
     pub fn from_run_dir(run_dir: &Path, scorable: ScorablePredicate) -> Result<ScoreInput, MetricsError> {
-        Self::from_dirs(&run_dir.join("truth"), &run_dir.join("dwells"), &run_dir.join("tracks"), scorable)
+        Self::from_runs(run_dir, run_dir, scorable)
+    }
+
+    /// Truth and dwells of the run directory `source` (a `mimo track` output's parent, or the run
+    /// itself), tracks of the run directory `run`.
+    pub fn from_runs(source: &Path, run: &Path, scorable: ScorablePredicate) -> Result<ScoreInput, MetricsError> {
+        let (src, run) = (RunDir::new(source), RunDir::new(run));
+        Self::from_dirs(&src.table_dir("truth"), &src.table_dir("dwells"), &run.table_dir("tracks"), scorable)
     }
 }
 

@@ -6,10 +6,11 @@ use crate::{
     AssignmentRow, RadarUsage, Score, TrackMetricsMeanRow, TrackMetricsRow, UsageByPurposeRow, UsageRow, UsageTotalRow,
 };
 use mimo_store::columns::{Column, write_columns};
+use mimo_store::layout::ScoreDir;
 use mimo_store::schema::TableSpec;
 use mimo_store::score_schema::{
     SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN, SCORE_USAGE, SCORE_USAGE_BY_PURPOSE,
-    SCORE_USAGE_RADAR, SCORE_USAGE_TOTAL, score_file_name,
+    SCORE_USAGE_RADAR, SCORE_USAGE_TOTAL,
 };
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use std::fs::File;
@@ -127,7 +128,7 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), MetricsError> {
 
 /// Write one score table through its spec (units in the Parquet metadata, atomically).
 fn write_table(score_dir: &Path, spec: &TableSpec, columns: Vec<Column>) -> Result<(), MetricsError> {
-    let path = score_dir.join(score_file_name(spec));
+    let path = ScoreDir::new(score_dir).table(spec);
     write_columns(&path, spec, columns).map(|_| ()).map_err(|e| MetricsError::Write { path, detail: e.to_string() })
 }
 
@@ -148,5 +149,5 @@ pub fn write_outputs(score: &Score, score_dir: &Path) -> Result<(), MetricsError
     write_table(score_dir, &SCORE_USAGE_RADAR, usage_radar_columns(&score.usage_radar))?;
     write_table(score_dir, &SCORE_USAGE_BY_PURPOSE, usage_by_purpose_columns(&score.usage_by_purpose))?;
     let json = score.summary_json()?;
-    write_atomic(&score_dir.join("summary.json"), format!("{json}\n").as_bytes())
+    write_atomic(&ScoreDir::new(score_dir).summary(), format!("{json}\n").as_bytes())
 }

@@ -51,21 +51,27 @@ pub fn plot_run(run_dir: &Path, opts: &ViewOptions) -> Result<String, PlotError>
     html::render(&view).map_err(|e| PlotError::Internal(format!("cannot encode the view: {e}")))
 }
 
-/// Write a page to `out` atomically (a hidden temporary file beside it, then a rename). An
-/// existing file is replaced only with `force`.
+/// Whether `out` may be written: it does not exist, or (with `force`) it is a page `mimo plot`
+/// wrote. Anything else is refused, even with `force`.
+pub fn check_out(out: &Path, force: bool) -> Result<(), PlotError> {
+    let what = "a page mimo plot wrote";
+    Ok(mimo_store::output::check_file_output(out, force, mimo_store::recognise::is_plot_page, what)?)
+}
+
+/// Write a page to `out` atomically (a hidden temporary file beside it, then a rename; the
+/// temporary file is removed if the write fails, and on an interrupt). An existing file is
+/// replaced only with `force`, and only if it is a page `mimo plot` wrote (its head carries
+/// [`mimo_store::recognise::PLOT_MARK`]): any other file is refused, even with `force`.
 pub fn write_page(out: &Path, page: &str, force: bool) -> Result<(), PlotError> {
-    if out.exists() && !force {
-        return Err(PlotError::Exists { path: out.to_path_buf() });
-    }
-    if out.is_dir() {
-        return Err(PlotError::Io { path: out.to_path_buf(), why: "is a directory".into() });
-    }
-    let name = out.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_else(|| "view.html".into());
-    let tmp = out.with_file_name(format!(".{name}.tmp"));
+    use mimo_store::output;
+    check_out(out, force)?;
+    let tmp = output::sibling(out, "tmp")?;
     let io = |e: std::io::Error| PlotError::Io { path: out.to_path_buf(), why: e.to_string() };
-    std::fs::write(&tmp, page).map_err(io)?;
-    std::fs::rename(&tmp, out).map_err(|e| {
+    output::register(&tmp);
+    let written = std::fs::write(&tmp, page).and_then(|()| std::fs::rename(&tmp, out)).map_err(io);
+    if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    }
+    output::unregister(&tmp);
+    written
 }

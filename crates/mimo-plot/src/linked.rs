@@ -15,6 +15,8 @@ use arrow::compute::cast;
 use arrow::datatypes::{DataType, Float64Type, UInt64Type};
 use mimo_core::records::{DwellRow, Requester};
 use mimo_metrics::{ScorablePredicate, ScoreInput, ScoreOptions};
+use mimo_store::layout::ScoreDir;
+use mimo_store::score_schema::{SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -90,13 +92,14 @@ fn col_str(df: &[RecordBatch], file: &Path, name: &str) -> Result<Vec<Option<Str
 
 /// Read run `run`'s figures from a `mimo score` output directory.
 pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
-    let summary_f = dir.join("summary.json");
+    let score = ScoreDir::new(dir);
+    let summary_f = score.summary();
     let text = std::fs::read_to_string(&summary_f).map_err(|e| bad(&summary_f, e))?;
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(&summary_f, e))?;
     let interval_s = v["interval_s"].as_f64().filter(|x| x.is_finite() && *x > 0.0);
     let interval_s = interval_s.ok_or_else(|| bad(&summary_f, "field 'interval_s': expected a positive number"))?;
 
-    let tm_f = dir.join("track_metrics.parquet");
+    let tm_f = score.table(&SCORE_TRACK_METRICS);
     let df = read_frame(&tm_f)?;
     let runs = col_u64(&df, &tm_f, "run")?;
     let t = col_f64(&df, &tm_f, "t_s")?;
@@ -117,7 +120,7 @@ pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
         out.n_scorable.push(n);
     }
 
-    let as_f = dir.join("assignments.parquet");
+    let as_f = score.table(&SCORE_ASSIGNMENTS);
     let df = read_frame(&as_f)?;
     let runs = col_u64(&df, &as_f, "run")?;
     let t = col_f64(&df, &as_f, "t_s")?;

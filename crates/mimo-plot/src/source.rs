@@ -5,8 +5,9 @@
 use crate::PlotError;
 use mimo_core::records::{DwellRow, MeasurementRow, TrackRow, TruthRow};
 use mimo_scenario::Scenario;
-use mimo_store::manifest::{MANIFEST_FILE, Manifest};
-use mimo_store::{StoreError, read_table, run_file_name};
+use mimo_store::layout::RunDir;
+use mimo_store::manifest::Manifest;
+use mimo_store::{StoreError, read_table};
 use std::path::{Path, PathBuf};
 
 /// A run directory opened for plotting.
@@ -39,7 +40,7 @@ pub struct RunTables {
 
 /// The manifest's resolved scenario, validated.
 fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, PlotError> {
-    let file = run_dir.join(MANIFEST_FILE);
+    let file = RunDir::new(run_dir).manifest();
     let s: Scenario = serde_json::from_value(m.scenario.resolved.clone())
         .map_err(|e| PlotError::Scenario { file: file.clone(), why: e.to_string() })?;
     s.validate().map_err(|e| PlotError::Scenario { file, why: e.to_string() })?;
@@ -75,7 +76,7 @@ impl RunSource {
 
     /// The file of `table` for `run` in `dir`.
     pub fn file(dir: &Path, table: &str, run: u32) -> PathBuf {
-        dir.join(table).join(run_file_name(run))
+        RunDir::new(dir).table_file(table, run)
     }
 
     /// Read the tables of run `run`. Measurements come from the run directory when it has them

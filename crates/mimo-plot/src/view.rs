@@ -198,9 +198,9 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
             where_: format!(" in [{t0}, {t1}] s"),
         });
     }
-    let score_dir = src.run_dir.join("score");
-    let score: RunScore = if score_dir.join("summary.json").is_file() {
-        linked::from_score_dir(&score_dir, opts.run)?
+    let score_dir = mimo_store::layout::RunDir::new(&src.run_dir).score();
+    let score: RunScore = if score_dir.summary().is_file() {
+        linked::from_score_dir(score_dir.root(), opts.run)?
     } else {
         linked::computed(src, &tables)?
     };

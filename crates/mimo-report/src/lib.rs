@@ -104,14 +104,19 @@ fn render(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), ReportErro
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp.{ext}"));
     let draw_err = |err: draw::DrawError| ReportError::Draw { path: path.to_path_buf(), detail: err.0 };
-    if ext == "svg" {
-        let root = SVGBackend::new(&tmp, size).into_drawing_area();
-        draw_any(&root, chart).map_err(draw_err)?;
+    let drawn = if ext == "svg" {
+        draw_any(&SVGBackend::new(&tmp, size).into_drawing_area(), chart)
     } else {
-        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
-        draw_any(&root, chart).map_err(draw_err)?;
+        draw_any(&BitMapBackend::new(&tmp, size).into_drawing_area(), chart)
+    };
+    let done = drawn.map_err(draw_err).and_then(|()| {
+        std::fs::rename(&tmp, path).map_err(|err| ReportError::Io { path: path.to_path_buf(), detail: err.to_string() })
+    });
+    // A drawing that failed (a full disk) leaves no temporary file behind.
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
-    std::fs::rename(&tmp, path).map_err(|err| ReportError::Io { path: path.to_path_buf(), detail: err.to_string() })
+    done
 }
 
 /// Render `chart` as `dir/stem.png` and `dir/stem.svg`.

@@ -9,9 +9,11 @@
 //!   temporary name and renamed, carry the table name and schema version in their key-value
 //!   metadata, and are byte-identical for identical rows (no timestamps, row groups of
 //!   [`ROW_GROUP_ROWS`] rows, layout fixed by the writer properties).
-//! * [`rundir`]: the run directory of docs/design.md §2 — staging, atomic publication, and
-//!   [`manifest::Manifest`]; [`output`]: who may write an output path (`--force`, the lock,
-//!   stale staging, clean-up on interrupt); [`lineage`]: `parent` links of `mimo track` outputs.
+//! * [`layout`]: every path of a run directory and a study directory (no other crate joins a
+//!   table or file name onto a path); [`rundir`]: the run directory of docs/design.md §2 —
+//!   staging, atomic publication, and [`manifest::Manifest`]; [`output`]: who may write an output
+//!   path (`--force`, the lock, stale staging, clean-up on interrupt), with [`recognise`] telling
+//!   what mimo wrote by content; [`lineage`]: `parent` links of `mimo track` outputs.
 //! * [`table_writer`]: a table file written as its rows come; [`run_sink::ParquetRunSink`]: a
 //!   run's tables written that way, the engine's sink for `mimo simulate` (memory flat in the
 //!   run's length).
@@ -25,9 +27,11 @@ pub mod challenge_schema;
 pub mod columns;
 pub mod dwell_keys;
 pub mod invariants;
+pub mod layout;
 pub mod lineage;
 pub mod manifest;
 pub mod output;
+pub mod recognise;
 pub mod rows;
 pub mod run_sink;
 pub mod rundir;
@@ -386,7 +390,7 @@ fn check_chunk_ranges(md: &parquet::file::metadata::ParquetMetaData, path: &Path
 
 /// The files of one table in a run directory, in run order (`TABLE/run-0000.parquet`, …).
 pub fn table_files(run_dir: &Path, table: &str) -> Result<Vec<PathBuf>, StoreError> {
-    let dir = run_dir.join(table);
+    let dir = layout::RunDir::new(run_dir).table_dir(table);
     let rd = std::fs::read_dir(&dir).map_err(|_| StoreError::Missing { path: dir.clone() })?;
     let mut files: Vec<PathBuf> = rd
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -411,7 +415,7 @@ pub fn read_table_dir<R: TableRow>(run_dir: &Path, table: &str) -> Result<Vec<R>
     Ok(out)
 }
 
-/// File name of run `k`'s file of a table: `run-0000.parquet`.
+/// File name of run `k`'s file of a table: `run-0000.parquet` (paths: [`layout::RunDir`]).
 pub fn run_file_name(run: u32) -> String {
     format!("run-{run:04}.parquet")
 }

@@ -8,11 +8,13 @@
 //! or a panic) or the process is interrupted, the staging directory is removed: a failed step
 //! leaves nothing that looks like a run.
 
-use crate::manifest::{MANIFEST_FILE, Manifest, TableFile};
+use crate::StoreError;
+use crate::io_err;
+use crate::layout::RunDir;
+use crate::manifest::{Manifest, TableFile};
 use crate::output::{self, OutputLock};
 use crate::rows::TableRow;
 use crate::table_writer::TableWriter;
-use crate::{StoreError, io_err, run_file_name};
 use std::path::{Path, PathBuf};
 
 /// A run directory being written.
@@ -24,6 +26,9 @@ pub struct RunDirWriter {
     finished: bool,
     // Dropped after `Drop::drop` has removed an unfinished staging directory.
     _lock: OutputLock,
+    // The score lock of the run being replaced (`RUN/.score.lock`): no scorer reads it while it
+    // is replaced, and it is not replaced while a scorer reads it.
+    _score_lock: Option<OutputLock>,
 }
 
 fn staging_for(target: &Path, what: &str) -> Result<PathBuf, StoreError> {
@@ -54,12 +59,20 @@ impl RunDirWriter {
     /// and is not replaceable ([`output::check_replaceable`]), remove stale staging.
     pub fn create(target: &Path, force: bool) -> Result<RunDirWriter, StoreError> {
         let lock = OutputLock::acquire(target)?;
-        output::check_replaceable(target, force)?;
+        let replacing = output::check_replaceable(target, force)?;
+        let score_lock = if replacing { Some(OutputLock::acquire(RunDir::new(target).score().root())?) } else { None };
         output::remove_stale(target)?;
         let staging = staging_for(target, "partial")?;
         output::register(&staging);
         std::fs::create_dir_all(&staging).map_err(io_err(&staging))?;
-        Ok(RunDirWriter { target: target.to_path_buf(), staging, force, finished: false, _lock: lock })
+        Ok(RunDirWriter {
+            target: target.to_path_buf(),
+            staging,
+            force,
+            finished: false,
+            _lock: lock,
+            _score_lock: score_lock,
+        })
     }
 
     /// The final path.
@@ -76,12 +89,12 @@ impl RunDirWriter {
     /// directory created in the staging directory.
     fn run_table_path(&self, table: &str, run: u32) -> Result<String, StoreError> {
         // Not `create_dir_all`: a staging directory removed on interrupt is not re-created.
-        let dir = self.staging.join(table);
+        let dir = RunDir::new(&self.staging).table_dir(table);
         match std::fs::create_dir(&dir) {
             Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(io_err(&dir)(e)),
             _ => {}
         }
-        Ok(format!("{table}/{}", run_file_name(run)))
+        Ok(RunDir::table_file_rel(table, run))
     }
 
     /// Start run `run`'s file of a table, to be written as its rows come
@@ -102,8 +115,8 @@ impl RunDirWriter {
 
     /// Write the manifest and publish the directory.
     pub fn finish(mut self, manifest: &Manifest) -> Result<PathBuf, StoreError> {
-        let mpath = self.staging.join(MANIFEST_FILE);
-        let tmp = self.staging.join(".manifest.json.tmp");
+        let mpath = RunDir::new(&self.staging).manifest();
+        let tmp = output::sibling(&mpath, "tmp")?;
         std::fs::write(&tmp, manifest.to_json()).map_err(io_err(&tmp))?;
         std::fs::rename(&tmp, &mpath).map_err(io_err(&mpath))?;
         // Checked again: something may have appeared at the target while the run was written.
@@ -128,7 +141,17 @@ impl Drop for RunDirWriter {
 /// left beside it by killed processes is removed first. Returns whether an old directory was
 /// replaced.
 pub fn replace_dir<E: From<StoreError>>(target: &Path, build: impl FnOnce(&Path) -> Result<(), E>) -> Result<bool, E> {
-    let _lock = OutputLock::acquire(target)?;
+    let lock = OutputLock::acquire(target)?;
+    replace_dir_locked(target, &lock, build)
+}
+
+/// [`replace_dir`] under a lock on `target` the caller took before its work began (so that a
+/// second writer of the same directory fails at once, not after its work).
+pub fn replace_dir_locked<E: From<StoreError>>(
+    target: &Path,
+    _lock: &OutputLock,
+    build: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<bool, E> {
     output::remove_stale(target)?;
     let staging = staging_for(target, "partial")?;
     output::register(&staging);

@@ -11,6 +11,7 @@ use crate::tables::ResultRow;
 use mimo_store::StoreError;
 use mimo_store::challenge_schema::{STUDY_CHALLENGE, STUDY_CHALLENGE_RATIOS};
 use mimo_store::columns::{Column, write_columns};
+use mimo_store::layout::StudyDir;
 use std::path::Path;
 
 /// A family on one scenario at one stress point, with its figures.
@@ -174,7 +175,7 @@ pub fn write_challenge(
     }
     cols.push(Column::U32(rows.iter().map(|_| RESAMPLES as u32).collect()));
     cols.push(Column::U32(rows.iter().map(|r| r.challenge.resamples_crossing).collect()));
-    write_columns(&dir.join("challenge.parquet"), &STUDY_CHALLENGE, cols)?;
+    write_columns(&StudyDir::new(dir).table(&STUDY_CHALLENGE), &STUDY_CHALLENGE, cols)?;
 
     let mut cols = place_columns(plan, cells, &ratios.iter().map(|r| rows[r.mimo].cell).collect::<Vec<_>>());
     cols.push(Column::Utf8(ratios.iter().map(|r| Some(rows[r.mimo].family.clone())).collect()));
@@ -185,6 +186,6 @@ pub fn write_challenge(
     cols.push(Column::Utf8(ratios.iter().map(|r| r.ratio.as_ref().err().cloned()).collect()));
     cols.push(Column::U32(ratios.iter().map(|_| RESAMPLES as u32).collect()));
     cols.push(Column::U32(ratios.iter().map(|r| r.defined).collect()));
-    write_columns(&dir.join("challenge_ratios.parquet"), &STUDY_CHALLENGE_RATIOS, cols)?;
+    write_columns(&StudyDir::new(dir).table(&STUDY_CHALLENGE_RATIOS), &STUDY_CHALLENGE_RATIOS, cols)?;
     Ok(())
 }

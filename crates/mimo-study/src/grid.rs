@@ -79,6 +79,9 @@ pub fn cells(plan: &Plan) -> Vec<Cell> {
     out
 }
 
+/// Most bytes in one file or directory name on common file systems (ext4, XFS, APFS, NTFS).
+pub const NAME_MAX_BYTES: usize = 255;
+
 impl Cell {
     /// The cell's directory under the study's `runs/`, hive style:
     /// `method=NAME/scenario=S/axis=value/…`.
@@ -94,6 +97,32 @@ impl Cell {
             p.push(format!("{}={}", axis.name(), value_text(*v)));
         }
         p
+    }
+
+    /// Check that every part of the cell's directory name fits a file system's name limit
+    /// (255 bytes), before anything is written: the error names the plan key that made the part
+    /// too long (`methods[i].name`, `scenarios[i]`, or the axes).
+    pub fn check_rel_dir(&self, plan: &Plan) -> Result<(), crate::plan::PlanError> {
+        for (i, part) in self.rel_dir(plan).iter().enumerate() {
+            let len = part.len();
+            if len > NAME_MAX_BYTES {
+                let key = match i {
+                    0 => format!("methods[{}].name", self.method),
+                    1 => format!("scenarios[{}]", self.scenario),
+                    _ => "axes".to_string(),
+                };
+                return Err(crate::plan::PlanError {
+                    file: plan.file.display().to_string(),
+                    key,
+                    expected: format!(
+                        "a value that names a directory of at most {NAME_MAX_BYTES} bytes (each cell's \
+                         `{}…` directory), got {len} bytes",
+                        part.to_string_lossy().chars().take(24).collect::<String>()
+                    ),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// The value of an axis at this cell, if the plan has the axis.

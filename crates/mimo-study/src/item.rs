@@ -9,9 +9,10 @@ use crate::record::{ItemCosts, ItemRecord, RecordError, record_path};
 use mimo_core::records::{DwellRow, Requester, Role, RunTables};
 use mimo_metrics::{MetricsError, Score, ScoreInput, ScoreOptions};
 use mimo_sim::World;
+use mimo_store::layout::RunDir;
 use mimo_store::manifest::TableFile;
 use mimo_store::schema::STUDY_METRICS;
-use mimo_store::{StoreError, run_file_name, write_table};
+use mimo_store::{StoreError, write_table};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -42,8 +43,8 @@ fn write_tables(
 ) -> Result<BTreeMap<String, TableFile>, StoreError> {
     let mut out = BTreeMap::new();
     for name in &plan.tables {
-        let rel = format!("{name}/{}", run_file_name(run));
-        let path = cell_dir.join(&rel);
+        let rel = RunDir::table_file_rel(name, run);
+        let path = RunDir::new(cell_dir).table_file(name, run);
         let rows = match name.as_str() {
             "truth" => write_table(&path, &t.truth)?,
             "dwells" => write_table(&path, &t.dwells)?,
@@ -60,7 +61,7 @@ fn write_tables(
 
 /// Score one run from its files.
 pub fn score_run(world: &World, cell_dir: &Path, run: u32) -> Result<Score, MetricsError> {
-    let file = |t: &str| vec![cell_dir.join(t).join(run_file_name(run))];
+    let file = |t: &str| vec![RunDir::new(cell_dir).table_file(t, run)];
     let ships = world.scenario.ships.clone();
     let input = ScoreInput {
         truth: file("truth"),

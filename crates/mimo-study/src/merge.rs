@@ -12,7 +12,8 @@ use crate::runner::StudyError;
 use crate::status::missing_by_shard;
 use crate::tables::{ResultRow, summarize, write_results, write_summary};
 use mimo_store::StoreError;
-use mimo_store::manifest::{MANIFEST_FILE, Manifest, ScenarioInfo, TableFile, TrackerInfo};
+use mimo_store::layout::{RunDir, StudyDir};
+use mimo_store::manifest::{Manifest, ScenarioInfo, TableFile, TrackerInfo};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -134,7 +135,7 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
         manifests.push(cell_manifest(plan, prep, c, files)?.to_json());
     }
     for (dir, m) in dirs.iter().zip(manifests) {
-        write_atomic(&dir.join(MANIFEST_FILE), &m)?;
+        write_atomic(&RunDir::new(dir).manifest(), &m)?;
     }
     write_results(plan, &prep.cells, &rows, out)?;
     let summaries = summarize(&rows);
@@ -143,13 +144,13 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
     let ratios = ratio_rows(plan, &prep.cells, &families);
     write_challenge(plan, &prep.cells, &families, &ratios, out)?;
     let charts = crate::charts::study_charts(plan, &prep.cells, &summaries, &families);
-    mimo_store::rundir::replace_dir(&out.join("charts"), |d: &Path| -> Result<(), StudyError> {
+    mimo_store::rundir::replace_dir(&StudyDir::new(out).charts(), |d: &Path| -> Result<(), StudyError> {
         mimo_report::study::render_study(&charts, d).map_err(|e| StudyError::Report(e.to_string()))?;
         Ok(())
     })?;
     let challenge = crate::challenge_report::Challenge { families: &families, ratios: &ratios };
     let report = crate::report::report_md(plan, &prep.cells, &summaries, &rows, &challenge, &charts);
-    write_atomic(&out.join("report.md"), &report)?;
+    write_atomic(&StudyDir::new(out).report(), &report)?;
     let failed = summaries.iter().map(|s| s.failed as usize).sum();
     Ok(Merged { items: rows.iter().map(Vec::len).sum(), failed })
 }

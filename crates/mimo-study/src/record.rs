@@ -76,7 +76,7 @@ pub enum RecordError {
 
 /// The record's path for run `run` of the cell directory `cell_dir`.
 pub fn record_path(cell_dir: &Path, run: u32) -> PathBuf {
-    cell_dir.join(".items").join(format!("run-{run:04}.json"))
+    mimo_store::layout::RunDir::new(cell_dir).item_record(run)
 }
 
 impl ItemRecord {

@@ -12,6 +12,7 @@ use crate::record::{RecordError, record_path};
 use crate::shard_log::ShardState;
 use crate::study_dir::{Access, DirError, StudyMark, open};
 use mimo_store::StoreError;
+use mimo_store::layout::StudyDir;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -107,7 +108,8 @@ impl StudyError {
 
 /// The cell directories, in cell order.
 pub fn cell_dirs(plan: &Plan, cells: &[Cell], out: &Path) -> Vec<PathBuf> {
-    cells.iter().map(|c| out.join("runs").join(c.rel_dir(plan))).collect()
+    let study = StudyDir::new(out);
+    cells.iter().map(|c| study.cell(&c.rel_dir(plan)).root().to_path_buf()).collect()
 }
 
 /// Run `todo` on `threads` worker threads; the number of items whose method failed, or the
@@ -175,6 +177,10 @@ pub fn run_study(
         plan_file: plan.file.display().to_string(),
         plan: plan_text.to_string(),
     };
+    // Every cell's directory name fits the file system, checked before anything is written.
+    for c in &prep.cells {
+        c.check_rel_dir(plan)?;
+    }
     let shared = opts.resume || opts.shard.is_some() || opts.init;
     open(&opts.out, &mark, Access { resume: shared, force: opts.force, merge: opts.merge })?;
     let dirs = cell_dirs(plan, &prep.cells, &opts.out);
@@ -214,5 +220,5 @@ pub fn run_study(
 }
 
 fn shard_io(out: &Path, source: std::io::Error) -> StudyError {
-    StudyError::Store(StoreError::Io { path: out.join(crate::shard_log::SHARDS_DIR), source })
+    StudyError::Store(StoreError::Io { path: StudyDir::new(out).shards(), source })
 }

@@ -5,11 +5,9 @@
 //! is done is what has an item record (`crate::record`).
 
 use crate::grid::Shard;
+use mimo_store::layout::StudyDir;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-
-/// The folder of the shard files.
-pub const SHARDS_DIR: &str = "shards";
 
 /// One shard's last known state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -51,7 +49,7 @@ pub fn host_name() -> String {
 
 /// The file of shard `s` in the study directory `out`.
 pub fn shard_path(out: &Path, s: Shard) -> PathBuf {
-    out.join(SHARDS_DIR).join(format!("shard-{}-of-{}.json", s.k, s.n))
+    StudyDir::new(out).shards().join(format!("shard-{}-of-{}.json", s.k, s.n))
 }
 
 impl ShardState {
@@ -86,7 +84,7 @@ impl ShardState {
 /// Every readable shard file of the study `out` (files that do not parse are skipped: they are
 /// informative only).
 pub fn read_all(out: &Path) -> Vec<ShardState> {
-    let Ok(entries) = std::fs::read_dir(out.join(SHARDS_DIR)) else { return Vec::new() };
+    let Ok(entries) = std::fs::read_dir(StudyDir::new(out).shards()) else { return Vec::new() };
     let mut all: Vec<ShardState> = entries
         .filter_map(|e| e.ok())
         .filter(|e| e.file_name().to_string_lossy().ends_with(".json"))
@@ -118,7 +116,7 @@ mod tests {
         b.stopped_unix_s = Some(260);
         b.ran = 5;
         b.write(tmp.path()).expect("write");
-        std::fs::write(tmp.path().join(SHARDS_DIR).join("junk.json"), "{").expect("junk");
+        std::fs::write(StudyDir::new(tmp.path()).shards().join("junk.json"), "{").expect("junk");
         let all = read_all(tmp.path());
         assert_eq!(all, vec![b.clone(), a]);
         assert_eq!(latest_n(&all), Some(3));

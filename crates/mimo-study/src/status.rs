@@ -9,6 +9,7 @@ use crate::record::{ItemRecord, record_path};
 use crate::runner::{StudyError, cell_dirs};
 use crate::shard_log::{ShardState, latest_n, read_all};
 use crate::study_dir::{DirError, read_mark};
+use mimo_store::layout::StudyDir;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -87,7 +88,7 @@ pub fn study_status(plan: &Plan, plan_text: &str, out: &Path) -> Result<StudySta
         if let Some(r) = ItemRecord::read(&record_path(dir, run))? {
             *done = true;
             if let Some(why) = r.failure {
-                let cell = dir.strip_prefix(out.join("runs")).unwrap_or(dir).display().to_string();
+                let cell = dir.strip_prefix(StudyDir::new(out).runs()).unwrap_or(dir).display().to_string();
                 failures.push(MethodFailure { cell, run, why });
             }
         }
@@ -110,7 +111,7 @@ pub fn study_status(plan: &Plan, plan_text: &str, out: &Path) -> Result<StudySta
         done: done_at.iter().filter(|d| **d).count(),
         shards,
         failures,
-        merged: out.join("results.parquet").is_file(),
+        merged: StudyDir::new(out).table(&mimo_store::schema::STUDY_RESULTS).is_file(),
     })
 }
 

@@ -15,11 +15,12 @@
 //! DIR/results.parquet, costs.parquet, summary.parquet, charts/, report.md   (after the merge)
 //! ```
 
+use mimo_store::layout::StudyDir;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// The mark file.
-pub const STUDY_FILE: &str = "study.json";
+pub use mimo_store::layout::STUDY_FILE;
 
 /// What `study.json` holds.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -74,7 +75,7 @@ fn refused(path: &Path, why: impl Into<String>) -> DirError {
 
 /// Read a directory's mark, if it has one.
 pub fn read_mark(dir: &Path) -> Result<Option<StudyMark>, DirError> {
-    let path = dir.join(STUDY_FILE);
+    let path = StudyDir::new(dir).mark();
     match std::fs::read_to_string(&path) {
         Ok(t) => serde_json::from_str(&t).map(Some).map_err(|e| refused(&path, format!("not a study mark ({e})"))),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
@@ -112,8 +113,9 @@ fn unique_suffix() -> String {
 fn claim(dir: &Path, mark: &StudyMark) -> Result<bool, DirError> {
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let json = serde_json::to_string_pretty(mark).map_err(|e| refused(dir, e.to_string()))? + "\n";
-    let path = dir.join(STUDY_FILE);
-    let tmp = dir.join(format!(".{STUDY_FILE}.tmp-{}", unique_suffix()));
+    let study = StudyDir::new(dir);
+    let path = study.mark();
+    let tmp = path.with_file_name(format!(".{STUDY_FILE}.tmp-{}", unique_suffix()));
     std::fs::write(&tmp, &json).map_err(io(&tmp))?;
     let linked = std::fs::hard_link(&tmp, &path);
     let _ = std::fs::remove_file(&tmp);
@@ -132,9 +134,9 @@ fn claim(dir: &Path, mark: &StudyMark) -> Result<bool, DirError> {
         },
     };
     if created {
-        std::fs::create_dir_all(dir.join("runs")).map_err(io(dir))?;
-        let plan = dir.join("plan.toml");
-        let tmp = dir.join(format!(".plan.toml.tmp-{}", unique_suffix()));
+        std::fs::create_dir_all(study.runs()).map_err(io(dir))?;
+        let plan = study.plan();
+        let tmp = plan.with_file_name(format!(".plan.toml.tmp-{}", unique_suffix()));
         std::fs::write(&tmp, &mark.plan).map_err(io(&tmp))?;
         std::fs::rename(&tmp, &plan).map_err(io(&plan))?;
     }
@@ -154,6 +156,23 @@ fn read_mark_settled(dir: &Path) -> Result<Option<StudyMark>, DirError> {
             other => return other,
         }
     }
+}
+
+/// Everything in the study directory `dir` (marked `found`) is what mimo wrote, recognised by
+/// content: its mark and plan copy, and below them only run directories' tables, records and
+/// manifests, shard logs, study tables, charts and the report ([`mimo_store::recognise`]).
+/// Anything else is refused, named, and left alone, even with `--force`.
+fn check_all_ours(dir: &Path, found: &StudyMark) -> Result<(), DirError> {
+    let study = StudyDir::new(dir);
+    let plan_copy = std::fs::read_to_string(study.plan()).is_ok_and(|t| t == found.plan);
+    let report = std::fs::read_to_string(study.report()).is_ok_and(|t| t.starts_with("# "));
+    let ours =
+        |p: &Path| (p == study.plan() && plan_copy) || (p == study.report() && report) || p == study.mark().as_path();
+    let foreign = mimo_store::recognise::foreign_in_tree(dir, &ours).map_err(|e| match e {
+        mimo_store::StoreError::Io { path, source } => DirError::Io { path, source },
+        e => refused(dir, e.to_string()),
+    })?;
+    if foreign.is_empty() { Ok(()) } else { Err(refused(dir, mimo_store::recognise::foreign_why(&foreign, "--force"))) }
 }
 
 /// Make `dir` ready for the study `mark` under `access`. Returns whether it was created (or
@@ -179,6 +198,7 @@ pub fn open(dir: &Path, mark: &StudyMark, access: Access) -> Result<bool, DirErr
         return Ok(false);
     }
     if access.force && !access.merge {
+        check_all_ours(dir, &found)?;
         let old = dir.with_file_name(format!(
             ".{}.old-{}",
             dir.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default(),

@@ -10,6 +10,7 @@ use crate::plan::{Axis, Plan};
 use crate::record::{ItemCosts, ItemRecord};
 use mimo_store::StoreError;
 use mimo_store::columns::{Column, write_columns};
+use mimo_store::layout::StudyDir;
 use mimo_store::schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY};
 use std::path::Path;
 
@@ -135,7 +136,7 @@ pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], di
         results.push(Column::F64(rows.iter().map(|(_, r)| r.metrics[k]).collect()));
     }
     results.push(Column::Utf8(rows.iter().map(|(_, r)| r.failure.clone()).collect()));
-    write_columns(&dir.join("results.parquet"), &STUDY_RESULTS, results)?;
+    write_columns(&StudyDir::new(dir).table(&STUDY_RESULTS), &STUDY_RESULTS, results)?;
 
     let mut costs = id_columns(plan, cells, &cell_of);
     costs.push(run);
@@ -147,7 +148,7 @@ pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], di
     costs.push(f(|r| r.costs.wall_s));
     costs.push(Column::F64(rows.iter().map(|(_, r)| r.costs.kf_cycle_s).collect()));
     costs.push(Column::F64(rows.iter().map(|(_, r)| r.costs.ta_cpu_kfu()).collect()));
-    write_columns(&dir.join("costs.parquet"), &STUDY_COSTS, costs)?;
+    write_columns(&StudyDir::new(dir).table(&STUDY_COSTS), &STUDY_COSTS, costs)?;
     Ok(())
 }
 
@@ -163,6 +164,6 @@ pub fn write_summary(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], dir
         cols.push(Column::F64(summaries.iter().map(|s| s.estimates[k].1).collect()));
         cols.push(Column::F64(summaries.iter().map(|s| s.estimates[k].2).collect()));
     }
-    write_columns(&dir.join("summary.parquet"), &STUDY_SUMMARY, cols)?;
+    write_columns(&StudyDir::new(dir).table(&STUDY_SUMMARY), &STUDY_SUMMARY, cols)?;
     Ok(())
 }

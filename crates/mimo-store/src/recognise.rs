@@ -1,0 +1,246 @@
+//! What mimo wrote, recognised by content (docs/design.md §7): `--force` replaces only outputs
+//! that pass these checks, and refuses, naming them, anything else found inside.
+//!
+//! * A **run directory**: its `manifest.json` parses as a [`Manifest`]; inside it, only the
+//!   manifest, the table files the manifest lists, a score directory (below), a study cell's item
+//!   records (JSON) and mimo's own hidden lock and staging entries.
+//! * A **score directory**: `summary.json` a JSON object with the summary's `challenge` and
+//!   `usage`, Parquet files whose metadata names a mimo table, and `charts/` holding only PNG and
+//!   SVG images.
+//! * A **page `mimo plot` wrote**: it carries [`PLOT_MARK`] in its head.
+//! * An **image `scenarios --map` wrote**: a PNG with a `tEXt` chunk, or an SVG opening with a
+//!   comment, holding [`MAP_MARK`] ([`mark_image`]).
+//!
+//! A file name alone never makes something mimo's: a web project's `manifest.json` is not a
+//! mimo manifest, and a user's `notes.txt` inside a run is not a table.
+
+use crate::layout::{RunDir, ScoreDir};
+use crate::manifest::{MANIFEST_FILE, Manifest};
+use crate::{StoreError, io_err};
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+/// The marker in the head of every page `mimo plot` writes.
+pub const PLOT_MARK: &str = r#"<meta name="generator" content="mimo plot">"#;
+/// The text marking a map `mimo scenarios --map` drew.
+pub const MAP_MARK: &str = "mimo scenarios --map";
+
+/// Most entries named in a refusal.
+const NAMED: usize = 5;
+
+/// The first `n` bytes of a file (fewer if it is shorter); empty if it cannot be read.
+fn head(path: &Path, n: usize) -> Vec<u8> {
+    let mut buf = Vec::with_capacity(n);
+    if let Ok(f) = std::fs::File::open(path) {
+        let _ = f.take(n as u64).read_to_end(&mut buf);
+    }
+    buf
+}
+
+fn contains(hay: &[u8], needle: &[u8]) -> bool {
+    hay.windows(needle.len()).any(|w| w == needle)
+}
+
+/// Whether `path` is a Parquet file whose metadata names a mimo table.
+pub fn is_mimo_parquet(path: &Path) -> bool {
+    let Ok(file) = std::fs::File::open(path) else { return false };
+    match parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(file) {
+        Ok(b) => b.schema().metadata().contains_key(crate::schema::META_TABLE),
+        Err(_) => false,
+    }
+}
+
+/// Whether `path` is a PNG or an SVG image (a chart).
+fn is_image(path: &Path) -> bool {
+    let h = head(path, 256);
+    let svg = (h.starts_with(b"<svg") || h.starts_with(b"<?xml")) && contains(&h, b"<svg");
+    h.starts_with(b"\x89PNG\r\n\x1a\n") || svg
+}
+
+/// Whether `path` holds a JSON document.
+fn is_json(path: &Path) -> bool {
+    std::fs::read(path).is_ok_and(|b| serde_json::from_slice::<serde_json::Value>(&b).is_ok())
+}
+
+/// Whether `path` is a page `mimo plot` wrote.
+pub fn is_plot_page(path: &Path) -> bool {
+    contains(&head(path, 4096), PLOT_MARK.as_bytes())
+}
+
+/// Whether `path` is an image `mimo scenarios --map` drew ([`mark_image`]).
+pub fn is_map_image(path: &Path) -> bool {
+    contains(&head(path, 512), MAP_MARK.as_bytes())
+}
+
+/// CRC-32 (ISO-HDLC) of PNG chunks.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xffff_ffffu32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 == 1 { 0xedb8_8320 ^ (c >> 1) } else { c >> 1 };
+        }
+    }
+    !c
+}
+
+/// Mark a drawn map as mimo's: a `tEXt` chunk (`Software`) after a PNG's header chunk, or a
+/// comment before an SVG's root element, holding [`MAP_MARK`].
+pub fn mark_image(path: &Path) -> Result<(), StoreError> {
+    let write_err = |e: std::io::Error| StoreError::Write { path: path.to_path_buf(), why: e.to_string() };
+    let bytes = std::fs::read(path).map_err(write_err)?;
+    // Signature (8 bytes), then the IHDR chunk: length 13, type, data, CRC (25 bytes).
+    let marked = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 33 {
+        let data = [b"Software\0".as_slice(), MAP_MARK.as_bytes()].concat();
+        let mut chunk = Vec::with_capacity(data.len() + 12);
+        chunk.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let typed = [b"tEXt".as_slice(), &data].concat();
+        chunk.extend_from_slice(&typed);
+        chunk.extend_from_slice(&crc32(&typed).to_be_bytes());
+        [&bytes[..33], &chunk, &bytes[33..]].concat()
+    } else {
+        [format!("<!-- {MAP_MARK} -->\n").as_bytes(), &bytes].concat()
+    };
+    std::fs::write(path, marked).map_err(write_err)
+}
+
+/// Whether `name` is mimo's own hidden lock, staging or temporary entry (`.score.lock`,
+/// `.score.partial-PID`, `.score.old-PID`, `.run-0000.parquet.tmp`): what an interrupted writer
+/// leaves for the next one to remove.
+fn is_own_hidden(name: &str) -> bool {
+    let Some(rest) = name.strip_prefix('.') else { return false };
+    rest.ends_with(".lock")
+        || rest.ends_with(".tmp")
+        || rest.contains(".tmp-")
+        || rest.contains(".partial-")
+        || rest.contains(".old-")
+}
+
+/// The files below `dir` mimo did not write: every file must be mimo's own hidden entry, a
+/// Parquet file of a mimo table, a JSON document (a manifest, a record, a log), a chart image,
+/// or one the caller recognises (`ours`). Used inside a directory already recognised as mimo's
+/// (a study, by its mark).
+pub fn foreign_in_tree(dir: &Path, ours: &dyn Fn(&Path) -> bool) -> Result<Vec<PathBuf>, StoreError> {
+    let mut foreign = Vec::new();
+    for (name, path) in entries(dir)? {
+        let meta = std::fs::symlink_metadata(&path).map_err(io_err(&path))?;
+        if meta.is_dir() {
+            foreign.extend(foreign_in_tree(&path, ours)?);
+        } else if !(meta.is_file()
+            && (ours(&path) || is_own_hidden(&name) || is_mimo_parquet(&path) || is_json(&path) || is_image(&path)))
+        {
+            foreign.push(path);
+        }
+    }
+    Ok(foreign)
+}
+
+fn entries(dir: &Path) -> Result<Vec<(String, PathBuf)>, StoreError> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).map_err(io_err(dir))? {
+        let e = e.map_err(io_err(dir))?;
+        out.push((e.file_name().to_string_lossy().to_string(), e.path()));
+    }
+    out.sort();
+    Ok(out)
+}
+
+/// The entries of a score directory mimo did not write (all of it if it is not a score
+/// directory at all).
+pub fn foreign_in_score_dir(dir: &ScoreDir) -> Result<Vec<PathBuf>, StoreError> {
+    let mut foreign = Vec::new();
+    for (name, path) in entries(dir.root())? {
+        let ours = if path == dir.summary() {
+            std::fs::read(&path)
+                .ok()
+                .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+                .is_some_and(|v| v.get("challenge").is_some() && v.get("usage").is_some())
+        } else if path == dir.charts() && path.is_dir() {
+            let inside = entries(&path)?;
+            foreign.extend(inside.into_iter().filter(|(_, p)| !(p.is_file() && is_image(p))).map(|(_, p)| p));
+            true
+        } else {
+            is_own_hidden(&name) || (path.is_file() && is_mimo_parquet(&path))
+        };
+        if !ours {
+            foreign.push(path);
+        }
+    }
+    Ok(foreign)
+}
+
+/// The entries of a run directory mimo did not write, given its manifest.
+pub fn foreign_in_run_dir(dir: &Path, m: &Manifest) -> Result<Vec<PathBuf>, StoreError> {
+    let run = RunDir::new(dir);
+    let mut foreign = Vec::new();
+    for (name, path) in entries(dir)? {
+        if name == MANIFEST_FILE || is_own_hidden(&name) {
+            continue;
+        }
+        if path == run.score().root() && path.is_dir() {
+            foreign.extend(foreign_in_score_dir(&run.score())?);
+        } else if let Some(files) = m.tables.get(&name).filter(|_| path.is_dir()) {
+            for (file, p) in entries(&path)? {
+                if !files.iter().any(|f| f.file == format!("{name}/{file}")) {
+                    foreign.push(p);
+                }
+            }
+        } else if name == ".items" && path.is_dir() {
+            foreign.extend(entries(&path)?.into_iter().filter(|(_, p)| !is_json(p)).map(|(_, p)| p));
+        } else {
+            foreign.push(path);
+        }
+    }
+    Ok(foreign)
+}
+
+/// Why a directory holding `foreign` entries is refused: every one named (up to a few).
+pub fn foreign_why(foreign: &[PathBuf], what: &str) -> String {
+    let mut names: Vec<String> = foreign.iter().take(NAMED).map(|p| p.display().to_string()).collect();
+    if foreign.len() > NAMED {
+        names.push(format!("and {} more", foreign.len() - NAMED));
+    }
+    format!(
+        "holds files mimo did not write ({}); {what} replaces only what mimo wrote: move them out first",
+        names.join(", ")
+    )
+}
+
+/// The refusal for `target` holding `foreign` entries.
+pub fn refuse_foreign(target: &Path, foreign: &[PathBuf], what: &str) -> StoreError {
+    StoreError::Refused { path: target.to_path_buf(), why: foreign_why(foreign, what) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc_of_a_known_chunk() {
+        // The IEND chunk's CRC, fixed by the PNG specification.
+        assert_eq!(crc32(b"IEND"), 0xae42_6082);
+    }
+
+    #[test]
+    fn marked_images_are_recognised_and_others_are_not() {
+        let tmp = tempfile::tempdir().expect("tmp");
+        let png = tmp.path().join("m.png");
+        let mut bytes = b"\x89PNG\r\n\x1a\n".to_vec();
+        bytes.extend_from_slice(&[0, 0, 0, 13]);
+        bytes.extend_from_slice(b"IHDR");
+        bytes.extend_from_slice(&[0; 17]);
+        bytes.extend_from_slice(b"rest");
+        std::fs::write(&png, &bytes).expect("write");
+        assert!(!is_map_image(&png) && is_image(&png));
+        mark_image(&png).expect("mark");
+        let marked = std::fs::read(&png).expect("read");
+        assert!(is_map_image(&png) && marked.starts_with(&bytes[..33]) && marked.ends_with(b"rest"));
+        let svg = tmp.path().join("m.svg");
+        std::fs::write(&svg, "<svg></svg>").expect("write");
+        mark_image(&svg).expect("mark");
+        assert!(is_map_image(&svg));
+        let page = tmp.path().join("p.html");
+        std::fs::write(&page, format!("<html><head>{PLOT_MARK}</head></html>")).expect("write");
+        assert!(is_plot_page(&page) && !is_plot_page(&svg));
+    }
+}
