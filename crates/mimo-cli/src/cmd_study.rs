@@ -1,6 +1,7 @@
 //! `mimo study`.
 
 use crate::CliError;
+use mimo_store::layout::StudyDir;
 use mimo_study::grid::Shard;
 use mimo_study::{Options, Outcome, Plan, StudyError, run_study};
 use std::path::PathBuf;
@@ -105,7 +106,7 @@ fn say(a: &Args, shard: Option<Shard>, o: &Outcome, wall_s: f64) {
             m.items,
             o.cells,
             m.failed,
-            a.out.join("report.md").display()
+            StudyDir::new(&a.out).report().display()
         ),
         (Some(s), _) => {
             crate::outln!(
@@ -128,7 +129,7 @@ fn say(a: &Args, shard: Option<Shard>, o: &Outcome, wall_s: f64) {
                 o.skipped,
                 o.failed
             );
-            crate::outln!("results, summary, charts and report -> {}", a.out.join("report.md").display());
+            crate::outln!("results, summary, charts and report -> {}", StudyDir::new(&a.out).report().display());
         }
     }
 }

@@ -67,8 +67,12 @@ fn many_short_runs_interrupted_exit_130_and_leave_nothing() {
         let d = tmp.path();
         let mut child =
             spawn(d, &["simulate", "--scenario", "7", "--runs", "500", "--duration", "30", "--out", "o", "--quiet"]);
-        let staging = d.join(format!(".o.partial-{}", child.id()));
-        assert!(wait_for(&mut child, || writing(&staging)), "{sig}: the simulation started writing");
+        // Interrupted once dozens of runs are written: removing them takes long enough that the
+        // workers, finding their staging directory gone, fail while the handler is still at it
+        // (which once ended the command with "write failed" and status 1, leaving a
+        // `.o.partial-PID.removing` directory behind).
+        let tracks = d.join(format!(".o.partial-{}/tracks", child.id()));
+        assert!(wait_for(&mut child, || files_in(&tracks) >= 60), "{sig}: the simulation wrote 60 runs");
         let (code, err) = signal(child, sig);
         assert_eq!(code, Some(130), "{sig}: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{sig}: one line: {err}");
