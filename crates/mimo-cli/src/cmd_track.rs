@@ -128,11 +128,12 @@ impl Rerun<'_> {
     }
 }
 
+/// Files by table, in run order.
+type Tables = BTreeMap<String, Vec<TableFile>>;
+
 /// The re-runs' files by table (in run order), measurements delivered, and the tracker.
-fn gather(
-    results: Vec<Result<Reran, CliError>>,
-) -> Result<(BTreeMap<String, Vec<TableFile>>, u64, mimo_sim::TaInfo), CliError> {
-    let mut tables: BTreeMap<String, Vec<TableFile>> = BTreeMap::new();
+fn gather(results: Vec<Result<Reran, CliError>>) -> Result<(Tables, u64, mimo_sim::TaInfo), CliError> {
+    let mut tables = Tables::new();
     let mut n_meas = 0u64;
     let mut info = None;
     for r in results {
