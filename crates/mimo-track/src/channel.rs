@@ -153,6 +153,7 @@ impl MultiTargetTracker {
                 nis_count: 0,
             };
             self.tracks.insert(id, track);
+            self.initiation_power.insert(id, 10f64.powf(m.snr_db / 10.0));
             self.stats.initiated += 1;
             new_ids.push(id);
         }
