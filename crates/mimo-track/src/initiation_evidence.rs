@@ -1,4 +1,4 @@
-//! Evidence before a track is started (docs/model.md §6.4, "False-track management").
+//! Evidence before a track is started (docs/model.md §6.4, §7.7).
 //!
 //! A square-law detector's noise-only cell has power `|Σ|² ~ Exp(1)`, so a false alarm's power
 //! above the detection threshold `γ = −ln P_FA` is `γ` plus a fresh exponential: a detection of

@@ -17,10 +17,8 @@ fn gamma(pfa: f64) -> f64 {
 }
 
 fn tracker(false_tracks: FalseTrackConfig, sim: &Sim) -> MultiTargetTracker {
-    let mut cfg = TrackerConfig::default();
-    cfg.false_tracks = false_tracks;
-    cfg.confirmation = mimo_track::initiation::MOfN { m: 2, n: 2 };
-    MultiTargetTracker::new(cfg, sim.centre)
+    let confirmation = mimo_track::initiation::MOfN { m: 2, n: 2 };
+    MultiTargetTracker::new(TrackerConfig { false_tracks, confirmation, ..TrackerConfig::default() }, sim.centre)
 }
 
 /// A detection on R1's face 0 at `range` and direction (u, v), with observed power `power`.
