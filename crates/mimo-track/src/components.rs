@@ -6,7 +6,6 @@ use crate::deletion::Deleter;
 use crate::filter::{ImmFilter, SingleModelFilter, TrackFilter};
 use crate::gating::Gater;
 use crate::initiation::{Confirmer, Initiator, OnePointInitiator, TwoPointInitiator};
-use crate::initiation_evidence::EvidenceInitiator;
 use crate::jpda::JpdaAssociator;
 use crate::motion::{HorizontalTurn, KalmanPredictor, Ncv, Predictor, ProcessNoise};
 use crate::update::EkfUpdater;
@@ -71,11 +70,6 @@ impl Components {
         let initiator: Box<dyn Initiator> = match cfg.initiator {
             InitiatorConfig::OnePoint { velocity_std_mps } => Box::new(OnePointInitiator { velocity_std_mps }),
             InitiatorConfig::TwoPoint(c) => Box::new(TwoPointInitiator::new(c)),
-        };
-        let initiator: Box<dyn Initiator> = if cfg.false_tracks.power_pfa < 1.0 {
-            Box::new(EvidenceInitiator { config: cfg.false_tracks, inner: initiator })
-        } else {
-            initiator
         };
         Components {
             filter,

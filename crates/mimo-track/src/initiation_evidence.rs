@@ -3,23 +3,22 @@
 //! A square-law detector's noise-only cell has power `|Σ|² ~ Exp(1)`, so a false alarm's power
 //! above the detection threshold `γ = −ln P_FA` is `γ` plus a fresh exponential: a detection of
 //! power `s` is as unlikely under noise as a crossing of a threshold set for the false-alarm
-//! probability `e^{−s}`. [`EvidenceInitiator`] starts a tentative track (and so spends a
-//! confirmation dwell) only on a detection whose power would have crossed the threshold of a
-//! stricter false-alarm probability `power_pfa`: whatever the radar's own `P_FA` (raised near
+//! probability `e^{−s}`. [`FalseTrackConfig::admits`] lets a search detection start a tentative
+//! track (and so spend a confirmation dwell) only when its power would have crossed the threshold
+//! of a stricter false-alarm probability `power_pfa`: whatever the radar's own `P_FA` (raised near
 //! clutter edges, or by the stress axis), false alarms start tracks at about `power_pfa` per
 //! cell, while a real target, whose SW1 power is exponential with mean `1 + SNR`, passes with
 //! probability `exp(−(γ_ev − γ)/(1 + SNR))`. Weaker detections still update the tracks that gate
 //! them.
 
-use crate::initiation::{Initiation, Initiator};
-use crate::measurement::PreparedMeasurement;
+use mimo_core::records::DwellKind;
 use serde::{Deserialize, Serialize};
 
 /// False-track management settings (docs/model.md §6.4).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct FalseTrackConfig {
-    /// A detection starts a tentative track only when its observed power `s` (linear SNR of
+    /// A search detection starts a tentative track only when its observed power `s` (linear SNR of
     /// the measurement) satisfies `e^{−s} ≤ power_pfa`, i.e. `s ≥ −ln power_pfa`. Default 1 (off:
     /// every detection may start a track); the default test article uses 1e-8.
     pub power_pfa: f64,
@@ -41,26 +40,13 @@ impl FalseTrackConfig {
         -self.power_pfa.ln()
     }
 
-    /// Whether a detection with observed SNR `snr_db` carries enough evidence to start a track.
-    pub fn admits(&self, snr_db: f64) -> bool {
-        self.power_pfa >= 1.0 || 10f64.powf(snr_db / 10.0) >= self.min_power()
-    }
-}
-
-/// An initiator that passes to `inner` only detections that [`FalseTrackConfig::admits`].
-pub struct EvidenceInitiator {
-    /// The evidence rule.
-    pub config: FalseTrackConfig,
-    /// The initiator that builds the track.
-    pub inner: Box<dyn Initiator>,
-}
-
-impl Initiator for EvidenceInitiator {
-    fn initiate(&mut self, meas: &PreparedMeasurement) -> Option<Initiation> {
-        if !self.config.admits(meas.snr_db) {
-            return None;
-        }
-        self.inner.initiate(meas)
+    /// Whether a detection with observed SNR `snr_db` in a dwell of this kind carries enough
+    /// evidence to start a track. The rule applies to search dwells, whose window holds some
+    /// 15 000 cells per channel; an aimed dwell's window holds a hundred times fewer, so its
+    /// false alarms are as much rarer, and a second return in a beam aimed at a track is a
+    /// priori a target (a formation opening up), so it starts a track at the radar's threshold.
+    pub fn admits(&self, kind: DwellKind, snr_db: f64) -> bool {
+        self.power_pfa >= 1.0 || kind != DwellKind::Search || 10f64.powf(snr_db / 10.0) >= self.min_power()
     }
 }
 
@@ -83,8 +69,10 @@ mod tests {
         let c = FalseTrackConfig { power_pfa: 1e-8, ..FalseTrackConfig::default() };
         let s_min_db = 10.0 * (-(1e-8f64).ln()).log10();
         assert!((s_min_db - 12.653).abs() < 1e-3, "{s_min_db}");
-        assert!(c.admits(s_min_db + 1e-9) && !c.admits(s_min_db - 1e-3));
-        assert!(FalseTrackConfig::default().admits(-30.0));
+        let search = DwellKind::Search;
+        assert!(c.admits(search, s_min_db + 1e-9) && !c.admits(search, s_min_db - 1e-3));
+        assert!(c.admits(DwellKind::Track, s_min_db - 1.0), "aimed dwells initiate at the radar's threshold");
+        assert!(FalseTrackConfig::default().admits(search, -30.0));
     }
 
     #[test]
