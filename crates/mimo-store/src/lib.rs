@@ -22,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod challenge_schema;
+pub mod failure_point_schema;
 pub mod columns;
 pub mod dwell_keys;
 pub mod invariants;
