@@ -23,7 +23,12 @@ pub const STUDY_FAILURE_POINTS: TableSpec = TableSpec {
         STUDY_IDS[4],
         col("axis", Utf8, "", "the stress axis swept (rcs_offset_db, pfa, …)"),
         col("log_scale", Bool, "", "interpolated on log10 of the axis value (pfa)"),
-        col("least_stress_value", F64, "", "the sweep's least stressing value (the baseline in a plan that starts there)"),
+        col(
+            "least_stress_value",
+            F64,
+            "",
+            "the sweep's least stressing value (the baseline in a plan that starts there)",
+        ),
         col("most_stress_value", F64, "", "the sweep's most stressing value"),
         col("points", U32, "", "grid values of the sweep"),
         col("runs", U32, "", "Monte Carlo runs per grid value"),
@@ -37,7 +42,12 @@ pub const STUDY_FAILURE_POINTS: TableSpec = TableSpec {
              lies beyond the most stressing value); fails_at_baseline (fails already at the least stressing value)",
         ),
         col("crossings", U32, "", "times the sweep changes between holding and not, from the least stressing value"),
-        opt("failure_point", F64, "", "the interpolated axis value where the method fails; null unless status is crosses"),
+        opt(
+            "failure_point",
+            F64,
+            "",
+            "the interpolated axis value where the method fails; null unless status is crosses",
+        ),
         opt("ci_lo", F64, "", "numerically lower end of the 95 % bootstrap interval; null where it runs off the grid"),
         opt("ci_hi", F64, "", "numerically upper end of the 95 % bootstrap interval; null where it runs off the grid"),
         col(

@@ -22,9 +22,9 @@
 #![warn(missing_docs)]
 
 pub mod challenge_schema;
-pub mod failure_point_schema;
 pub mod columns;
 pub mod dwell_keys;
+pub mod failure_point_schema;
 pub mod invariants;
 pub mod lineage;
 pub mod manifest;

@@ -2,12 +2,12 @@
 //! `mimo_report::study`'s.
 
 use crate::challenge_table::FamilyRow;
+use crate::failure_point::numeric_interval;
+use crate::failure_table::FailureRow;
 use crate::grid::Cell;
 use crate::plan::Architecture;
 use crate::plan::Plan;
 use crate::tables::CellSummary;
-use crate::failure_point::numeric_interval;
-use crate::failure_table::FailureRow;
 use mimo_report::study::{Estimate, FamilyPoint, StudyAxis, StudyCell, StudyCharts, StudyFailure, StudyFamily};
 use mimo_store::schema::STUDY_METRICS;
 

@@ -159,8 +159,7 @@ pub fn failure_point(s: &SweepRuns, boot: &Resamples) -> FailurePoint {
     let all = |i: usize| (0..s.points[i].failed.len()).collect::<Vec<_>>();
     let means = s.means(&all);
     let point = failure(&means);
-    let reps: Vec<Replicate> =
-        (0..boot.count()).map(|b| failure(&s.means(&|i| boot.get(i, b))).replicate()).collect();
+    let reps: Vec<Replicate> = (0..boot.count()).map(|b| failure(&s.means(&|i| boot.get(i, b))).replicate()).collect();
     let end = |r: Replicate| match r {
         Replicate::Value(u) => End::Value(s.value_at(u)),
         Replicate::Below => End::BeforeGrid,
@@ -180,7 +179,10 @@ pub fn failure_point(s: &SweepRuns, boot: &Resamples) -> FailurePoint {
 
 /// An interval in axis units, as the tables give it: the numerically lower and upper ends
 /// (`None` where the end runs off the grid) and a word saying which ends are open.
-pub fn numeric_interval(interval: Option<(End, End)>, larger_is_harder: bool) -> (Option<f64>, Option<f64>, &'static str) {
+pub fn numeric_interval(
+    interval: Option<(End, End)>,
+    larger_is_harder: bool,
+) -> (Option<f64>, Option<f64>, &'static str) {
     let Some((a, b)) = interval else { return (None, None, "none") };
     // Stress order to numeric order: before the grid is below it when a larger value stresses more.
     let side = |e: End| match (e, larger_is_harder) {

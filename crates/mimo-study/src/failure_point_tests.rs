@@ -75,11 +75,7 @@ fn an_interval_that_runs_off_the_grid_is_open_there() {
     // between 2 and 3.
     let mut p2 = vec![Some(0.99); 10];
     p2[3] = Some(0.90);
-    let s = sweep(
-        &[1e-6, 1e-5, 1e-4, 1e-3],
-        true,
-        &[&[Some(1.0); 10], &[Some(0.999); 10], &p2, &[Some(0.5); 10]],
-    );
+    let s = sweep(&[1e-6, 1e-5, 1e-4, 1e-3], true, &[&[Some(1.0); 10], &[Some(0.999); 10], &p2, &[Some(0.5); 10]]);
     let f = failure_point(&s, &boot(10));
     assert_eq!(f.failure.status(), "crosses");
     let (lo, hi, word) = numeric_interval(f.interval, true);

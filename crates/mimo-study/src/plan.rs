@@ -420,8 +420,16 @@ search_pulses = [1, 2]
     #[test]
     fn toml_type_errors_name_the_line_the_key_path_and_the_expectation() {
         let cases: &[(&str, &str, &str)] = &[
-            ("runs = 2", "runs = \"2\"", "studies/x.toml:4:8: runs: expected a whole number of runs from 1 to 10000, got \"2\""),
-            ("runs = 2", "runs = 2.5", "studies/x.toml:4:8: runs: expected a whole number of runs from 1 to 10000, got 2.5"),
+            (
+                "runs = 2",
+                "runs = \"2\"",
+                "studies/x.toml:4:8: runs: expected a whole number of runs from 1 to 10000, got \"2\"",
+            ),
+            (
+                "runs = 2",
+                "runs = 2.5",
+                "studies/x.toml:4:8: runs: expected a whole number of runs from 1 to 10000, got 2.5",
+            ),
             (
                 "config = { resource_manager = { mimo = false } }",
                 "config = 3",
@@ -433,15 +441,31 @@ search_pulses = [1, 2]
                 "studies/x.toml:11:1: methods[1].tracker: unknown key (expected one of: name, ta, ta_cmd, config, sweep, \
                  architecture)",
             ),
-            ("pfa = [1e-6, 1e-5]", "pfa = [1e-6, \"x\"]", "studies/x.toml:17:14: axes.pfa[1]: expected a number, got \"x\""),
-            ("pfa = [1e-6, 1e-5]", "pfa = 1e-6", "studies/x.toml:17:7: axes.pfa: expected a non-empty list of numbers, got 1e-6"),
-            ("runs = 2", "runs = 2\nkeep_runs = \"yes\"", "studies/x.toml:5:13: keep_runs: expected true or false, got \"yes\""),
+            (
+                "pfa = [1e-6, 1e-5]",
+                "pfa = [1e-6, \"x\"]",
+                "studies/x.toml:17:14: axes.pfa[1]: expected a number, got \"x\"",
+            ),
+            (
+                "pfa = [1e-6, 1e-5]",
+                "pfa = 1e-6",
+                "studies/x.toml:17:7: axes.pfa: expected a non-empty list of numbers, got 1e-6",
+            ),
+            (
+                "runs = 2",
+                "runs = 2\nkeep_runs = \"yes\"",
+                "studies/x.toml:5:13: keep_runs: expected true or false, got \"yes\"",
+            ),
             (
                 "search_pulses = [1, 2]",
                 "search_pulses = [1, 2]\n[limits]\nmax_tracks = 1.5",
                 "studies/x.toml:20:14: limits.max_tracks: expected a whole number >= 1, got 1.5",
             ),
-            ("scenarios = [7, \"mine.toml\"]", "scenarios = 7", "studies/x.toml:3:13: scenarios: expected a non-empty list of scenario numbers or paths, got 7"),
+            (
+                "scenarios = [7, \"mine.toml\"]",
+                "scenarios = 7",
+                "studies/x.toml:3:13: scenarios: expected a non-empty list of scenario numbers or paths, got 7",
+            ),
         ];
         for (from, to, want) in cases {
             let text = GOOD.replacen(from, to, 1);

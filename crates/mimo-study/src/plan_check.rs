@@ -44,7 +44,9 @@ fn runs(ctx: &Ctx, raw: Option<i64>) -> Result<u32, PlanError> {
 fn duration_s(ctx: &Ctx, raw: Option<f64>) -> Result<Option<f64>, PlanError> {
     let max = mimo_scenario::MAX_DURATION_S;
     match raw {
-        Some(d) if !(d > 0.0 && d <= max) => Err(ctx.err("duration_s", format!("expected seconds in (0, {max}], got {d}"))),
+        Some(d) if !(d > 0.0 && d <= max) => {
+            Err(ctx.err("duration_s", format!("expected seconds in (0, {max}], got {d}")))
+        }
         d => Ok(d),
     }
 }
@@ -120,9 +122,7 @@ fn method_ta(ctx: &Ctx, p: &str, m: &RawMethod, overrides: &Value) -> Result<Met
         (None, Some(cmd)) if mimo_ta::process::split_command(cmd).is_some() => {
             Ok(MethodTa::Process { cmd: cmd.clone(), config: overrides.clone() })
         }
-        (None, Some(_)) => {
-            Err(ctx.err(format!("{p}.ta_cmd"), "expected a command line (not empty, quotes balanced)"))
-        }
+        (None, Some(_)) => Err(ctx.err(format!("{p}.ta_cmd"), "expected a command line (not empty, quotes balanced)")),
     }
 }
 
@@ -157,7 +157,8 @@ fn method(ctx: &Ctx, i: usize, m: RawMethod) -> Result<Vec<Method>, PlanError> {
 }
 
 fn methods(ctx: &Ctx, raw: Option<Vec<RawMethod>>) -> Result<Vec<Method>, PlanError> {
-    let raw = raw.filter(|a| !a.is_empty()).ok_or_else(|| ctx.err("methods", "expected at least one [[methods]] table"))?;
+    let raw =
+        raw.filter(|a| !a.is_empty()).ok_or_else(|| ctx.err("methods", "expected at least one [[methods]] table"))?;
     let entries = raw.into_iter().enumerate().map(|(i, m)| method(ctx, i, m)).collect::<Result<Vec<_>, _>>()?;
     // Entry names never hold '@', so distinct entries expand into distinct method names.
     for (i, m) in entries.iter().enumerate() {

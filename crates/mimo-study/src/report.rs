@@ -3,8 +3,8 @@
 //! each method fails under stress, and the summary table.
 
 use crate::challenge_report::{Challenge, challenge_md};
-use crate::failure_table::FailureRow;
 use crate::charts::COMPLETENESS_REQUIRED;
+use crate::failure_table::FailureRow;
 use crate::grid::Cell;
 use crate::paired::paired_rows;
 use crate::plan::{MethodTa, Plan, Sweep};
@@ -228,7 +228,12 @@ fn summary_md(s: &StudyFigures) -> String {
         .filter_map(|(c, s)| {
             let f = s.failure.as_ref()?;
             let (m, sc) = (&plan.methods[c.method].name, plan.scenarios[c.scenario].label());
-            Some(format!("- {m} / scenario {sc} / {}: {} of {} runs failed; the first: {f}", point_text(c), s.failed, s.runs))
+            Some(format!(
+                "- {m} / scenario {sc} / {}: {} of {} runs failed; the first: {f}",
+                point_text(c),
+                s.failed,
+                s.runs
+            ))
         })
         .collect();
     if !failures.is_empty() {

@@ -215,7 +215,13 @@ mod tests {
         }
     }
 
-    fn failure(method: &str, status: &str, value: Option<f64>, ci: (Option<f64>, Option<f64>), interval: &str) -> StudyFailure {
+    fn failure(
+        method: &str,
+        status: &str,
+        value: Option<f64>,
+        ci: (Option<f64>, Option<f64>),
+        interval: &str,
+    ) -> StudyFailure {
         StudyFailure {
             method: method.into(),
             scenario: "7".into(),
@@ -263,7 +269,10 @@ mod tests {
         // On a log axis the marks are on log10 of the value.
         let pfa = StudyAxis { name: "pfa".into(), label: "pfa".into(), values_by_stress: vec![1e-6, 1e-4], log: true };
         let f = failure("a", "crosses", Some(1e-5), (Some(1e-6), Some(1e-4)), "closed");
-        assert_eq!(mark(&f, &pfa, (-6.0, -4.0)), Some(Mark::At { x: -5.0, lo: Some((-6.0, true)), hi: Some((-4.0, true)) }));
+        assert_eq!(
+            mark(&f, &pfa, (-6.0, -4.0)),
+            Some(Mark::At { x: -5.0, lo: Some((-6.0, true)), hi: Some((-4.0, true)) })
+        );
         let dir = tempfile::tempdir().expect("tmp");
         let files = render_study(&charts, dir.path()).expect("render");
         assert_eq!(files.len(), 6, "{files:?}");
