@@ -92,7 +92,7 @@ fn limits(ctx: &Ctx, raw: Option<RawLimits>) -> Result<Limits, PlanError> {
     let mut limits = Limits::default();
     let Some(l) = raw else { return Ok(limits) };
     if let Some(x) = l.wall_s_per_run {
-        if !(x > 0.0) {
+        if !x.is_finite() || x <= 0.0 {
             return Err(ctx.err("limits.wall_s_per_run", "expected a positive number of seconds"));
         }
         limits.wall_s_per_run = x;
