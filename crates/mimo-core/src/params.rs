@@ -38,8 +38,8 @@ pub enum FidelityLevel {
     /// Measurements drawn from the statistics the voltage level produces; no cells simulated.
     Measurement,
     /// The default: the voltage level in channels with targets close to each other (or when
-    /// voltages are recorded), the measurement level elsewhere (docs/DECISIONS.md, "The fidelity
-    /// ladder": the fastest rung that holds every band).
+    /// voltages are recorded), the measurement level elsewhere (docs/decisions/0038-fidelity-ladder.md:
+    /// the fastest rung that holds every band).
     #[default]
     Auto,
 }

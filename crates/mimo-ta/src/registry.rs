@@ -69,7 +69,7 @@ fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -
     DefaultTaConfig { tracker, ..DefaultTaConfig::default() }
 }
 
-/// The default test article (issue 13, sixth round; docs/DECISIONS.md): the IMM with JPDA, whose
+/// The default test article (docs/decisions/0031-imm-jpda-default.md): the IMM with JPDA, whose
 /// initiation exclusion keeps the resolution cell but not the wide NIS gate, and where a return a
 /// track's gate holds besides the track's preferred one may start a track (β < 0.5,
 /// docs/model.md §6.4): the second aircraft of a pair the two-target estimator split.
