@@ -1,4 +1,4 @@
-//! Identities through the crossover, with known truth (issue 13): scenario 7's pairs swap sides
+//! Identities through the crossover, with known truth: scenario 7's pairs swap sides
 //! in 100–120 s (Δright = ±600 m, pair B passing 150 m above, docs/design.md §6 for the
 //! scoring rule used here). In the closed loop with the built-in test articles, every fighter
 //! is paired one-to-one with a live confirmed track (nearest, 1 km gate, as `mimo score`) before

@@ -57,7 +57,8 @@ pub struct ResourceConfig {
     /// every other confirmed track due within `group_lookahead_s` whose predicted position is
     /// within `group_beam_fraction` of the narrower beamwidth of the aim point seen from the
     /// transmitter and within `group_radius_m` of it; those tracks get no dwell of their own and
-    /// the range window is widened to hold them. Default true (issue 13, third round).
+    /// the range window is widened to hold them. Default true
+    /// (docs/decisions/0028-confirmation-revisit-group-looks.md).
     pub group_looks: bool,
     /// Angular radius of a group look, as a fraction of the narrower beamwidth. Default 0.25.
     pub group_beam_fraction: f64,
