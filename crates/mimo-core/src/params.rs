@@ -264,8 +264,13 @@ impl RadarParams {
                 return Err((n.into(), format!("a finite number of dB >= 0, got {x}")));
             }
         }
-        // Plausible ranges of docs/model.md §3.4: wide around any real surface radar, narrow
-        // enough that energies, SNRs and cell counts stay finite and tractable.
+        self.validate_plausible()
+    }
+
+    /// The plausible ranges of docs/model.md §3.4 (wide around any real surface radar, narrow
+    /// enough that energies, SNRs and cell counts stay finite and tractable), the minimum range,
+    /// the dwell overhead and the polarizations.
+    fn validate_plausible(&self) -> Result<(), (String, String)> {
         for &(name, x, hi, unit) in PLAUSIBLE {
             let x = x(self);
             if x > hi {
