@@ -219,7 +219,8 @@ const ZSTD_LEVEL: i32 = -5;
 /// away); page statistics (min/max) only on the integer columns and `t_s`, the columns a reader
 /// may filter on (no reader of mimo uses them; computing them for every float was 2 % of
 /// `mimo simulate`); delta encoding for ids, the byte-stream split for distinct floats, plain
-/// values for every other number (docs/decisions/0019-plain-values-no-dictionaries.md, docs/decisions/0025-no-float-page-statistics.md). Every Parquet reader
+/// values for every other number (docs/decisions/0019-plain-values-no-dictionaries.md,
+/// docs/decisions/0025-no-float-page-statistics.md). Every Parquet reader
 /// (polars, pyarrow, DuckDB, arrow-rs) reads them.
 pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
     use arrow::datatypes::DataType;
