@@ -54,6 +54,11 @@ impl RunDir {
         format!("{table}/{}", run_file_name(run))
     }
 
+    /// A file the manifest lists (`TableFile::file`, relative to the run directory).
+    pub fn listed(&self, rel: &str) -> PathBuf {
+        self.root.join(rel)
+    }
+
     /// Whether `name` is the name of a table's run file (`run-K.parquet`).
     pub fn is_run_file_name(name: &str) -> bool {
         name.strip_prefix("run-")
