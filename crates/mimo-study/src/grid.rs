@@ -119,6 +119,7 @@ impl Cell {
                          `{}…` directory), got {len} bytes",
                         part.to_string_lossy().chars().take(24).collect::<String>()
                     ),
+                    at: None,
                 });
             }
         }
