@@ -122,7 +122,14 @@ fn a_study_interrupted_exits_130_and_resumes() {
         .output()
         .expect("resume");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(hidden(&d.join("st/runs/method=m/scenario=7/truth")).is_empty(), "no temporary file left");
+    let partial: Vec<PathBuf> = hidden(&d.join("st"))
+        .into_iter()
+        .filter(|p| {
+            let n = p.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            n.ends_with(".tmp") || n.ends_with(".lock") || n.contains(".partial-")
+        })
+        .collect();
+    assert!(partial.is_empty(), "no temporary file left: {partial:?}");
 }
 
 #[test]
