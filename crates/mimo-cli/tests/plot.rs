@@ -198,6 +198,12 @@ fn output_is_replaced_only_with_force() {
     std::fs::write(&out, "keep me").expect("write");
     assert_eq!(mimo(&["plot", p(run), "--out", p(&out), "--quiet", "--from", "20", "--to", "40"]), 2);
     assert_eq!(std::fs::read_to_string(&out).expect("read"), "keep me");
+    // A file plot did not write is refused even with --force; its own page is replaced.
+    assert_eq!(mimo(&["plot", p(run), "--out", p(&out), "--quiet", "--from", "20", "--to", "40", "--force"]), 2);
+    assert_eq!(std::fs::read_to_string(&out).expect("read"), "keep me");
+    std::fs::remove_file(&out).expect("rm");
+    assert_eq!(mimo(&["plot", p(run), "--out", p(&out), "--quiet"]), 0);
+    assert_eq!(mimo(&["plot", p(run), "--out", p(&out), "--quiet", "--from", "20", "--to", "40"]), 2);
     assert_eq!(mimo(&["plot", p(run), "--out", p(&out), "--quiet", "--from", "20", "--to", "40", "--force"]), 0);
     let page = std::fs::read_to_string(&out).expect("read");
     assert!(page.starts_with("<!DOCTYPE html>") && page.contains("\"from_s\":20.0"));

@@ -8,32 +8,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::OnceLock;
 
+mod common;
+
+use common::{SMALL, copy_dir};
+
 const MIMO: &str = env!("CARGO_BIN_EXE_mimo");
-
-/// One ship, one jet, 20 s: simulated and scored in a moment.
-const SMALL: &str = r#"
-name = "small"
-duration_s = 20.0
-
-[aircraft_types.jet]
-rcs_m2 = 5.0
-min_speed_mps = 100.0
-max_speed_mps = 300.0
-max_accel_g = 3.0
-
-[[ships]]
-id = "R1"
-lat_deg = 36.0
-lon_deg = -70.0
-heading_deg = 0.0
-
-[[aircraft]]
-id = "X"
-type = "jet"
-start = { lat_deg = 36.5, lon_deg = -70.0, alt_m = 5000.0 }
-heading_deg = 180.0
-speed_mps = 200.0
-"#;
 
 /// A one-cell, one-run study of standard scenario 1 for 3 s.
 const PLAN: &str =
@@ -74,18 +53,6 @@ fn contents(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     let mut out = BTreeMap::new();
     walk(dir, dir, &mut out);
     out
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).expect("mkdir");
-    for e in std::fs::read_dir(from).expect("read_dir").flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            copy_dir(&p, &to.join(e.file_name()));
-        } else {
-            std::fs::copy(&p, to.join(e.file_name())).expect("copy");
-        }
-    }
 }
 
 /// A fresh directory holding `small.toml`, `plan.toml` and a scored run `r` (made once, copied).

@@ -242,10 +242,16 @@ mod tests {
         // Again: refused unless resumed (same plan) or forced.
         assert!(matches!(open(&dir, &mark("a"), NEW), Err(DirError::Refused { .. })));
         assert!(!open(&dir, &mark("a"), Access { resume: true, ..NEW }).expect("resume"));
-        std::fs::write(dir.join("runs/keep"), "x").expect("write");
+        std::fs::write(dir.join("runs/keep.json"), "{}").expect("write");
         assert!(open(&dir, &mark("b"), Access { resume: true, ..NEW }).is_err(), "another plan cannot resume");
+        // A user's file inside is named and nothing is replaced, even with --force.
+        std::fs::write(dir.join("runs/notes.txt"), "mine").expect("write");
+        let e = open(&dir, &mark("b"), Access { force: true, ..NEW }).expect_err("user file");
+        assert!(e.to_string().contains("notes.txt"), "{e}");
+        assert!(dir.join("runs/keep.json").exists() && dir.join("runs/notes.txt").exists());
+        std::fs::remove_file(dir.join("runs/notes.txt")).expect("rm");
         assert!(open(&dir, &mark("b"), Access { force: true, ..NEW }).expect("force"));
-        assert!(!dir.join("runs/keep").exists(), "forced: the old study is gone");
+        assert!(!dir.join("runs/keep.json").exists(), "forced: the old study is gone");
         // A directory that is not a study is never touched, even with --force; an empty one is used.
         let other = tmp.path().join("mine");
         std::fs::create_dir_all(&other).expect("mkdir");
