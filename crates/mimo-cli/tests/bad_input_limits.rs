@@ -51,14 +51,14 @@ const LIMITS: &[Case] = &[
         },
         args: &["study", "plan.toml", "--out", "s"],
         code: 2,
-        fragment: "plan.toml: axes: expected at most 10000 cells (methods × scenarios × stress points), got 1 × 1 × 1024000 = 1024000",
+        fragment: "plan.toml: axes: at most 10000 cells (methods × scenarios × stress points), got 1 × 1 × 1024000 = 1024000",
     },
     Case {
         name: "a study of more than a million runs",
         setup: |d| write_plan(d, "\"small.toml\"", 10_000, &format!("rcs_offset_db = {}", list(-40.0, 0.4, 200))),
         args: &["study", "plan.toml", "--out", "s"],
         code: 2,
-        fragment: "runs: expected at most 1000000 runs in all (cells × runs), got 200 × 10000 = 2000000",
+        fragment: "plan.toml: runs: at most 1000000 runs in all (cells × runs), got 200 × 10000 = 2000000",
     },
     Case {
         name: "a study whose worlds do not fit in memory",
@@ -69,7 +69,7 @@ const LIMITS: &[Case] = &[
         },
         args: &["study", "plan.toml", "--out", "s"],
         code: 2,
-        fragment: "axes: expected worlds that fit in 3072 MiB of memory: 900 distinct (scenario, stress point) worlds",
+        fragment: "plan.toml: axes: at most 3072 MiB of worlds in memory: 900 distinct (scenario, stress point) worlds",
     },
     // ---- text inputs: regular files only, 1 MiB at most
     Case {
@@ -101,7 +101,7 @@ const LIMITS: &[Case] = &[
         setup: |d| write(d, "big.toml", &format!("{SMALL}{}", "# padding\n".repeat(200_000))),
         args: &["simulate", "--scenario", "big.toml", "--out", "o"],
         code: 2,
-        fragment: "big.toml: cannot read scenario file: 2000235 bytes is above the limit of 1048576 bytes",
+        fragment: "big.toml: cannot read scenario file: 2000335 bytes is above the limit of 1048576 bytes",
     },
     Case {
         name: "a device as a test-article configuration",

@@ -101,7 +101,7 @@ fn check_world_memory(plan: &Plan, keys: &[(usize, Stress)], scenarios: &[Scenar
         file: plan.file.display().to_string(),
         key: "axes".into(),
         expected: format!(
-            "worlds that fit in {} MiB of memory: {} distinct (scenario, stress point) worlds of these scenarios' \
+            "at most {} MiB of worlds in memory: {} distinct (scenario, stress point) worlds of these scenarios' \
              targets and durations take about {} MiB (fewer axis values or scenarios, or a shorter duration_s)",
             WORLDS_BUDGET_BYTES >> 20,
             keys.len(),
