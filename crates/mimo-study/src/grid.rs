@@ -240,6 +240,22 @@ mod tests {
     }
 
     #[test]
+    fn cells_are_counted_without_listing_them() {
+        for sweep in ["grid", "each"] {
+            let p = plan("pfa = [1e-6, 1e-4]\nrcs_offset_db = [-3, 0, 3]\nsearch_pulses = [1, 2, 4, 8]", sweep);
+            assert_eq!(cell_count(&p), cells(&p).len() as u64, "{sweep}");
+            check_size(&p).expect("small");
+        }
+        // 2 methods × 2 scenarios × 51 × 51 × 2 = 20 808 cells: refused before any is listed.
+        let values: Vec<String> = (0..51).map(|i| format!("{}", -25 + i)).collect();
+        let axes =
+            format!("rcs_offset_db = [{0}]\npeak_power_offset_db = [{0}]\npfa = [1e-6, 1e-4]", values.join(", "));
+        let e = check_size(&plan(&axes, "grid")).expect_err("too many cells");
+        assert_eq!(e.key, "axes");
+        assert!(e.expected.contains("got 2 × 2 × 5202 = 20808"), "{}", e.expected);
+    }
+
+    #[test]
     fn shards_partition_the_items() {
         let it = items(7, 3);
         assert_eq!(it.len(), 21);
