@@ -67,7 +67,7 @@ fn check_memory(a: &Args, runs: u32, duration_s: f64, scenario: &mimo_scenario::
     )))
 }
 
-/// The scoring options, named as the user typed them (docs/DECISIONS.md "Bounds").
+/// The scoring options, named as the user typed them (docs/decisions/0035-bounds-and-exit-statuses.md).
 fn check_options(a: &Args, duration_s: f64) -> Result<(), CliError> {
     let i = a.interval;
     if !(i.is_finite() && i > 0.0) {

@@ -96,6 +96,7 @@ pub fn check_size(plan: &Plan) -> Result<(), PlanError> {
         file: plan.file.display().to_string(),
         key: key.to_string(),
         expected,
+        at: None,
     };
     if cells > MAX_CELLS {
         return Err(err(
