@@ -8,6 +8,7 @@ use crate::passive::Passive;
 use mimo_sim::World;
 use mimo_sim::test_article::TestArticle;
 use mimo_track::initiation::MOfN;
+use mimo_track::initiation_evidence::FalseTrackConfig;
 use mimo_track::{AssociationMethod, InitiationExclusion, TrackerConfig, TrackerKind};
 use serde_json::Value;
 
@@ -77,6 +78,9 @@ fn the_default_config() -> DefaultTaConfig {
     let mut c = default_ta_config(TrackerKind::Imm, AssociationMethod::Jpda);
     c.tracker.initiation_exclusion.nis = 0.0;
     c.tracker.second_return_max_beta = 0.5;
+    // False-track management (docs/model.md §6.4): only a detection as strong as a 1e-8 false
+    // alarm starts a track, and at most 400 tentative tracks live at once, the weakest shed first.
+    c.tracker.false_tracks = FalseTrackConfig { power_pfa: 1e-8, max_tentative: 400 };
     c
 }
 

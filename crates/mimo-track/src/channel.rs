@@ -90,6 +90,7 @@ impl MultiTargetTracker {
         // as the same target and skipped.
         let mut cand: Vec<usize> = (0..n_m)
             .filter(|&j| !claimed[j] && !near[j] && (second[j] || (0..ids.len()).all(|i| table.get(i, j).is_none())))
+            .filter(|&j| self.config.false_tracks.admits(ctx.kind, list[j].snr_db))
             .collect();
         cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
         self.initiate(list, &cand, new_ids);
@@ -172,6 +173,7 @@ impl MultiTargetTracker {
                 nis_count: 0,
             };
             self.tracks.insert(id, track);
+            self.initiation_power.insert(id, 10f64.powf(m.snr_db / 10.0));
             self.stats.initiated += 1;
             new_ids.push(id);
         }
