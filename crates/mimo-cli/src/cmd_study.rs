@@ -1,6 +1,7 @@
 //! `mimo study`.
 
 use crate::CliError;
+use mimo_scenario::text_file::{MAX_TEXT_FILE_BYTES, read_text_file};
 use mimo_store::layout::StudyDir;
 use mimo_study::grid::Shard;
 use mimo_study::{Options, Outcome, Plan, StudyError, run_study};
@@ -63,8 +64,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         Some(s) => Some(Shard::parse(s).map_err(|e| CliError::input(format!("--shard: {e}")))?),
         None => None,
     };
-    let text = std::fs::read_to_string(&a.plan)
-        .map_err(|e| CliError::input(format!("{}: cannot read the plan: {e}", a.plan.display())))?;
+    let text = read_text_file(&a.plan, MAX_TEXT_FILE_BYTES).map_err(|e| {
+        let msg = format!("{}: cannot read the plan: {e}", a.plan.display());
+        if e.is_bad_input() { CliError::input(msg) } else { CliError::Other(msg) }
+    })?;
     let plan = Plan::parse(&text, &a.plan).map_err(|e| CliError::input(e.to_string()))?;
     if a.status {
         let st = mimo_study::status::study_status(&plan, &text, &a.out).map_err(study_err)?;

@@ -130,6 +130,18 @@ fn a_ta_writing_something_else_than_a_reply_stops_the_run() {
 }
 
 #[test]
+fn a_second_reply_line_stops_the_run_at_once() {
+    let e = fault("two_lines", &[]);
+    assert!(e.contains("bad reply: a second line in reply to the message at t = "), "{e}");
+}
+
+#[test]
+fn a_track_row_back_in_time_beyond_the_window_stops_the_run() {
+    let e = fault("track_back", &[]);
+    assert!(e.contains("invalid request: track 7 has a row at t = 1 s, 30.000 s before its row at t = 31 s"), "{e}");
+}
+
+#[test]
 fn an_invalid_request_stops_the_run() {
     let e = fault("unknown_radar", &[]);
     assert!(e.contains("invalid request") && e.contains("unknown radar R9"), "{e}");

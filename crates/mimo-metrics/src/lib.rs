@@ -108,6 +108,7 @@ mod error;
 mod frame;
 mod load;
 mod mean;
+pub mod memory;
 pub mod ospa;
 mod output;
 mod parts;
