@@ -4,17 +4,18 @@
 use crate::MetricsError;
 use crate::dwell_sums::DwellSums;
 use crate::frame::Frame;
-use crate::read::{Check, Want, col as rcol, read_file, read_table_checked};
+use crate::read::{Check, Col, col as rcol, read_file, read_table_checked};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
 
-pub(crate) const TRACK_STATUSES: &[&str] = &["tentative", "confirmed", "deleted"];
-pub(crate) const ROLES: &[&str] = &["tx", "rx", "txrx"];
-pub(crate) const REQUESTERS: &[&str] = &["radar", "ta"];
-pub(crate) const KINDS: &[&str] = &["search", "confirm", "track", "mimo"];
+/// Every column of `table`'s spec (the whole table, each column checked), `run` with `run_check`.
+fn all_columns<'a>(table: &'static str, run_check: Check<'a>) -> Result<Vec<Col<'a>>, MetricsError> {
+    let spec = crate::read::spec_of(table)?;
+    Ok(spec.columns.iter().map(|c| rcol(c.name, if c.name == "run" { run_check } else { Check::Any })).collect())
+}
 
 pub(crate) fn vec3s(df: &Frame, names: [&str; 3]) -> Result<Vec<DVec3>, MetricsError> {
     let (x, y, z) = (df.f64s(names[0])?, df.f64s(names[1])?, df.f64s(names[2])?);
@@ -30,20 +31,7 @@ pub(crate) struct Truth {
 }
 
 pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, Any),
-        rcol("t_s", F64, Finite),
-        rcol("target", Utf8, Any),
-        rcol("x_m", F64, Finite),
-        rcol("y_m", F64, Finite),
-        rcol("z_m", F64, Finite),
-        rcol("vx_mps", F64, Finite),
-        rcol("vy_mps", F64, Finite),
-        rcol("vz_mps", F64, Finite),
-        rcol("alt_m", F64, Finite),
-    ];
+    let cols = all_columns("truth", Check::Any)?;
     let df = read_table_checked("truth", paths, &cols, &crate::rules::check_truth)?;
     let run = df.u32s("run")?;
     let t = df.f64s("t_s")?;
@@ -78,7 +66,7 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
     let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();
     let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
     let mut current: Option<(u32, usize)> = None;
-    for i in crate::row_order::stable_order(run, &target_of_row, t) {
+    for i in crate::row_order::stable_order(run, &target_of_row, t, None) {
         let key = (run[i], target_of_row[i]);
         let list = per_run.entry(run[i]).or_default();
         if current != Some(key) {
@@ -98,43 +86,22 @@ pub(crate) fn load_tracks(
     paths: &[PathBuf],
     runs: &BTreeSet<u32>,
 ) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, RunIn(runs)),
-        rcol("t_s", F64, Finite),
-        rcol("track_id", U64, Any),
-        rcol("status", Utf8, OneOf(TRACK_STATUSES)),
-        rcol("x_m", F64, Finite),
-        rcol("y_m", F64, Finite),
-        rcol("z_m", F64, Finite),
-        rcol("vx_mps", F64, Finite),
-        rcol("vy_mps", F64, Finite),
-        rcol("vz_mps", F64, Finite),
-    ];
+    let cols = all_columns("tracks", Check::RunIn(runs))?;
     let df = read_table_checked("tracks", paths, &cols, &crate::rules::check_tracks)?;
     let run = df.u32s("run")?;
     let id = df.u64s("track_id")?;
     let t = df.f64s("t_s")?;
     let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
     let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
-    let status_col = df.strs("status")?;
-    let mut last: Option<(&str, Option<TrackStatus>)> = None;
-    let mut status = Vec::with_capacity(run.len());
-    for s in status_col.iter().flatten() {
-        let parsed = match last {
-            Some((name, parsed)) if name == s => parsed,
-            _ => TrackStatus::parse(s),
-        };
-        last = Some((s, parsed));
-        status.push(parsed);
-    }
+    let status = crate::rules::track_statuses(&df)?;
+    let rank = crate::rules::track_ranks(&df, &status)?;
 
-    // The rows by run, track and time.
+    // The rows by run, track, time and rank at one time (the table's order, whatever the files'
+    // row order: rows it cannot order were refused by `check_tracks`).
     let mut out: BTreeMap<u32, Vec<TrackLife>> = BTreeMap::new();
     let mut current: Option<(u32, u64)> = None;
     let mut ended = false;
-    for i in crate::row_order::stable_order(run, id, t) {
+    for i in crate::row_order::stable_order(run, id, t, Some(&rank)) {
         let key = (run[i], id[i]);
         let list = out.entry(run[i]).or_default();
         if current != Some(key) {
@@ -198,19 +165,19 @@ pub(crate) fn load_dwell_sums(
     Ok((sums, radars))
 }
 
-/// The columns of the dwells table that the usage figures need, with their checks.
-fn dwell_cols(runs: &BTreeSet<u32>) -> [crate::read::Col<'_>; 8] {
-    use Check::*;
-    use Want::*;
+/// The columns of the dwells table that the usage figures need (their checks from the table's
+/// spec; `run` also among the truth's runs).
+fn dwell_cols(runs: &BTreeSet<u32>) -> [Col<'_>; 8] {
+    let any = |name| rcol(name, Check::Any);
     [
-        rcol("run", U32, RunIn(runs)),
-        rcol("radar", Utf8, Radar),
-        rcol("role", Utf8, OneOf(ROLES)),
-        rcol("kind", Utf8, OneOf(KINDS)),
-        rcol("requested_by", Utf8, OneOf(REQUESTERS)),
-        rcol("t_s", F64, FiniteNonNeg),
-        rcol("duration_s", F64, FiniteNonNeg),
-        rcol("energy_j", F64, FiniteNonNeg),
+        rcol("run", Check::RunIn(runs)),
+        any("radar"),
+        any("role"),
+        any("kind"),
+        any("requested_by"),
+        any("t_s"),
+        any("duration_s"),
+        any("energy_j"),
     ]
 }
 
@@ -219,7 +186,17 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [crate::read::Col<'_>; 8] {
 /// every check, whose error names the row and rule.
 fn dwell_file_sums(path: &std::path::Path, runs: &BTreeSet<u32>, interval_s: f64) -> Result<DwellSums, MetricsError> {
     let n_rows = crate::read::file_rows("dwells", path)?;
-    if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs), runs, interval_s, n_rows) {
+    // A file of run K holds run K alone: the one-pass readers take that run only (any other
+    // leaves them to the checked read, which names the row).
+    let of_file: BTreeSet<u32>;
+    let runs_here = match mimo_store::invariants::file_run(path) {
+        Some(k) => {
+            of_file = runs.iter().copied().filter(|&r| r == k).collect();
+            &of_file
+        }
+        None => runs,
+    };
+    if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs_here), runs_here, interval_s, n_rows) {
         return Ok(sums);
     }
     dwell_file_sums_whole(path, runs, interval_s)
@@ -253,6 +230,7 @@ fn dwell_file_sums_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mimo_core::records::{DwellKind, Requester, Role};
 
     /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times
     /// increasing; with `back_at`, that row's time is set before its radar's previous row.
@@ -265,9 +243,9 @@ mod tests {
             t[i] = t[i - 4] - 0.001;
         }
         let radar: Vec<String> = (0..n).map(|i| format!("R{}", 1 + i % 4)).collect();
-        let role: Vec<&str> = (0..n).map(|i| if Some(i) == bad_role_at { "bogus" } else { ROLES[i % 3] }).collect();
-        let kind: Vec<&str> = (0..n).map(|i| KINDS[(i / 3) % 4]).collect();
-        let by: Vec<&str> = (0..n).map(|i| REQUESTERS[(i / 5) % 2]).collect();
+        let role: Vec<&str> = (0..n).map(|i| if Some(i) == bad_role_at { "bogus" } else { Role::LABELS[i % 3] }).collect();
+        let kind: Vec<&str> = (0..n).map(|i| DwellKind::LABELS[(i / 3) % 4]).collect();
+        let by: Vec<&str> = (0..n).map(|i| Requester::LABELS[(i / 5) % 2]).collect();
         let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
         let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
         // mimo's layout (required columns, plain pages, `t_s` byte-stream-split, zstd), in row

@@ -14,7 +14,7 @@
 
 use crate::MetricsError;
 use crate::load::{Truth, load_tracks, load_truth};
-use crate::read::{Check, Want, col as rcol, read_file};
+use crate::read::{Check, col as rcol, read_file};
 use crate::track_metrics::{RunOutput, TargetTally};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -30,7 +30,7 @@ pub(crate) struct Part {
 
 /// The runs named in one file's `run` column.
 fn file_runs(table: &'static str, path: &std::path::Path) -> Result<BTreeSet<u32>, MetricsError> {
-    let df = read_file(table, path, &[rcol("run", Want::U32, Check::Any)])?;
+    let df = read_file(table, path, &[rcol("run", Check::Any)])?;
     let runs = df.u32s("run")?;
     Ok(runs.iter().copied().collect())
 }

@@ -11,7 +11,7 @@
 
 use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
-use arrow::array::{BooleanArray, RecordBatch};
+use arrow::array::BooleanArray;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
 use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
@@ -80,8 +80,8 @@ fn open_checked(
     let builder = crate::open_table::<DwellRow>(path)?;
     let spec = schema::table(DwellRow::SPEC.name)
         .ok_or_else(|| StoreError::Arrow(format!("unknown table {}", DwellRow::SPEC.name)))?;
-    // Every column present with its type, as `read_table` checks on each batch.
-    Batch::check(&RecordBatch::new_empty(builder.schema().clone()), path, spec)?;
+    // Every column present with its type (checked by `open_table`); the values are checked as
+    // they are read.
     Ok((builder, spec))
 }
 
@@ -97,7 +97,7 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     let mut k = DwellKeys::default();
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch { batch: &batch, file: path, spec };
+        let b = Batch::check_values(&batch, path, spec, k.len())?;
         k.run.extend(b.u32("run")?);
         k.dwell_id.extend(b.u64("dwell_id")?);
         k.group_id.extend(b.u64("group_id")?);
@@ -185,7 +185,7 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
             arrow::compute::filter_record_batch(&batch, &BooleanArray::from(keep))
                 .map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?
         };
-        let b = Batch { batch: &batch, file: path, spec };
+        let b = Batch::check_values_at(&batch, path, spec, &rows[out.len()..])?;
         // The checks of `DwellRow::from_batch`, column by column, on the rows read.
         let role = b.parsed("role", Role::parse, "tx, rx, txrx")?;
         let kind = b.parsed("kind", DwellKind::parse, "search, confirm, track, mimo")?;
