@@ -87,14 +87,15 @@ fn edit_rows<R: mimo_store::rows::TableRow>(f: &Path, edit: impl FnOnce(&mut Vec
 
 /// Rewrite a table file's Arrow batch (all its rows in one), schema metadata included.
 fn edit_batch(f: &Path, edit: impl FnOnce(RecordBatch) -> RecordBatch) {
-    let reader = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(
+    let builder = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(
         std::fs::File::open(f).expect("open"),
     )
-    .expect("parquet")
-    .build()
-    .expect("reader");
-    let batches: Vec<RecordBatch> = reader.collect::<Result<_, _>>().expect("batches");
-    let schema = batches[0].schema();
+    .expect("parquet");
+    // The file's schema, with its metadata (the batches read carry none).
+    let schema = builder.schema().clone();
+    let batches: Vec<RecordBatch> = builder.build().expect("reader").collect::<Result<_, _>>().expect("batches");
+    let batches: Vec<RecordBatch> =
+        batches.into_iter().map(|b| RecordBatch::try_new(schema.clone(), b.columns().to_vec()).expect("batch")).collect();
     let batch = edit(arrow::compute::concat_batches(&schema, &batches).expect("concat"));
     let mut w = parquet::arrow::ArrowWriter::try_new(std::fs::File::create(f).expect("create"), batch.schema(), None)
         .expect("writer");

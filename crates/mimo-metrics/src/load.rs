@@ -242,46 +242,50 @@ mod tests {
         if let Some(i) = back_at {
             t[i] = t[i - 4] - 0.001;
         }
-        let radar: Vec<String> = (0..n).map(|i| format!("R{}", 1 + i % 4)).collect();
-        let role: Vec<&str> = (0..n).map(|i| if Some(i) == bad_role_at { "bogus" } else { Role::LABELS[i % 3] }).collect();
-        let kind: Vec<&str> = (0..n).map(|i| DwellKind::LABELS[(i / 3) % 4]).collect();
-        let by: Vec<&str> = (0..n).map(|i| Requester::LABELS[(i / 5) % 2]).collect();
         let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
         let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
-        // mimo's layout (required columns, plain pages, `t_s` byte-stream-split, zstd), in row
-        // groups of 300 rows and pages of 100, so that every reader of `crate::dwell_read` takes
-        // the file and crosses pages and row groups.
-        use arrow::array::{ArrayRef, Float64Array, RecordBatch, StringArray, UInt32Array};
-        use arrow::datatypes::{DataType as A, Field, Schema};
+        let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
+        let rows: Vec<mimo_core::records::DwellRow> = (0..n)
+            .map(|i| mimo_core::records::DwellRow {
+                run: 0,
+                dwell_id: i as u64,
+                group_id: i as u64,
+                radar: mimo_core::ids::RadarId::parse(&format!("R{}", 1 + i % 4)).expect("radar"),
+                role: Role::parse(&label(&Role::LABELS, i)).expect("role"),
+                kind: DwellKind::parse(&label(&DwellKind::LABELS, i / 3)).expect("kind"),
+                requested_by: Requester::parse(&label(&Requester::LABELS, i / 5)).expect("requester"),
+                t_s: t[i],
+                duration_s: duration[i],
+                pulse_width_s: 1e-5,
+                n_pulses: 10,
+                peak_power_w: 1e5,
+                energy_j: energy[i],
+                waveform: 0,
+                face: 0,
+                beam_u: 0.0,
+                beam_v: 0.0,
+                aim_x_m: 1.0,
+                aim_y_m: 2.0,
+                aim_z_m: 3.0,
+            })
+            .collect();
+        // mimo's layout and metadata (the table's spec: required columns, plain pages, `t_s`
+        // byte-stream-split, zstd), in row groups of 300 rows and pages of 100, so that every
+        // reader of `crate::dwell_read` takes the file and crosses pages and row groups.
+        use arrow::array::{ArrayRef, StringArray};
         use parquet::basic::{Compression, Encoding};
         use parquet::file::properties::WriterProperties;
         use std::sync::Arc;
-        let strings = |v: Vec<String>| Arc::new(StringArray::from(v)) as ArrayRef;
-        let owned = |v: Vec<&str>| v.into_iter().map(str::to_string).collect::<Vec<_>>();
-        let floats = |v: Vec<f64>| Arc::new(Float64Array::from(v)) as ArrayRef;
-        let fields = [
-            ("run", A::UInt32),
-            ("radar", A::Utf8),
-            ("role", A::Utf8),
-            ("kind", A::Utf8),
-            ("requested_by", A::Utf8),
-            ("t_s", A::Float64),
-            ("duration_s", A::Float64),
-            ("energy_j", A::Float64),
-        ];
-        let schema =
-            Arc::new(Schema::new(fields.iter().map(|(n, t)| Field::new(*n, t.clone(), false)).collect::<Vec<_>>()));
-        let columns = vec![
-            Arc::new(UInt32Array::from(vec![0u32; n])) as ArrayRef,
-            strings(radar),
-            strings(owned(role)),
-            strings(owned(kind)),
-            strings(owned(by)),
-            floats(t),
-            floats(duration),
-            floats(energy),
-        ];
-        let batch = RecordBatch::try_new(schema.clone(), columns).expect("batch");
+        let mut batch = mimo_store::rows::to_batch(&rows).expect("batch");
+        if let Some(bad) = bad_role_at {
+            let roles: Vec<String> =
+                (0..n).map(|i| if i == bad { "bogus".to_string() } else { label(&Role::LABELS, i) }).collect();
+            let schema = batch.schema();
+            let mut columns = batch.columns().to_vec();
+            columns[schema.index_of("role").expect("role")] = Arc::new(StringArray::from(roles)) as ArrayRef;
+            batch = arrow::array::RecordBatch::try_new(schema, columns).expect("batch");
+        }
+        let schema = batch.schema();
         let props = WriterProperties::builder()
             .set_compression(Compression::ZSTD(Default::default()))
             .set_dictionary_enabled(false)
@@ -416,10 +420,7 @@ mod tests {
         assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
         assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
-        assert!(
-            matches!(&err, MetricsError::InvalidValue { column: "role", row: 500, value, .. } if value == "bogus"),
-            "{err}"
-        );
+        assert!(err.to_string().contains("column 'role' is 'bogus' at row 500"), "{err}");
         let whole = dwell_file_sums_whole(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
         assert_eq!(err.to_string(), whole.to_string());
     }

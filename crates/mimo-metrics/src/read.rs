@@ -57,7 +57,13 @@ pub(crate) fn open_checked(
     table: &'static str,
     path: &Path,
 ) -> Result<ParquetRecordBatchReaderBuilder<File>, MetricsError> {
-    Ok(mimo_store::checked::open(path, spec_of(table)?)?)
+    match mimo_store::checked::open(path, spec_of(table)?) {
+        Ok(builder) => Ok(builder),
+        Err(mimo_store::StoreError::Missing { path }) => {
+            Err(MetricsError::MissingTable { table, path, detail: "file does not exist".into() })
+        }
+        Err(e) => Err(e.into()),
+    }
 }
 
 /// Read `paths` as one table with the given columns (in that order), validating every file.
