@@ -87,15 +87,16 @@ fn edit_rows<R: mimo_store::rows::TableRow>(f: &Path, edit: impl FnOnce(&mut Vec
 
 /// Rewrite a table file's Arrow batch (all its rows in one), schema metadata included.
 fn edit_batch(f: &Path, edit: impl FnOnce(RecordBatch) -> RecordBatch) {
-    let builder = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(
-        std::fs::File::open(f).expect("open"),
-    )
-    .expect("parquet");
+    let builder =
+        parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(f).expect("open"))
+            .expect("parquet");
     // The file's schema, with its metadata (the batches read carry none).
     let schema = builder.schema().clone();
     let batches: Vec<RecordBatch> = builder.build().expect("reader").collect::<Result<_, _>>().expect("batches");
-    let batches: Vec<RecordBatch> =
-        batches.into_iter().map(|b| RecordBatch::try_new(schema.clone(), b.columns().to_vec()).expect("batch")).collect();
+    let batches: Vec<RecordBatch> = batches
+        .into_iter()
+        .map(|b| RecordBatch::try_new(schema.clone(), b.columns().to_vec()).expect("batch"))
+        .collect();
     let batch = edit(arrow::compute::concat_batches(&schema, &batches).expect("concat"));
     let mut w = parquet::arrow::ArrowWriter::try_new(std::fs::File::create(f).expect("create"), batch.schema(), None)
         .expect("writer");
@@ -155,10 +156,9 @@ fn plot_refuses(dir: &Path, fragments: &[&str]) {
 
 #[test]
 fn a_file_of_another_table_or_version_or_none_is_refused() {
-    for (value, fragment) in [
-        (Some("truth"), "holds table 'truth', expected 'tracks'"),
-        (None, "no 'mimo.table' metadata"),
-    ] {
+    for (value, fragment) in
+        [(Some("truth"), "holds table 'truth', expected 'tracks'"), (None, "no 'mimo.table' metadata")]
+    {
         let d = fresh();
         edit_batch(&file(&d.path().join("r"), "tracks", 0), |b| with_meta(b, "mimo.table", value));
         score_refuses(d.path(), &["tracks/run-0000.parquet", fragment]);

@@ -10,9 +10,9 @@
 //! then reads the file with every check (`crate::read`), which names the file, column, row and
 //! rule. The columns are read by `crate::dwell_read`.
 
-use mimo_core::records::{DwellKind, Requester, Role};
 use crate::mean::KahanSum;
 use mimo_core::ids::RadarId;
+use mimo_core::records::{DwellKind, Requester, Role};
 use std::collections::{BTreeSet, HashMap};
 
 /// Rows of a dwells file read at a time: the file is reduced slice by slice, so that memory

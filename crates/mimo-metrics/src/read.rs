@@ -155,10 +155,11 @@ fn read_file_slice_checking(
     for c in cols {
         specs.push(column_spec(spec, c.name)?);
         // Present: `open_checked` found every column of the spec.
-        roots.push(schema.index_of(c.name).map_err(|e| MetricsError::Internal {
-            context: "reading a table",
-            detail: e.to_string(),
-        })?);
+        roots.push(
+            schema
+                .index_of(c.name)
+                .map_err(|e| MetricsError::Internal { context: "reading a table", detail: e.to_string() })?,
+        );
     }
     let mask = ProjectionMask::roots(builder.parquet_schema(), roots);
     let mut builder = builder.with_projection(mask).with_batch_size(BATCH_ROWS);

@@ -43,11 +43,7 @@ pub fn open(path: &Path, spec: &TableSpec) -> Result<ParquetRecordBatchReaderBui
 }
 
 /// The table name and schema version of a file's key-value metadata.
-fn check_metadata(
-    path: &Path,
-    md: &arrow::datatypes::Metadata,
-    spec: &TableSpec,
-) -> Result<(), StoreError> {
+fn check_metadata(path: &Path, md: &arrow::datatypes::Metadata, spec: &TableSpec) -> Result<(), StoreError> {
     let table_err = |why: String| StoreError::BadTable { file: path.into(), why };
     match md.get(schema::META_TABLE) {
         Some(t) if t == spec.name => {}
@@ -98,7 +94,9 @@ pub fn check_array(path: &Path, c: &ColumnSpec, array: &dyn Array, first_row: us
         Rule::Any => Ok(()),
         Rule::Finite | Rule::NonNegative | Rule::Positive => check_numbers(path, c, array, first_row),
         Rule::OneOf(labels) => check_labels(path, c, array, first_row, |s| labels.contains(&s), &labels.join(", ")),
-        Rule::RadarId => check_labels(path, c, array, first_row, |s| RadarId::parse(s).is_some(), "a radar id R1, R2, …"),
+        Rule::RadarId => {
+            check_labels(path, c, array, first_row, |s| RadarId::parse(s).is_some(), "a radar id R1, R2, …")
+        }
         Rule::Covariance => check_covariances(path, c, array, first_row),
     }
 }

@@ -122,12 +122,11 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     Ok(k)
 }
 
-/// Read whole rows of one dwells file: the rows at the given file positions (ascending), in file
-/// order. `keys` are the file's keys ([`read_dwell_keys`]); only the other columns are decoded.
-/// Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
-pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
-    let (builder, spec) = open_checked(path)?;
-    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
+/// The file positions `rows` (of a file of `n_rows` rows) as ranges to read; a short gap between
+/// two positions is read through and its rows dropped after the read (decoding a few rows costs
+/// less than a skip and a new read in every column). Errors ([`StoreError::BadRow`]) on a
+/// position past the end or out of order.
+fn read_ranges(path: &Path, rows: &[usize], n_rows: usize) -> Result<Vec<std::ops::Range<usize>>, StoreError> {
     let bad = |row: usize, why: &str| StoreError::BadRow {
         file: path.to_path_buf(),
         column: "dwell_id",
@@ -138,13 +137,10 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
         return Err(bad(w[1], "rows asked for out of order"));
     }
     if let Some(&last) = rows.last()
-        && (last >= n_rows || last >= keys.len())
+        && last >= n_rows
     {
         return Err(bad(last, "row asked for past the end of the file"));
     }
-    // Positions as ranges; a short gap between two positions is read through and its rows
-    // dropped after the read (decoding a few rows costs less than a skip and a new read in every
-    // column).
     let mut ranges: Vec<std::ops::Range<usize>> = Vec::new();
     for &r in rows {
         match ranges.last_mut() {
@@ -152,6 +148,16 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
             _ => ranges.push(r..r + 1),
         }
     }
+    Ok(ranges)
+}
+
+/// Read whole rows of one dwells file: the rows at the given file positions (ascending), in file
+/// order. `keys` are the file's keys ([`read_dwell_keys`]); only the other columns are decoded.
+/// Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
+pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
+    let (builder, spec) = open_checked(path)?;
+    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
+    let ranges = read_ranges(path, rows, n_rows.min(keys.len()))?;
     // The file positions of the rows the reader returns, in order, and which were asked for.
     let mut positions = ranges.clone().into_iter().flatten();
     let mut asked = rows.iter().peekable();

@@ -217,13 +217,15 @@ pub const DWELLS: TableSpec = TableSpec {
         col("radar", Utf8, "", "radar id R1…R4").with(Rule::RadarId),
         col("role", Utf8, "", "tx, rx or txrx").with(Rule::OneOf(&Role::LABELS)),
         col("kind", Utf8, "", "search, confirm, track or mimo").with(Rule::OneOf(&DwellKind::LABELS)),
-        col("requested_by", Utf8, "", "radar (own background search) or ta (test article)").with(Rule::OneOf(&Requester::LABELS)),
+        col("requested_by", Utf8, "", "radar (own background search) or ta (test article)")
+            .with(Rule::OneOf(&Requester::LABELS)),
         col("t_s", F64, "s", "dwell start time").with(Rule::NonNegative),
         col("duration_s", F64, "s", "timeline occupancy τ_dwell").with(Rule::NonNegative),
         col("pulse_width_s", F64, "s", "pulse width τ_pw"),
         col("n_pulses", U32, "", "pulses integrated coherently"),
         col("peak_power_w", F64, "W", "peak transmit power"),
-        col("energy_j", F64, "J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)").with(Rule::NonNegative),
+        col("energy_j", F64, "J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)")
+            .with(Rule::NonNegative),
         col("waveform", U32, "", "orthogonal waveform (code) index transmitted"),
         col("face", U8, "", "array face used (0-based)"),
         col("beam_u", F64, "", "beam steering direction cosine u in the face frame"),
@@ -498,9 +500,13 @@ pub const STUDY_TABLES: [TableSpec; 5] = [
     crate::challenge_schema::STUDY_CHALLENGE_RATIOS,
 ];
 
-/// Look up a table by name.
+/// Look up a table (run, study or score table) by name.
 pub fn table(name: &str) -> Option<&'static TableSpec> {
-    ALL_TABLES.iter().chain(STUDY_TABLES.iter()).find(|t| t.name == name)
+    ALL_TABLES
+        .iter()
+        .chain(STUDY_TABLES.iter())
+        .chain(crate::score_schema::SCORE_TABLES.iter())
+        .find(|t| t.name == name)
 }
 
 /// The manifest's keys and meanings, written to `schemas/manifest.json`.
