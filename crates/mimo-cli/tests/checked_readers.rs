@@ -13,64 +13,29 @@ use std::sync::{Arc, OnceLock};
 
 const MIMO: &str = env!("CARGO_BIN_EXE_mimo");
 
-/// One ship, one jet, 60 s: tracks in a moment.
-const SMALL: &str = r#"
-name = "small"
-duration_s = 60.0
-
-[aircraft_types.jet]
-rcs_m2 = 5.0
-min_speed_mps = 100.0
-max_speed_mps = 300.0
-max_accel_g = 3.0
-
-[[ships]]
-id = "R1"
-lat_deg = 36.0
-lon_deg = -70.0
-heading_deg = 0.0
-
-[[aircraft]]
-id = "X"
-type = "jet"
-start = { lat_deg = 36.5, lon_deg = -70.0, alt_m = 5000.0 }
-heading_deg = 180.0
-speed_mps = 200.0
-"#;
-
 fn mimo(dir: &Path, args: &[&str]) -> Output {
     Command::new(MIMO).args(args).current_dir(dir).output().expect("mimo runs")
 }
 
-/// A finished two-run simulation of [`SMALL`], made once; each test copies it.
+/// A finished two-run, 60-s simulation of scenario 1 (tracks, measurements and primitives in
+/// both runs), made once; each test copies it.
 fn template() -> &'static Path {
     static T: OnceLock<tempfile::TempDir> = OnceLock::new();
     T.get_or_init(|| {
         let t = tempfile::tempdir().expect("tmp");
-        std::fs::write(t.path().join("small.toml"), SMALL).expect("write");
-        let o = mimo(t.path(), &["simulate", "--scenario", "small.toml", "--runs", "2", "--out", "r", "--quiet"]);
+        let args = ["simulate", "--scenario", "1", "--duration", "60", "--runs", "2", "--out", "r", "--quiet"];
+        let o = mimo(t.path(), &args);
         assert!(o.status.success(), "template run: {}", String::from_utf8_lossy(&o.stderr));
         t
     })
     .path()
 }
 
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).expect("mkdir");
-    for e in std::fs::read_dir(from).expect("read_dir").flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            copy_dir(&p, &to.join(e.file_name()));
-        } else {
-            std::fs::copy(&p, to.join(e.file_name())).expect("copy");
-        }
-    }
-}
-
 /// A fresh copy of the template run; the run is `DIR/r`.
 fn fresh() -> tempfile::TempDir {
     let d = tempfile::tempdir().expect("tmp");
-    copy_dir(template(), d.path());
+    let status = Command::new("cp").arg("-a").arg(template().join("r")).arg(d.path()).status().expect("cp runs");
+    assert!(status.success(), "cp -a of the template run");
     d
 }
 

@@ -97,8 +97,13 @@
 //! ## Errors
 //!
 //! Input problems are [`MetricsError`] variants naming the file, the column, the row and what was
-//! expected: missing table, missing column, wrong column type, null, NaN/∞ (positions,
-//! velocities, times, durations, energies), unknown enumeration value, unknown run.
+//! expected. Every file is read through the store's checks (`mimo_store::checked`, wrapped in
+//! [`MetricsError::Table`]): the table's name and schema version in the metadata, every column of
+//! the table's spec with exactly its type, each value keeping its column's rule (finite numbers,
+//! non-negative dwell times and energies, labels of the enumerations, radar ids, covariances),
+//! rows of `run-K.parquet` of run K. Beyond them: a missing table, a run of the tracks or dwells
+//! that the truth does not have, a table rule broken (times out of order, rows of one track at
+//! one time that `n_updates` cannot order).
 #![warn(missing_docs)]
 
 mod dwell_pages;
@@ -110,6 +115,7 @@ mod load;
 mod mean;
 pub mod ospa;
 mod output;
+mod parallel;
 mod parts;
 mod purpose;
 mod purpose_read;

@@ -157,7 +157,7 @@ pub(crate) fn load_dwell_sums(
         });
     }
     let mut sums = DwellSums::default();
-    let per_file = crate::parts::parallel(paths, threads, &|path: &PathBuf| dwell_file_sums(path, runs, interval_s));
+    let per_file = crate::parallel::parallel(paths, threads, &|path: &PathBuf| dwell_file_sums(path, runs, interval_s));
     for file_sums in per_file {
         sums.add(file_sums?);
     }
@@ -232,20 +232,13 @@ mod tests {
     use super::*;
     use mimo_core::records::{DwellKind, Requester, Role};
 
-    /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times
-    /// increasing; with `back_at`, that row's time is set before its radar's previous row.
-    fn dwells_file(dir: &std::path::Path, n: usize, back_at: Option<usize>, bad_role_at: Option<usize>) -> PathBuf {
-        let mut t = Vec::with_capacity(n);
-        for i in 0..n {
-            t.push(0.013 * i as f64 + 0.004 * ((i * 7919) % 13) as f64 / 13.0);
-        }
-        if let Some(i) = back_at {
-            t[i] = t[i - 4] - 0.001;
-        }
+    /// Dwell rows at times `t`: four radars in turn, every role, kind and requester.
+    fn dwell_rows(t: &[f64]) -> Vec<mimo_core::records::DwellRow> {
+        let n = t.len();
         let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
         let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
         let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
-        let rows: Vec<mimo_core::records::DwellRow> = (0..n)
+        (0..n)
             .map(|i| mimo_core::records::DwellRow {
                 run: 0,
                 dwell_id: i as u64,
@@ -268,7 +261,21 @@ mod tests {
                 aim_y_m: 2.0,
                 aim_z_m: 3.0,
             })
-            .collect();
+            .collect()
+    }
+
+    /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times
+    /// increasing; with `back_at`, that row's time is set before its radar's previous row.
+    fn dwells_file(dir: &std::path::Path, n: usize, back_at: Option<usize>, bad_role_at: Option<usize>) -> PathBuf {
+        let mut t = Vec::with_capacity(n);
+        for i in 0..n {
+            t.push(0.013 * i as f64 + 0.004 * ((i * 7919) % 13) as f64 / 13.0);
+        }
+        if let Some(i) = back_at {
+            t[i] = t[i - 4] - 0.001;
+        }
+        let rows = dwell_rows(&t);
+        let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
         // mimo's layout and metadata (the table's spec: required columns, plain pages, `t_s`
         // byte-stream-split, zstd), in row groups of 300 rows and pages of 100, so that every
         // reader of `crate::dwell_read` takes the file and crosses pages and row groups.
@@ -393,6 +400,24 @@ mod tests {
         let all = dwell_file_sums_whole(&path, &runs, 1.0).expect("whole");
         let got: Vec<[u64; 4]> = all.sums.iter().map(|s| s.value().map(f64::to_bits)).collect();
         assert_eq!(got, whole.iter().map(|(_, s)| *s).collect::<Vec<_>>());
+    }
+
+    /// The store's own writer output takes the page decoder's fast path (`crate::dwell_pages`),
+    /// across pages and row groups: a change of the writer's settings, or of the parquet crate,
+    /// that turned the fast path off fails here.
+    #[test]
+    fn the_store_writer_output_takes_the_fast_path() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let n = mimo_store::ROW_GROUP_ROWS + mimo_store::PAGE_ROWS + 100;
+        let t: Vec<f64> = (0..n).map(|i| 0.013 * i as f64).collect();
+        mimo_store::write_table(&path, &dwell_rows(&t)).expect("write");
+        let runs = BTreeSet::from([0u32]);
+        let fast = crate::dwell_pages::file_sums(&path, &runs, 1.0, crate::dwell_sums::DWELL_SLICE_ROWS);
+        let fast = fast.expect("the store's dwells file takes the fast path");
+        let whole = dwell_file_sums_whole(&path, &runs, 1.0).expect("checked read");
+        assert_eq!(fast.groups, whole.groups);
+        assert_eq!(fast.radars(), whole.radars());
     }
 
     /// A time that runs backwards across a slice boundary is caught by the sliced pass, and the

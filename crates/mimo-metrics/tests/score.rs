@@ -306,7 +306,8 @@ fn write(path: &Path, df: DataFrame) {
         (mimo_store::schema::META_TABLE.to_string(), table),
         (mimo_store::schema::META_SCHEMA_VERSION.to_string(), mimo_store::schema::SCHEMA_VERSION.to_string()),
     ];
-    let schema = Arc::new(Schema::new(fields).with_metadata(metadata.into_iter().collect()));
+    let schema =
+        Arc::new(Schema::new(fields).with_metadata(metadata.into_iter().collect::<std::collections::HashMap<_, _>>()));
     let batch = RecordBatch::try_new(schema.clone(), df.0.into_iter().map(|(_, a)| a).collect()).expect("batch");
     let f = File::create(path).expect("create");
     let mut w = parquet::arrow::ArrowWriter::try_new(f, schema, None).expect("writer");
