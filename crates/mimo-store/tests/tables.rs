@@ -289,7 +289,7 @@ fn non_finite_values_are_rejected() {
     rows[2].x_m = f64::NAN;
     write_table(&p, &rows).expect("write");
     let err = read_table::<TruthRow>(&p).expect_err("nan");
-    assert!(err.to_string().contains("column 'x_m' has a non-finite value"), "{err}");
+    assert!(err.to_string().contains("column 'x_m' is NaN at row 2 (expected a finite number)"), "{err}");
 }
 
 fn manifest() -> Manifest {
