@@ -46,7 +46,28 @@ pub const MAX_DISTANCE_M: f64 = 1.3e7;
 /// Largest OSPA/GOSPA order: c^p must stay finite (docs/design.md §6).
 pub const MAX_OSPA_P: f64 = 20.0;
 
-/// The scoring options, named as the user typed them (docs/DECISIONS.md "Bounds").
+/// The scoring interval against the memory budget: every row of a score is held until it is
+/// written, so the interval sets the memory (mimo_metrics::memory).
+fn check_memory(a: &Args, runs: u32, duration_s: f64, scenario: &mimo_scenario::Scenario) -> Result<(), CliError> {
+    use mimo_metrics::memory::{MEMORY_BUDGET_BYTES, max_times_in_budget, score_memory_bytes};
+    let (radars, targets) = (scenario.ships.len(), scenario.targets.len());
+    let times = duration_s / a.interval;
+    let bytes = score_memory_bytes(u64::from(runs), times, radars, targets);
+    if bytes <= MEMORY_BUDGET_BYTES as f64 {
+        return Ok(());
+    }
+    let gib = |b: f64| b / f64::from(1u32 << 30);
+    Err(CliError::input(format!(
+        "--interval: {} s gives {times:.3e} scoring times in each of {runs} run(s) of {radars} radar(s) and \
+         {targets} target(s), about {:.1} GiB to score; the memory budget is {:.0} GiB (an interval of at least {:.2e} s)",
+        a.interval,
+        gib(bytes),
+        gib(MEMORY_BUDGET_BYTES as f64),
+        duration_s / max_times_in_budget(u64::from(runs), radars, targets)
+    )))
+}
+
+/// The scoring options, named as the user typed them (docs/decisions/0035-bounds-and-exit-statuses.md).
 fn check_options(a: &Args, duration_s: f64) -> Result<(), CliError> {
     let i = a.interval;
     if !(i.is_finite() && i > 0.0) {
@@ -85,6 +106,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     check_options(&a, manifest.duration_s)?;
     let src = mimo_store::lineage::source_dir(&a.run, &manifest)?;
     let scenario = scenario_of(&a.run, &manifest)?;
+    check_memory(&a, manifest.runs, manifest.duration_s, &scenario)?;
     let radars: Vec<String> = scenario.ships.iter().map(|s| s.id.to_string()).collect();
     // Scoring needs the ships (what each radar can see), not the targets' flight: their truth is
     // the recorded truth table. `scenario_of` has validated the scenario.

@@ -1,17 +1,19 @@
 //! `mimo study`.
 
 use crate::CliError;
+use mimo_scenario::text_file::{MAX_TEXT_FILE_BYTES, read_text_file};
 use mimo_study::grid::Shard;
 use mimo_study::{Options, Outcome, Plan, StudyError, run_study};
 use std::path::PathBuf;
 
 /// Run a study: methods × scenarios × stress values, Monte Carlo runs per cell, all scored.
 ///
-/// Every cell is an ordinary run directory under OUT/runs/ in hive-style paths
-/// (method=…/scenario=…/axis=value/), so `mimo score` and `mimo track` work on any cell and
-/// polars reads the whole study as one partitioned dataset. At the end OUT holds results.parquet
-/// (one row per cell and run), costs.parquet (timings), summary.parquet (means and 95 %
-/// confidence intervals per cell), charts/ and report.md. A method that fails in a cell is
+/// Every cell is a run directory under OUT/runs/ in hive-style paths
+/// (method=…/scenario=…/axis=value/); a run's tables are deleted once it is scored unless the
+/// plan says `keep_runs = true`, which keeps every cell a complete run directory for `mimo
+/// score`, `mimo track` and polars. At the end OUT holds results.parquet (one row per cell and
+/// run), costs.parquet (timings), summary.parquet (means and 95 % confidence intervals per
+/// cell), failure_points.parquet (where each method fails on each axis), charts/ and report.md. A method that fails in a cell is
 /// recorded (results.parquet `failure`) and the study goes on. See docs/studies.md.
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -61,8 +63,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         Some(s) => Some(Shard::parse(s).map_err(|e| CliError::input(format!("--shard: {e}")))?),
         None => None,
     };
-    let text = std::fs::read_to_string(&a.plan)
-        .map_err(|e| CliError::input(format!("{}: cannot read the plan: {e}", a.plan.display())))?;
+    let text = read_text_file(&a.plan, MAX_TEXT_FILE_BYTES).map_err(|e| {
+        let msg = format!("{}: cannot read the plan: {e}", a.plan.display());
+        if e.is_bad_input() { CliError::input(msg) } else { CliError::Other(msg) }
+    })?;
     let plan = Plan::parse(&text, &a.plan).map_err(|e| CliError::input(e.to_string()))?;
     if a.status {
         let st = mimo_study::status::study_status(&plan, &text, &a.out).map_err(study_err)?;

@@ -81,6 +81,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let _ = crate::interrupt::install();
     mimo_store::lineage::check_output_apart(&a.run, &a.out)?;
     let manifest = Manifest::read(&a.run)?;
+    // Its `parent` links, if any, must lead somewhere (a run that is its own parent is refused).
+    mimo_store::lineage::source_dir(&a.run, &manifest)?;
     // The replay needs the ships' faces, never the targets: their trajectories are not built.
     let world = World::ships_only(scenario_of(&a.run, &manifest)?);
     let runs: Vec<u32> = (0..manifest.runs).collect();

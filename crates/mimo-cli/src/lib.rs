@@ -15,6 +15,7 @@ mod error;
 mod interrupt;
 mod progress;
 mod ta_args;
+mod usage_error;
 
 pub use error::CliError;
 
@@ -96,12 +97,18 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(args) {
+    let cmd = usage_error::allow_negative_numbers(<Cli as clap::CommandFactory>::command());
+    let parsed = cmd.try_get_matches_from(args).and_then(|m| <Cli as clap::FromArgMatches>::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(c) => c,
-        Err(e) => {
-            let code = if e.use_stderr() { 2 } else { 0 };
+        // --help and --version print as clap lays them out; a usage error is one line.
+        Err(e) if !e.use_stderr() => {
             let _ = e.print();
-            return code;
+            return 0;
+        }
+        Err(e) => {
+            eprintln!("error: {}", usage_error::one_line(&e));
+            return 2;
         }
     };
     match run(cli) {

@@ -180,14 +180,22 @@ fn bad_input_exits_2_and_writes_nothing() {
     // A run directory that does not exist.
     assert_eq!(mimo(&["plot", p(&tmp.path().join("nope")), "--out", p(&out)]), 2);
     assert!(!out.exists());
-    // A run with no tracks: simulate with the search-only test article.
+}
+
+#[test]
+fn a_run_without_tracks_still_shows_truth_measurements_and_beams() {
+    // The search-only test article forms no tracks; the page shows what the radars did.
+    let tmp = tempfile::tempdir().expect("tempdir");
     let bare = tmp.path().join("bare");
-    assert_eq!(
-        mimo(&["simulate", "--scenario", "1", "--duration", "5", "--tracker", "none", "--quiet", "--out", p(&bare)]),
-        0
-    );
-    assert_eq!(mimo(&["plot", p(&bare), "--out", p(&out)]), 2);
-    assert!(!out.exists());
+    let out = tmp.path().join("bare.html");
+    let args = ["simulate", "--scenario", "1", "--duration", "20", "--tracker", "none", "--quiet", "--out", p(&bare)];
+    assert_eq!(mimo(&args), 0);
+    assert_eq!(mimo(&["plot", p(&bare), "--out", p(&out), "--quiet"]), 0);
+    let data = page_data(&std::fs::read_to_string(&out).expect("page"));
+    let truth: Vec<&str> = data["truth"].as_array().expect("truth").iter().filter_map(|t| t["id"].as_str()).collect();
+    assert_eq!(truth, ["F-1", "A", "B", "C"]);
+    assert!(!data["meas"]["t"].as_array().expect("measurements").is_empty(), "search detections shown");
+    assert!(data["tracks"]["t"].as_array().expect("tracks").is_empty(), "no track drawn");
 }
 
 #[test]

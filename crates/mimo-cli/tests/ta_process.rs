@@ -35,7 +35,7 @@ fn simple_python_ta_tracks_scenario_1_in_the_closed_loop() {
     let deleted = tracks.iter().filter(|r| r.status == mimo_core::records::TrackStatus::Deleted).count();
     assert_eq!(deleted, ids.len());
     // Measured 98.00 % on this 300-s run (numpy 2.4), 99.40 % over the full 1000 s
-    // (reports/BENCHMARKS.md); the bound leaves room for another numpy's rounding.
+    // (reports/benchmarks-history.md); the bound leaves room for another numpy's rounding.
     let c = completeness(&out);
     assert!(c >= 0.95, "completeness {c}");
 }
@@ -127,6 +127,18 @@ fn a_ta_writing_something_else_than_a_reply_stops_the_run() {
     // JSON has no NaN: Python's json.dumps writes `NaN`, which is a bad reply, not a request.
     let e = fault("nan_aim", &[]);
     assert!(e.contains("bad reply") && e.contains("NaN"), "{e}");
+}
+
+#[test]
+fn a_second_reply_line_stops_the_run_at_once() {
+    let e = fault("two_lines", &[]);
+    assert!(e.contains("bad reply: a second line in reply to the message at t = "), "{e}");
+}
+
+#[test]
+fn a_track_row_back_in_time_beyond_the_window_stops_the_run() {
+    let e = fault("track_back", &[]);
+    assert!(e.contains("invalid request: track 7 has a row at t = 1 s, 30.000 s before its row at t = 31 s"), "{e}");
 }
 
 #[test]

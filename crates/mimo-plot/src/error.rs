@@ -57,17 +57,6 @@ pub enum PlotError {
         duration_s: f64,
     },
 
-    /// The run has no track rows (in the window): there is nothing to look at.
-    #[error("{}: run {run} has no tracks{where_} (nothing to plot)", file.display())]
-    NoTracks {
-        /// The tracks file.
-        file: PathBuf,
-        /// The run.
-        run: u32,
-        /// " in [a, b] s" when a window was given.
-        where_: String,
-    },
-
     /// The output exists and `--force` was not given.
     #[error("{}: already exists (use --force to replace it)", path.display())]
     Exists {

@@ -147,7 +147,8 @@ pub fn computed(src: &RunSource, tables: &RunTables) -> Result<RunScore, PlotErr
     let input = ScoreInput {
         truth: vec![tables.files[0].clone()],
         dwells: vec![tables.files[1].clone()],
-        tracks: vec![tables.files[3].clone()],
+        // A run without a tracks file (search only) is scored as a run without tracks.
+        tracks: if tables.files[3].is_file() { vec![tables.files[3].clone()] } else { Vec::new() },
         scorable,
         // The page shows completeness only: the usage by purpose is not needed.
         beams: mimo_metrics::BeamGeometry::none(),

@@ -79,8 +79,9 @@ impl RunSource {
     }
 
     /// Read the tables of run `run`. Measurements come from the run directory when it has them
-    /// (a simulation, or a re-run from primitives), otherwise from the source run. A missing
-    /// tracks file is a run without tracks.
+    /// (a simulation, or a re-run from primitives), otherwise from the source run. A missing or
+    /// empty tracks file is a run without tracks (`--tracker none`): its truth, measurements
+    /// and beams are still worth a look.
     pub fn read(&self, run: u32) -> Result<RunTables, PlotError> {
         self.check_run(run)?;
         let truth_f = Self::file(&self.source_dir, "truth", run);
@@ -93,9 +94,6 @@ impl RunSource {
             Err(StoreError::Missing { .. }) => Vec::new(),
             Err(e) => return Err(e.into()),
         };
-        if tracks.is_empty() {
-            return Err(PlotError::NoTracks { file: tracks_f, run, where_: String::new() });
-        }
         Ok(RunTables {
             truth: read_table(&truth_f)?,
             dwells: read_table(&dwells_f)?,

@@ -191,13 +191,6 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
     let duration_s = src.manifest.duration_s;
     let (t0, t1) = window(opts, duration_s)?;
     let tables = src.read(opts.run)?;
-    if !tables.tracks.iter().any(|r| r.t_s >= t0 && r.t_s <= t1) {
-        return Err(PlotError::NoTracks {
-            file: tables.files[3].clone(),
-            run: opts.run,
-            where_: format!(" in [{t0}, {t1}] s"),
-        });
-    }
     let score_dir = src.run_dir.join("score");
     let score: RunScore = if score_dir.join("summary.json").is_file() {
         linked::from_score_dir(&score_dir, opts.run)?

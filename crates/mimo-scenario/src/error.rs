@@ -132,11 +132,14 @@ pub(crate) fn from_toml(file: &str, text: &str, err: &toml::de::Error, syntax: b
     if syntax {
         return ScenarioError::Syntax { file, line, column, message };
     }
+    // Name the key the error sits at (`duration_s: invalid type: …`), not just its place.
+    let at = err.span().and_then(|s| crate::toml_path::key_path_at(text, s.start));
+    let with_key = |m: String| at.as_ref().map_or(m.clone(), |k| format!("{k}: {m}"));
     if let Some(rest) = message.strip_prefix("unknown field `") {
         let field = rest.split('`').next().unwrap_or_default().to_string();
-        return ScenarioError::UnknownField { file, line, column, field, message };
+        return ScenarioError::UnknownField { file, line, column, field, message: with_key(message) };
     }
-    ScenarioError::Schema { file, line, column, message }
+    ScenarioError::Schema { file, line, column, message: with_key(message) }
 }
 
 /// Collapse a possibly multi-line message onto one line.

@@ -45,6 +45,8 @@ mod model;
 mod ship;
 pub mod ship_frames;
 pub mod stress;
+pub mod text_file;
+pub mod toml_path;
 mod trajectory;
 mod validate;
 

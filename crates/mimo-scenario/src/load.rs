@@ -6,6 +6,7 @@ use crate::flight::Ctx;
 use crate::model::{
     Aircraft, AircraftType, DEFAULT_ARRAY_HEIGHT_M, DEFAULT_DURATION_S, Formation, Scenario, Ship, Target,
 };
+use crate::text_file::{MAX_TEXT_FILE_BYTES, read_text_file};
 use crate::validate::{
     fix_references, prune_formation, validate_aircraft, validate_duration, validate_fidelity, validate_formation,
     validate_ship, validate_type,
@@ -256,7 +257,7 @@ impl Loader {
         };
         let path = dir.join(inc);
         let display = path.display().to_string();
-        let text = std::fs::read_to_string(&path)
+        let text = read_text_file(&path, MAX_TEXT_FILE_BYTES)
             .map_err(|e| ScenarioError::Io { file: display.clone(), message: format!("{e} (included from {from})") })?;
         let key = std::fs::canonicalize(&path).unwrap_or(path.clone()).display().to_string();
         let parent = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -285,7 +286,7 @@ pub(crate) fn load_builtin(name: &str, default_name: &str) -> Result<Scenario, S
 /// Load a scenario file from disk.
 pub(crate) fn load_file(path: &Path) -> Result<Scenario, ScenarioError> {
     let display = path.display().to_string();
-    let text = std::fs::read_to_string(path)
+    let text = read_text_file(path, MAX_TEXT_FILE_BYTES)
         .map_err(|e| ScenarioError::Io { file: display.clone(), message: e.to_string() })?;
     let key = std::fs::canonicalize(path).unwrap_or(path.to_path_buf()).display().to_string();
     let base = Base::Dir(path.parent().map(Path::to_path_buf).unwrap_or_default());

@@ -21,6 +21,7 @@ pub mod engine;
 pub mod messages;
 pub mod search;
 pub mod test_article;
+pub mod track_check;
 pub mod world;
 
 pub use engine::{EngineConfig, EngineError, RunStats};

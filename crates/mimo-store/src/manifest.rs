@@ -53,7 +53,7 @@ pub struct ParentCheck {
     pub manifest_fnv1a64: String,
 }
 
-/// Most Monte Carlo runs a manifest may list (docs/DECISIONS.md "Bounds"): far above any
+/// Most Monte Carlo runs a manifest may list (docs/decisions/0035-bounds-and-exit-statuses.md): far above any
 /// study, far below what would exhaust a file system's directory entries.
 pub const MAX_RUNS: u32 = 100_000;
 
@@ -109,10 +109,10 @@ impl Manifest {
                 StoreError::Io { path: path.clone(), source: e }
             }
         })?;
-        let m: Manifest = serde_json::from_str(&text).map_err(|e| StoreError::BadManifest {
-            file: path.clone(),
-            field: field_of(&e.to_string()),
-            why: format!("{e}"),
+        let mut de = serde_json::Deserializer::from_str(&text);
+        let m: Manifest = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let field = field_of(&e.path().to_string(), &e.inner().to_string());
+            StoreError::BadManifest { file: path.clone(), field, why: e.into_inner().to_string() }
         })?;
         if m.schema_version != crate::schema::SCHEMA_VERSION {
             return Err(StoreError::BadManifest {
@@ -122,6 +122,7 @@ impl Manifest {
             });
         }
         m.check_runs(&path)?;
+        m.check_duration(&path)?;
         Ok(m)
     }
 
@@ -158,13 +159,34 @@ impl Manifest {
         Ok(())
     }
 
+    /// `duration_s` is a positive, finite number of seconds (every run's scoring times, re-run
+    /// and plot window follow from it).
+    fn check_duration(&self, path: &Path) -> Result<(), StoreError> {
+        let d = self.duration_s;
+        if d.is_finite() && d > 0.0 {
+            return Ok(());
+        }
+        Err(StoreError::BadManifest {
+            file: path.to_path_buf(),
+            field: "duration_s".into(),
+            why: format!("expected a positive number of seconds, got {d}"),
+        })
+    }
+
     /// Pretty JSON text.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
     }
 }
 
-fn field_of(msg: &str) -> String {
-    // serde_json messages read "missing field `x`" or "unknown field `x`"; pull the name out.
-    msg.split('`').nth(1).unwrap_or("(json)").to_string()
+/// The key at fault: the path of the value that failed (`runs`, `tables.tracks[0].rows`), with a
+/// missing field's name added (serde reads "missing field `x`" at the object holding it).
+fn field_of(path: &str, msg: &str) -> String {
+    let missing = msg.strip_prefix("missing field `").and_then(|r| r.split('`').next());
+    match (path, missing) {
+        (".", Some(f)) => f.to_string(),
+        (".", None) => "(json)".to_string(),
+        (p, Some(f)) => format!("{p}.{f}"),
+        (p, None) => p.to_string(),
+    }
 }

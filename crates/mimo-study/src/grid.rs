@@ -1,7 +1,7 @@
 //! The grid of a study: cells (method × scenario × stress point), the (cell, run) items, their
 //! deterministic split into shards, and each cell's hive-style directory.
 
-use crate::plan::{Axis, Plan, Sweep};
+use crate::plan::{Axis, Plan, PlanError, Sweep};
 use std::path::PathBuf;
 
 /// One point of the stress axes: a value for every axis of the plan, in [`Axis::ALL`] order.
@@ -63,6 +63,59 @@ pub fn points(plan: &Plan) -> Vec<(AxisPoint, Option<Axis>)> {
             out
         }
     }
+}
+
+/// Most cells a study may have (docs/studies.md "Limits"): methods × scenarios × stress points.
+/// Ten thousand cells of one 1000-s run each already take days on one machine; the list of
+/// cells, their directories and their items must be held in memory before anything runs.
+pub const MAX_CELLS: u64 = 10_000;
+/// Most (cell, run) items a study may have (docs/studies.md "Limits").
+pub const MAX_ITEMS: u64 = 1_000_000;
+
+/// The number of stress points of a plan, counted without listing them (saturating).
+pub fn point_count(plan: &Plan) -> u64 {
+    if plan.axes.is_empty() {
+        return 1;
+    }
+    match plan.sweep {
+        Sweep::Grid => plan.axes.iter().fold(1u64, |n, (_, v)| n.saturating_mul(v.len() as u64)),
+        Sweep::Each => plan.axes.iter().map(|(_, v)| v.len() as u64).sum(),
+    }
+}
+
+/// The number of cells of a plan, counted without listing them (saturating).
+pub fn cell_count(plan: &Plan) -> u64 {
+    (plan.methods.len() as u64).saturating_mul(plan.scenarios.len() as u64).saturating_mul(point_count(plan))
+}
+
+/// Refuse a plan with more than [`MAX_CELLS`] cells or [`MAX_ITEMS`] items, before any is
+/// listed: the message names the plan keys that multiply and the limit.
+pub fn check_size(plan: &Plan) -> Result<(), PlanError> {
+    let (cells, points) = (cell_count(plan), point_count(plan));
+    let err = |key: &str, expected: String| PlanError {
+        file: plan.file.display().to_string(),
+        key: key.to_string(),
+        expected,
+        at: None,
+    };
+    if cells > MAX_CELLS {
+        return Err(err(
+            "axes",
+            format!(
+                "at most {MAX_CELLS} cells (methods × scenarios × stress points), got {} × {} × {points} = {cells}",
+                plan.methods.len(),
+                plan.scenarios.len()
+            ),
+        ));
+    }
+    let items = cells.saturating_mul(u64::from(plan.runs));
+    if items > MAX_ITEMS {
+        return Err(err(
+            "runs",
+            format!("at most {MAX_ITEMS} runs in all (cells × runs), got {cells} × {} = {items}", plan.runs),
+        ));
+    }
+    Ok(())
 }
 
 /// Every cell: methods × scenarios × points, in that nesting order.
@@ -185,6 +238,22 @@ mod tests {
         dirs.sort();
         dirs.dedup();
         assert_eq!(dirs.len(), c.len());
+    }
+
+    #[test]
+    fn cells_are_counted_without_listing_them() {
+        for sweep in ["grid", "each"] {
+            let p = plan("pfa = [1e-6, 1e-4]\nrcs_offset_db = [-3, 0, 3]\nsearch_pulses = [1, 2, 4, 8]", sweep);
+            assert_eq!(cell_count(&p), cells(&p).len() as u64, "{sweep}");
+            check_size(&p).expect("small");
+        }
+        // 2 methods × 2 scenarios × 51 × 51 × 2 = 20 808 cells: refused before any is listed.
+        let values: Vec<String> = (0..51).map(|i| format!("{}", -25 + i)).collect();
+        let axes =
+            format!("rcs_offset_db = [{0}]\npeak_power_offset_db = [{0}]\npfa = [1e-6, 1e-4]", values.join(", "));
+        let e = check_size(&plan(&axes, "grid")).expect_err("too many cells");
+        assert_eq!(e.key, "axes");
+        assert!(e.expected.contains("got 2 × 2 × 5202 = 20808"), "{}", e.expected);
     }
 
     #[test]

@@ -37,8 +37,12 @@ pub fn search_of(cell: &Cell) -> SearchConfig {
 }
 
 fn load(plan: &Plan, i: usize) -> Result<Scenario, PlanError> {
-    let err =
-        |e: String| PlanError { file: plan.file.display().to_string(), key: format!("scenarios[{i}]"), expected: e };
+    let err = |e: String| PlanError {
+        file: plan.file.display().to_string(),
+        key: format!("scenarios[{i}]"),
+        expected: e,
+        at: None,
+    };
     let mut s = match &plan.scenarios[i] {
         ScenarioRef::Standard(n) => mimo_scenario::load_standard(*n),
         ScenarioRef::File(p) => mimo_scenario::load_path(p),
@@ -53,32 +57,85 @@ fn load(plan: &Plan, i: usize) -> Result<Scenario, PlanError> {
     Ok(s)
 }
 
+/// Memory the worlds of one study may take (docs/studies.md "Limits"): 3 GiB of the 4 GiB
+/// budget of a `mimo` command (docs/design.md §7), the rest for the runs in flight.
+pub const WORLDS_BUDGET_BYTES: u64 = 3 << 30;
+
+/// Memory a world of `s` holds, estimated from its size (s.build_trajectories): every target's
+/// position and velocity at every flight step of the run and its margin, and every moving ship's
+/// faces at every frame sample.
+pub fn world_bytes(s: &Scenario) -> u64 {
+    let duration_s = s.duration_s.max(0.0);
+    let nodes = ((duration_s + mimo_scenario::MARGIN_S) / mimo_scenario::STEP_S).ceil() as u64 + 2;
+    let targets = s.targets.len() as u64 * nodes * 2 * std::mem::size_of::<glam::DVec3>() as u64;
+    let face = std::mem::size_of::<mimo_core::face::FaceFrame>() as u64;
+    let samples = (duration_s / mimo_scenario::ShipFrames::STEP_S).ceil() as u64 + 3;
+    let ships: u64 = s
+        .ships
+        .iter()
+        .map(|sh| if sh.speed_mps == 0.0 { 1 } else { samples } * sh.radar.face_azimuths_deg.len() as u64 * face)
+        .sum();
+    targets + ships
+}
+
+/// The distinct (scenario, stress) keys of the cells, in order of first use, and each cell's key.
+fn distinct_worlds(cells: &[Cell]) -> (Vec<(usize, Stress)>, Vec<usize>) {
+    let mut keys: Vec<(usize, Stress)> = Vec::new();
+    let mut world_of = Vec::with_capacity(cells.len());
+    for cell in cells {
+        let key = (cell.scenario, stress_of(cell));
+        match keys.iter().position(|k| *k == key) {
+            Some(k) => world_of.push(k),
+            None => {
+                keys.push(key);
+                world_of.push(keys.len() - 1);
+            }
+        }
+    }
+    (keys, world_of)
+}
+
+/// Refuse worlds that would not fit in [`WORLDS_BUDGET_BYTES`], before any is built.
+fn check_world_memory(plan: &Plan, keys: &[(usize, Stress)], scenarios: &[Scenario]) -> Result<(), PlanError> {
+    let bytes: u64 = keys.iter().map(|(i, _)| world_bytes(&scenarios[*i])).sum();
+    if bytes <= WORLDS_BUDGET_BYTES {
+        return Ok(());
+    }
+    Err(PlanError {
+        file: plan.file.display().to_string(),
+        key: "axes".into(),
+        expected: format!(
+            "at most {} MiB of worlds in memory: {} distinct (scenario, stress point) worlds of these scenarios' \
+             targets and durations take about {} MiB (fewer axis values or scenarios, or a shorter duration_s)",
+            WORLDS_BUDGET_BYTES >> 20,
+            keys.len(),
+            bytes >> 20
+        ),
+        at: None,
+    })
+}
+
 /// Load every scenario, apply every stress point and build every world.
 pub fn prepare(plan: &Plan) -> Result<Prepared, PlanError> {
+    grid::check_size(plan)?;
     let cells = grid::cells(plan);
     let scenarios: Vec<Scenario> = (0..plan.scenarios.len()).map(|i| load(plan, i)).collect::<Result<_, _>>()?;
-    let mut keys: Vec<(usize, Stress)> = Vec::new();
-    let mut worlds = Vec::new();
-    let mut world_of = Vec::with_capacity(cells.len());
-    for cell in &cells {
-        let key = (cell.scenario, stress_of(cell));
-        if let Some(k) = keys.iter().position(|k| *k == key) {
-            world_of.push(k);
-            continue;
-        }
-        let mut s = scenarios[cell.scenario].clone();
+    let (keys, world_of) = distinct_worlds(&cells);
+    check_world_memory(plan, &keys, &scenarios)?;
+    let mut worlds = Vec::with_capacity(keys.len());
+    for (scenario, stress) in &keys {
+        let cell = &cells[world_of.iter().position(|&w| w == worlds.len()).unwrap_or(0)];
+        let mut s = scenarios[*scenario].clone();
         let point: Vec<String> =
             cell.point.iter().map(|(a, v)| format!("{} = {}", a.name(), grid::value_text(*v))).collect();
         let fail = |e: String| PlanError {
             file: plan.file.display().to_string(),
             key: format!("axes ({})", point.join(", ")),
-            expected: format!("a scenario that can be flown: scenario {}: {e}", plan.scenarios[cell.scenario].label()),
+            expected: format!("a scenario that can be flown: scenario {}: {e}", plan.scenarios[*scenario].label()),
+            at: None,
         };
-        key.1.apply(&mut s).map_err(|e| fail(e.to_string()))?;
-        let world = World::new(s).map_err(|e| fail(e.to_string()))?;
-        keys.push(key);
-        worlds.push(world);
-        world_of.push(worlds.len() - 1);
+        stress.apply(&mut s).map_err(|e| fail(e.to_string()))?;
+        worlds.push(World::new(s).map_err(|e| fail(e.to_string()))?);
     }
     Ok(Prepared { cells, worlds, world_of })
 }

@@ -8,6 +8,7 @@
 //! initiator) is replaced whole when the override changes its kind. The merged object is then
 //! parsed into the test article's typed configuration, which checks types and ranges.
 
+use mimo_scenario::text_file::{MAX_TEXT_FILE_BYTES, read_text_file};
 use serde_json::{Map, Value};
 use std::path::Path;
 
@@ -54,7 +55,7 @@ pub enum ConfigError {
 /// Read a TOML file of overrides into a JSON object.
 pub fn read_file(path: &Path) -> Result<Value, ConfigError> {
     let file = |why: String| ConfigError::File { path: path.display().to_string(), why };
-    let text = std::fs::read_to_string(path).map_err(|e| file(e.to_string()))?;
+    let text = read_text_file(path, MAX_TEXT_FILE_BYTES).map_err(|e| file(e.to_string()))?;
     let t: toml::Table = toml::from_str(&text).map_err(|e| file(e.message().to_string()))?;
     toml_to_json(&toml::Value::Table(t), "")
 }
@@ -171,10 +172,14 @@ fn merge_at(base: &Value, over: &Value, prefix: &str) -> Result<Value, ConfigErr
     Ok(Value::Object(out))
 }
 
-/// Parse a merged configuration into a typed one; serde's message names the field.
+/// Parse a merged configuration into a typed one. A value of the wrong type is an error naming
+/// its key path (`resource_manager.power_budget_w`); `(config)` only when the whole is wrong.
 pub fn parse<T: serde::de::DeserializeOwned>(merged: &Value) -> Result<T, ConfigError> {
-    serde_json::from_value(merged.clone())
-        .map_err(|e| ConfigError::BadValue { key: "(config)".into(), why: e.to_string() })
+    serde_path_to_error::deserialize(merged.clone()).map_err(|e| {
+        let key = e.path().to_string();
+        let key = if key == "." { "(config)".to_string() } else { key };
+        ConfigError::BadValue { key, why: e.into_inner().to_string() }
+    })
 }
 
 #[cfg(test)]
@@ -216,6 +221,30 @@ mod tests {
         assert!(err.to_string().contains("rm.mimmo"));
         let not_table = json!({"tracker": 3});
         assert!(matches!(merge(&base, &not_table), Err(ConfigError::BadValue { .. })));
+    }
+
+    #[test]
+    fn a_wrong_type_names_its_key_path() {
+        #[derive(Debug, serde::Deserialize)]
+        struct Rm {
+            #[allow(dead_code)]
+            power_budget_w: Option<f64>,
+        }
+        #[derive(Debug, serde::Deserialize)]
+        struct Config {
+            #[allow(dead_code)]
+            resource_manager: Rm,
+        }
+        let e = parse::<Config>(&json!({"resource_manager": {"power_budget_w": "abc"}})).expect_err("type");
+        assert_eq!(
+            e,
+            ConfigError::BadValue {
+                key: "resource_manager.power_budget_w".into(),
+                why: "invalid type: string \"abc\", expected f64".into()
+            }
+        );
+        let e = parse::<Config>(&json!(3)).expect_err("not a table");
+        assert!(matches!(e, ConfigError::BadValue { key, .. } if key == "(config)"));
     }
 
     #[test]

@@ -56,6 +56,17 @@ pub fn split_command(cmd: &str) -> Option<Vec<String>> {
     shlex::split(cmd).filter(|w| !w.is_empty())
 }
 
+/// One line of a test article's output read as the reply to the message at `t_s`: a
+/// [`ReplyMessage`] in JSON (trailing whitespace and line end ignored), or a
+/// [`TaFault::BadMessage`] quoting at most 120 characters of it, on one line.
+pub fn parse_reply(line: &str, t_s: f64) -> Result<ReplyMessage, TaFault> {
+    let text = line.trim_end();
+    serde_json::from_str::<ReplyMessage>(text).map_err(|e| {
+        let shown: String = text.chars().take(120).filter(|c| !c.is_control()).collect();
+        TaFault::BadMessage(format!("{e} in reply to the message at t = {t_s} s: `{shown}`"))
+    })
+}
+
 /// A test article run as a child process.
 pub struct ProcessTa {
     cmd: String,
@@ -68,6 +79,8 @@ pub struct ProcessTa {
     subscription: Subscription,
     buf: Vec<u8>,
     messages: u64,
+    /// Time of the last message sent.
+    last_t_s: f64,
 }
 
 impl ProcessTa {
@@ -119,6 +132,7 @@ impl ProcessTa {
             subscription: Subscription::default(),
             buf: Vec::with_capacity(1 << 16),
             messages: 0,
+            last_t_s: 0.0,
         })
     }
 
@@ -139,7 +153,38 @@ impl ProcessTa {
         "it closed its output".into()
     }
 
+    /// A line that answers no message: the test article replied to the previous one (at
+    /// `last_t_s`) with more than one line, which would shift every later reply by one.
+    fn second_line(&self, line: &str) -> TaFault {
+        let shown: String = line.trim_end().chars().take(120).collect();
+        TaFault::BadMessage(format!(
+            "a second line in reply to the message at t = {} s (exactly one line answers each message): `{shown}`",
+            self.last_t_s
+        ))
+    }
+
+    /// Before a message is sent, no line may be waiting.
+    fn refuse_extra_line(&mut self) -> Result<(), TaFault> {
+        match self.lines.try_recv() {
+            Ok(Line::Text(s)) => Err(self.second_line(&s)),
+            _ => Ok(()),
+        }
+    }
+
+    /// After the child exited, its output up to the end must hold no further line (a process it
+    /// left holding the output open is not waited for beyond a second).
+    fn refuse_output_after_exit(&mut self) -> Result<(), TaFault> {
+        match self.lines.recv_timeout(Duration::from_secs(1)) {
+            Ok(Line::Text(s)) => Err(self.second_line(&s)),
+            _ => Ok(()),
+        }
+    }
+
     fn send(&mut self, t_s: f64, events: Vec<EventRef<'_>>) -> Result<ReplyMessage, TaFault> {
+        if self.messages > 0 {
+            self.refuse_extra_line()?;
+        }
+        self.last_t_s = t_s;
         self.buf.clear();
         serde_json::to_writer(&mut self.buf, &MessageRef { t_s, events })
             .map_err(|e| TaFault::Io(format!("encoding a message: {e}")))?;
@@ -162,11 +207,7 @@ impl ProcessTa {
                 return Err(TaFault::Timeout(self.timeout.as_secs_f64()));
             }
         };
-        let text = line.trim_end();
-        serde_json::from_str::<ReplyMessage>(text).map_err(|e| {
-            let shown: String = text.chars().take(120).collect();
-            TaFault::BadMessage(format!("{e} in reply to the message at t = {t_s} s: `{shown}`"))
-        })
+        parse_reply(&line, t_s)
     }
 
     fn exchange(&mut self, t_s: f64, events: Vec<EventRef<'_>>) -> Result<Reply, TaFault> {
@@ -212,7 +253,8 @@ impl TestArticle for ProcessTa {
         let deadline = std::time::Instant::now() + self.timeout;
         loop {
             match self.child.try_wait() {
-                Ok(Some(status)) if status.success() => return Ok(reply),
+                // Whatever it wrote after its last reply is a line too many.
+                Ok(Some(status)) if status.success() => return self.refuse_output_after_exit().map(|()| reply),
                 Ok(Some(status)) => return Err(TaFault::Crashed(format!("it exited with {status} after `finish`"))),
                 Ok(None) if std::time::Instant::now() < deadline => std::thread::sleep(Duration::from_millis(2)),
                 Ok(None) => {

@@ -8,6 +8,7 @@ use crate::passive::Passive;
 use mimo_sim::World;
 use mimo_sim::test_article::TestArticle;
 use mimo_track::initiation::MOfN;
+use mimo_track::initiation_evidence::FalseTrackConfig;
 use mimo_track::{AssociationMethod, InitiationExclusion, TrackerConfig, TrackerKind};
 use serde_json::Value;
 
@@ -31,7 +32,7 @@ pub const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "gnn",
-        about: "the baseline before issue 13's sixth round: EKF (NCV) tracker, GNN, adaptive revisit and energy, MIMO dwells",
+        about: "the former default: EKF (NCV) tracker, GNN, adaptive revisit and energy, MIMO dwells",
         tracks: true,
     },
     Builtin { name: "imm", about: "the baseline with an IMM (CV-low + CV-high) instead of the EKF", tracks: true },
@@ -57,7 +58,7 @@ fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -
     let mut tracker = TrackerConfig { association_method, ..TrackerConfig::for_kind(kind) };
     // The built-in test articles confirm on 2 of 2 looks (a false alarm costs one confirmation
     // look, not two) and look at a confirmed track at least every 2 s (docs/model.md §6.4, §7.1;
-    // issue 13, third round).
+    // docs/decisions/0028-confirmation-revisit-group-looks.md).
     tracker.confirmation = MOfN { m: 2, n: 2 };
     tracker.revisit.t_max_s = 2.0;
     if association_method == AssociationMethod::Jpda {
@@ -69,7 +70,7 @@ fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -
     DefaultTaConfig { tracker, ..DefaultTaConfig::default() }
 }
 
-/// The default test article (issue 13, sixth round; docs/DECISIONS.md): the IMM with JPDA, whose
+/// The default test article (docs/decisions/0031-imm-jpda-default.md): the IMM with JPDA, whose
 /// initiation exclusion keeps the resolution cell but not the wide NIS gate, and where a return a
 /// track's gate holds besides the track's preferred one may start a track (β < 0.5,
 /// docs/model.md §6.4): the second aircraft of a pair the two-target estimator split.
@@ -77,6 +78,9 @@ fn the_default_config() -> DefaultTaConfig {
     let mut c = default_ta_config(TrackerKind::Imm, AssociationMethod::Jpda);
     c.tracker.initiation_exclusion.nis = 0.0;
     c.tracker.second_return_max_beta = 0.5;
+    // False-track management (docs/model.md §6.4): only a detection as strong as a 1e-8 false
+    // alarm starts a track, and at most 400 tentative tracks live at once, the weakest shed first.
+    c.tracker.false_tracks = FalseTrackConfig { power_pfa: 1e-8, max_tentative: 400 };
     c
 }
 

@@ -230,8 +230,11 @@ pub fn replay_selected(
 
     let start = Engine::start_info(world, run, cfg, false);
     let mut stats = ReplayStats::default();
-    let take = |reply: Reply, stats: &mut ReplayStats, sink: &mut dyn RunSink| -> Result<(), ReplayError> {
+    let mut track_check = mimo_sim::track_check::TrackRowCheck::default();
+    let ta_name = ta.name().to_string();
+    let mut take = |reply: Reply, stats: &mut ReplayStats, sink: &mut dyn RunSink| -> Result<(), ReplayError> {
         stats.ignored_requests += reply.requests.len() as u64;
+        track_check.check(&reply.tracks).map_err(|fault| ReplayError::Ta { name: ta_name.clone(), fault })?;
         let mut rows: Vec<TrackRow> = reply.tracks;
         rows.iter_mut().for_each(|r| r.run = run);
         if !rows.is_empty() {

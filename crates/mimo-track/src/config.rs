@@ -5,6 +5,7 @@ use crate::association::AssociationCost;
 use crate::deletion::DeletionConfig;
 use crate::gating::ChiSquareGate;
 use crate::initiation::{MOfN, OnePointInitiator, TwoPointConfig};
+use crate::initiation_evidence::FalseTrackConfig;
 use crate::measurement::MeasurementConfig;
 use crate::motion::ProcessNoise;
 use crate::partner::PartnerUpdate;
@@ -201,6 +202,9 @@ pub struct TrackerConfig {
     pub initiate_on: InitiateOn,
     /// Where a detection may not start a track: near an existing track.
     pub initiation_exclusion: InitiationExclusion,
+    /// Evidence a detection needs to start a track, and the tentative-track budget
+    /// (docs/model.md §6.4). Default off.
+    pub false_tracks: FalseTrackConfig,
     /// M-of-N confirmation over looks (the initiating detection is the first look).
     /// Default 2-of-3.
     pub confirmation: MOfN,
@@ -233,7 +237,8 @@ pub struct TrackerConfig {
 /// A detection never starts a track when it lies, for some existing track, inside the track's
 /// predicted resolution cell or inside a wide exclusion gate (docs/model.md §6.4): an
 /// unresolved or gate-missing return of a tracked target is not a new target. Off by default
-/// (it cost the GNN default completeness on scenario 7, docs/DECISIONS.md); on in the JPDA
+/// (it cost the GNN default completeness on scenario 7,
+/// docs/decisions/0026-formation-measures-as-options.md); on in the JPDA
 /// built-ins ([`InitiationExclusion::resolution_cell`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -295,6 +300,7 @@ impl Default for TrackerConfig {
             initiator: InitiatorConfig::default(),
             initiate_on: InitiateOn::SearchAndMonostatic,
             initiation_exclusion: InitiationExclusion::default(),
+            false_tracks: FalseTrackConfig::default(),
             confirmation: MOfN::default(),
             deletion: DeletionConfig::default(),
             revisit: RevisitPolicy::default(),
@@ -353,6 +359,10 @@ impl TrackerConfig {
             if !(x.is_finite() && x >= 0.0) {
                 return Err(bad(name, "a finite number >= 0", x));
             }
+        }
+        let p = self.false_tracks.power_pfa;
+        if !(p > 0.0 && p <= 1.0) {
+            return Err(bad("false_tracks.power_pfa", "a probability in (0, 1]", p));
         }
         if self.jpda.max_events == 0 {
             return Err(bad("jpda.max_events", "at least 1", self.jpda.max_events));

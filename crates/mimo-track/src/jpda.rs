@@ -54,28 +54,7 @@ impl JpdaAssociator {
         let (n, m) = (table.n_tracks, table.n_meas);
         let mut beta = vec![vec![0.0; m + 1]; n];
         let log_miss = -0.5 * self.cost.miss_cost();
-        // Clusters: tracks connected through shared gated measurements.
-        let mut cluster = vec![usize::MAX; n];
-        let mut n_clusters = 0;
-        let mut stack = Vec::new();
-        for start in 0..n {
-            if cluster[start] != usize::MAX {
-                continue;
-            }
-            stack.push(start);
-            cluster[start] = n_clusters;
-            while let Some(t) = stack.pop() {
-                for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
-                    for (u, c) in cluster.iter_mut().enumerate() {
-                        if *c == usize::MAX && table.get(u, j).is_some() {
-                            *c = n_clusters;
-                            stack.push(u);
-                        }
-                    }
-                }
-            }
-            n_clusters += 1;
-        }
+        let (cluster, n_clusters) = clusters(table);
         // The GNN assignment is the fallback of a cluster with too many (or no) joint events.
         let mut gnn: Option<Vec<Option<usize>>> = None;
         let mut tracks: Vec<usize> = Vec::new();
@@ -127,20 +106,55 @@ impl JpdaAssociator {
                 }
                 true
             });
-            for &t in &tracks {
-                let row = &mut beta[t];
-                row.iter_mut().for_each(|b| *b /= total);
-                for b in row.iter_mut().take(m) {
-                    if *b < self.min_probability {
-                        *b = 0.0;
-                    }
-                }
-                let s: f64 = row.iter().sum();
-                row.iter_mut().for_each(|b| *b /= s);
-            }
+            self.normalize(&mut beta, &tracks, total);
         }
         AssociationProbabilities { beta }
     }
+
+    /// Divide the rows of `tracks` by the cluster's `total` weight, drop the probabilities below
+    /// `min_probability` and renormalize each row to 1.
+    fn normalize(&self, beta: &mut [Vec<f64>], tracks: &[usize], total: f64) {
+        for &t in tracks {
+            let m = beta[t].len() - 1;
+            let row = &mut beta[t];
+            row.iter_mut().for_each(|b| *b /= total);
+            for b in row.iter_mut().take(m) {
+                if *b < self.min_probability {
+                    *b = 0.0;
+                }
+            }
+            let s: f64 = row.iter().sum();
+            row.iter_mut().for_each(|b| *b /= s);
+        }
+    }
+}
+
+/// The clusters of a table: tracks connected through shared gated measurements. Returns each
+/// track's cluster index and the number of clusters.
+fn clusters(table: &HypothesisTable) -> (Vec<usize>, usize) {
+    let (n, m) = (table.n_tracks, table.n_meas);
+    let mut cluster = vec![usize::MAX; n];
+    let mut n_clusters = 0;
+    let mut stack = Vec::new();
+    for start in 0..n {
+        if cluster[start] != usize::MAX {
+            continue;
+        }
+        stack.push(start);
+        cluster[start] = n_clusters;
+        while let Some(t) = stack.pop() {
+            for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
+                for (u, c) in cluster.iter_mut().enumerate() {
+                    if *c == usize::MAX && table.get(u, j).is_some() {
+                        *c = n_clusters;
+                        stack.push(u);
+                    }
+                }
+            }
+        }
+        n_clusters += 1;
+    }
+    (cluster, n_clusters)
 }
 
 /// Depth-first enumeration of the feasible joint events of one cluster: each track takes one of

@@ -115,6 +115,7 @@ pub mod geometry;
 pub mod group;
 mod imm;
 pub mod initiation;
+pub mod initiation_evidence;
 pub mod jpda;
 pub mod linalg;
 pub mod measurement;

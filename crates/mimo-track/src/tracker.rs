@@ -84,6 +84,9 @@ pub struct MultiTargetTracker {
     pub(crate) quiet: crate::deletion_quiet::QuietTracks,
     /// Predictions made in the current dwell, for its other channels and its deletion pass.
     pub(crate) preds: crate::dwell_predictions::DwellPredictions,
+    /// Observed power (linear SNR) of each live track's initiating detection: the score by which
+    /// the tentative-track budget sheds (docs/model.md §6.4).
+    pub(crate) initiation_power: BTreeMap<u64, f64>,
 }
 
 impl fmt::Debug for MultiTargetTracker {
@@ -121,6 +124,7 @@ impl MultiTargetTracker {
             stats: TrackerStats::default(),
             quiet: Default::default(),
             preds: Default::default(),
+            initiation_power: BTreeMap::new(),
         }
     }
 
@@ -313,8 +317,25 @@ impl MultiTargetTracker {
             }
         }
 
+        rejected.extend(self.over_budget_tentative());
         rows.extend(self.delete_pass(ctx.run, ctx.t_s, &rejected));
         rows
+    }
+
+    /// The tentative tracks beyond `false_tracks.max_tentative`, weakest initiating detection
+    /// first (docs/model.md §6.4).
+    fn over_budget_tentative(&self) -> Vec<u64> {
+        let max = self.config.false_tracks.max_tentative;
+        if max == 0 {
+            return Vec::new();
+        }
+        let mut tentative: Vec<(u64, f64)> = self
+            .tracks
+            .values()
+            .filter(|t| t.status == TrackStatus::Tentative)
+            .map(|t| (t.id, self.initiation_power.get(&t.id).copied().unwrap_or(0.0)))
+            .collect();
+        crate::initiation_evidence::shed_weakest(&mut tentative, max)
     }
 
     /// Run only the deletion rules at `t_s` (coasting limits, covariance growth); use between
@@ -394,6 +415,7 @@ impl MultiTargetTracker {
         }
         for (id, r) in gone {
             self.tracks.remove(&id);
+            self.initiation_power.remove(&id);
             self.quiet.forget(id);
             *self.stats.deleted.entry(r).or_insert(0) += 1;
         }

@@ -161,6 +161,8 @@ pub struct Engine<'a> {
     /// The parts vector of the last quiet search group, reused by the next search group (no
     /// allocation and free per search dwell).
     spare_parts: Vec<Part>,
+    /// The track rows returned so far, checked reply by reply.
+    track_check: crate::track_check::TrackRowCheck,
 }
 
 impl<'a> Engine<'a> {
@@ -194,6 +196,7 @@ impl<'a> Engine<'a> {
             targets: Vec::new(),
             quiet_radars: quiet::quiet_radars(world),
             spare_parts: Vec::new(),
+            track_check: Default::default(),
         }
     }
 
@@ -305,16 +308,11 @@ impl<'a> Engine<'a> {
     }
 
     fn take_tracks(&mut self, mut rows: Vec<mimo_core::records::TrackRow>) -> Result<(), EngineError> {
+        if let Err(f) = self.track_check.check(&rows) {
+            return Err(self.fault(f));
+        }
         for r in &mut rows {
             r.run = self.run;
-            let finite = [r.t_s, r.x_m, r.y_m, r.z_m, r.vx_mps, r.vy_mps, r.vz_mps].iter().all(|x| x.is_finite())
-                && r.cov.iter().all(|x| x.is_finite());
-            if !finite {
-                return Err(self.fault(TaFault::InvalidRequest(format!(
-                    "track {} at t = {} s has a non-finite state or covariance",
-                    r.track_id, r.t_s
-                ))));
-            }
         }
         if !rows.is_empty() {
             self.sink.tracks(rows)?;

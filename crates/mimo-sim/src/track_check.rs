@@ -1,0 +1,80 @@
+//! The track rows a test article returns, checked as they arrive (docs/design.md §7): finite
+//! states and covariances, and no row further back in time than the out-of-sequence window
+//! ([`TRACK_OUT_OF_SEQUENCE_S`]) behind the same track's latest earlier row. The tables' readers
+//! refuse such rows later anyway; refusing them here stops the run at the reply that broke the
+//! rule, with the test article named, instead of after a whole simulation.
+
+use crate::test_article::TaFault;
+use mimo_core::records::TrackRow;
+use mimo_core::table_rules::TRACK_OUT_OF_SEQUENCE_S;
+use std::collections::BTreeMap;
+
+/// The latest time seen of every track of one run.
+#[derive(Debug, Default)]
+pub struct TrackRowCheck {
+    latest_s: BTreeMap<u64, f64>,
+}
+
+impl TrackRowCheck {
+    /// Check `rows` (one reply's, in order) against each other and everything seen before.
+    pub fn check(&mut self, rows: &[TrackRow]) -> Result<(), TaFault> {
+        for r in rows {
+            let finite = [r.t_s, r.x_m, r.y_m, r.z_m, r.vx_mps, r.vy_mps, r.vz_mps].iter().all(|x| x.is_finite())
+                && r.cov.iter().all(|x| x.is_finite());
+            if !finite {
+                return Err(TaFault::InvalidRequest(format!(
+                    "track {} at t = {} s has a non-finite state or covariance",
+                    r.track_id, r.t_s
+                )));
+            }
+            let latest = self.latest_s.entry(r.track_id).or_insert(r.t_s);
+            if r.t_s < *latest - TRACK_OUT_OF_SEQUENCE_S {
+                return Err(TaFault::InvalidRequest(format!(
+                    "track {} has a row at t = {} s, {:.3} s before its row at t = {} s \
+                     (rows may step back at most {TRACK_OUT_OF_SEQUENCE_S} s, an out-of-sequence update)",
+                    r.track_id,
+                    r.t_s,
+                    *latest - r.t_s,
+                    *latest
+                )));
+            }
+            *latest = latest.max(r.t_s);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(track_id: u64, t_s: f64) -> TrackRow {
+        TrackRow {
+            run: 0,
+            t_s,
+            track_id,
+            status: mimo_core::records::TrackStatus::Confirmed,
+            x_m: 0.0,
+            y_m: 0.0,
+            z_m: 0.0,
+            vx_mps: 0.0,
+            vy_mps: 0.0,
+            vz_mps: 0.0,
+            cov: [0.0; 21],
+            n_updates: 1,
+            last_meas_id: None,
+        }
+    }
+
+    #[test]
+    fn an_out_of_sequence_update_passes_and_a_step_back_beyond_the_window_does_not() {
+        let mut c = TrackRowCheck::default();
+        c.check(&[row(1, 100.0), row(2, 10.0)]).expect("first rows");
+        c.check(&[row(1, 99.95), row(1, 100.2)]).expect("50 ms back is an out-of-sequence update");
+        // The window is measured from the latest time, not the last row's.
+        let e = c.check(&[row(1, 70.0)]).expect_err("30 s back");
+        assert!(e.to_string().contains("track 1 has a row at t = 70 s, 30.200 s before its row at t = 100.2 s"), "{e}");
+        // Another track keeps its own clock.
+        c.check(&[row(2, 10.5)]).expect("track 2");
+    }
+}
