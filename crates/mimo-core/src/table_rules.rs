@@ -192,7 +192,7 @@ pub fn run_of_file_name(name: &str) -> Option<u32> {
 }
 
 /// The rank of a tracks row among the rows of its track at the same time: `n_updates`, then the
-/// `deleted` row after the others (docs/decisions, "Track rows at one time").
+/// `deleted` row after the others (docs/decisions/0258-checked-table-readers.md).
 pub fn track_row_order(n_updates: u32, deleted: bool) -> u64 {
     (u64::from(n_updates) << 1) | u64::from(deleted)
 }
