@@ -54,6 +54,8 @@ pub enum Role {
 }
 
 impl Role {
+    /// Every on-disk label, in declaration order (the values the table's column may hold).
+    pub const LABELS: [&'static str; 3] = ["tx", "rx", "txrx"];
     /// The on-disk string: `tx`, `rx` or `txrx`.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -93,6 +95,8 @@ pub enum DwellKind {
 }
 
 impl DwellKind {
+    /// Every on-disk label, in declaration order (the values the table's column may hold).
+    pub const LABELS: [&'static str; 4] = ["search", "confirm", "track", "mimo"];
     /// The on-disk string: `search`, `confirm`, `track` or `mimo`.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -125,6 +129,8 @@ pub enum Requester {
 }
 
 impl Requester {
+    /// Every on-disk label, in declaration order (the values the table's column may hold).
+    pub const LABELS: [&'static str; 2] = ["radar", "ta"];
     /// The on-disk string: `radar` or `ta`.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -323,6 +329,8 @@ pub enum TrackStatus {
 }
 
 impl TrackStatus {
+    /// Every on-disk label, in declaration order (the values the table's column may hold).
+    pub const LABELS: [&'static str; 3] = ["tentative", "confirmed", "deleted"];
     /// The on-disk string: `tentative`, `confirmed` or `deleted`.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -464,5 +472,13 @@ mod tests {
         }
         assert_eq!(Requester::parse("ta"), Some(Requester::Ta));
         assert!(!Role::Rx.transmits());
+        // The label lists are the parsers' languages, in order.
+        assert_eq!(Role::LABELS.map(|l| Role::parse(l).map(Role::as_str)), Role::LABELS.map(Some));
+        assert_eq!(DwellKind::LABELS.map(|l| DwellKind::parse(l).map(DwellKind::as_str)), DwellKind::LABELS.map(Some));
+        assert_eq!(Requester::LABELS.map(|l| Requester::parse(l).map(Requester::as_str)), Requester::LABELS.map(Some));
+        assert_eq!(
+            TrackStatus::LABELS.map(|l| TrackStatus::parse(l).map(TrackStatus::as_str)),
+            TrackStatus::LABELS.map(Some)
+        );
     }
 }

@@ -11,7 +11,13 @@
 //! * truth: one row per (run, `target`, `t_s`), and times increasing within each target;
 //! * dwells: `dwell_id` unique within a run, and start times non-decreasing per (run, `radar`)
 //!   (a radar executes one dwell at a time, docs/model.md §7);
-//! * measurements: `meas_id` unique within a run.
+//! * measurements: `meas_id` unique within a run;
+//! * tracks, at one time: rows of one track that share `t_s` (sequential updates from one dwell)
+//!   are ordered by `n_updates`, the `deleted` row last ([`track_row_order`]); rows the table
+//!   cannot order that way are refused ([`track_rows_orderable`]), so that no result depends on
+//!   the order rows are stored in;
+//! * covariances: symmetric 6×6 upper triangles with positive variances that are positive
+//!   semi-definite to rounding ([`covariance_ok`]).
 //!
 //! Each check returns the first offending row (0-based, within the file checked) and a reason.
 
@@ -185,6 +191,75 @@ pub fn run_of_file_name(name: &str) -> Option<u32> {
     name.strip_prefix("run-")?.strip_suffix(".parquet")?.parse().ok()
 }
 
+/// The rank of a tracks row among the rows of its track at the same time: `n_updates`, then the
+/// `deleted` row after the others (docs/decisions/0258-checked-table-readers.md).
+pub fn track_row_order(n_updates: u32, deleted: bool) -> u64 {
+    (u64::from(n_updates) << 1) | u64::from(deleted)
+}
+
+/// Rows of one track at one time must differ in their [`track_row_order`]: the first row that
+/// repeats an earlier row's (key, `t_s`, rank) cannot be ordered by the table and breaks the rule.
+pub fn track_rows_orderable<K: Hash + Eq + std::fmt::Display>(
+    keys: impl IntoIterator<Item = K>,
+    t_s: &[f64],
+    rank: &[u64],
+) -> Result<(), Violation> {
+    let mut seen: HashMap<(K, u64, u64), usize> = HashMap::new();
+    for (row, ((key, &t), &r)) in keys.into_iter().zip(t_s).zip(rank).enumerate() {
+        // -0.0 and 0.0 are one time.
+        let bits = if t == 0.0 { 0 } else { t.to_bits() };
+        match seen.entry((key, bits, r)) {
+            std::collections::hash_map::Entry::Vacant(v) => {
+                v.insert(row);
+            }
+            std::collections::hash_map::Entry::Occupied(o) => {
+                let was = *o.get();
+                let key = &o.key().0;
+                return Err(Violation {
+                    column: "n_updates",
+                    row,
+                    why: format!(
+                        "repeats row {was}: track {key} has two rows at t_s {t} with n_updates {} (rows of one track at one time are ordered by n_updates, the deleted row last; these cannot be)",
+                        r >> 1
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Whether a packed covariance (upper triangle of a symmetric 6×6, row-major, 21 values) can be
+/// one: every value finite, every variance positive, and the matrix positive semi-definite to
+/// rounding (a Cholesky factorisation of its correlation matrix, with 1e-9 added to the diagonal,
+/// succeeds). `Err` says what is wrong.
+pub fn covariance_ok(c: &[f64; 21]) -> Result<(), String> {
+    if let Some(k) = c.iter().position(|x| !x.is_finite()) {
+        return Err(format!("value {k} is {} (expected a finite number)", c[k]));
+    }
+    let m = crate::records::unpack_cov(c);
+    if let Some(i) = (0..6).find(|&i| m[i][i] <= 0.0) {
+        return Err(format!("variance {i} (diagonal) is {} (expected a positive number)", m[i][i]));
+    }
+    let sd: Vec<f64> = (0..6).map(|i| m[i][i].sqrt()).collect();
+    let mut l = [[0.0f64; 6]; 6];
+    for i in 0..6 {
+        for j in 0..=i {
+            let r = m[i][j] / (sd[i] * sd[j]) + if i == j { 1e-9 } else { 0.0 };
+            let s = r - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
+            if i == j {
+                if s <= 0.0 {
+                    return Err("is not positive semi-definite".to_string());
+                }
+                l[i][i] = s.sqrt();
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A key of two parts shown as `a/b` in messages (run and id).
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Key2<A, B>(pub A, pub B);
@@ -220,5 +295,43 @@ mod tests {
         assert_eq!((e.column, e.row), ("dwell_id", 2));
         assert!(unique([Key2(0u32, 7u64), Key2(1, 7)], "dwell_id").is_ok());
         assert_eq!(runs_match(&[3, 3, 4], 3).expect_err("run").row, 2);
+    }
+
+    #[test]
+    fn track_rows_at_one_time_need_distinct_ranks() {
+        let keys = || [Key2(0u32, 5u64), Key2(0, 5), Key2(0, 5), Key2(0, 6)].into_iter();
+        let t = [1.0, 1.0, 1.0, 1.0];
+        let ok = [track_row_order(3, false), track_row_order(4, false), track_row_order(4, true), 0];
+        assert!(track_rows_orderable(keys(), &t, &ok).is_ok());
+        let tie = [track_row_order(3, false), track_row_order(4, false), track_row_order(4, false), 0];
+        let e = track_rows_orderable(keys(), &t, &tie).expect_err("tie");
+        assert_eq!((e.column, e.row), ("n_updates", 2));
+        // The same rank at another time, or for another track, is no tie.
+        assert!(track_rows_orderable(keys(), &[1.0, 2.0, 3.0, 1.0], &tie).is_ok());
+        assert!(track_row_order(4, false) > track_row_order(3, true));
+    }
+
+    #[test]
+    fn covariance_checks() {
+        let mut m = [[0.0; 6]; 6];
+        for (i, row) in m.iter_mut().enumerate() {
+            row[i] = 1.0 + i as f64;
+        }
+        m[0][3] = 0.9;
+        m[3][0] = 0.9;
+        assert!(covariance_ok(&crate::records::pack_cov(&m)).is_ok());
+        // A correlation above 1 is not a covariance.
+        m[0][3] = 3.0;
+        m[3][0] = 3.0;
+        assert!(covariance_ok(&crate::records::pack_cov(&m)).expect_err("not psd").contains("semi-definite"));
+        // A rank-deficient (perfectly correlated) pair is semi-definite and passes.
+        m[0][3] = (1.0f64 * 4.0).sqrt();
+        m[3][0] = m[0][3];
+        assert!(covariance_ok(&crate::records::pack_cov(&m)).is_ok());
+        let mut c = crate::records::pack_cov(&m);
+        c[0] = -1.0;
+        assert!(covariance_ok(&c).expect_err("negative").contains("variance 0"));
+        c[0] = f64::NAN;
+        assert!(covariance_ok(&c).expect_err("nan").contains("finite"));
     }
 }

@@ -85,7 +85,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 vx_mps: v.x,
                 vy_mps: v.y,
                 vz_mps: v.z,
-                cov: [0.0; 21],
+                cov: unit_cov(),
                 n_updates: 1,
                 last_meas_id: None,
             })
@@ -210,4 +210,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.summary.usage.total_energy_j
     );
     Ok(())
+}
+
+/// A covariance of 1 m² and 1 m²/s² on the diagonal (the readers refuse a zero variance).
+fn unit_cov() -> [f64; 21] {
+    let mut c = [0.0; 21];
+    for i in 0..6 {
+        c[mimo_core::records::cov_index(i, i)] = 1.0;
+    }
+    c
 }

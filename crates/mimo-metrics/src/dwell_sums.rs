@@ -10,9 +10,9 @@
 //! then reads the file with every check (`crate::read`), which names the file, column, row and
 //! rule. The columns are read by `crate::dwell_read`.
 
-use crate::load::{KINDS, REQUESTERS, ROLES};
 use crate::mean::KahanSum;
 use mimo_core::ids::RadarId;
+use mimo_core::records::{DwellKind, Requester, Role};
 use std::collections::{BTreeSet, HashMap};
 
 /// Rows of a dwells file read at a time: the file is reduced slice by slice, so that memory
@@ -206,8 +206,8 @@ pub(crate) struct FilePass<'r> {
 impl<'r> FilePass<'r> {
     /// A pass whose sums are split every `slice_rows` rows (at least one) of the file.
     pub(crate) fn new(runs: &'r BTreeSet<u32>, interval_s: f64, slice_rows: usize) -> FilePass<'r> {
-        let mut role = Labels::fixed(ROLES);
-        let mut requested_by = Labels::fixed(REQUESTERS);
+        let mut role = Labels::fixed(&Role::LABELS);
+        let mut requested_by = Labels::fixed(&Requester::LABELS);
         let (rx, ta) = (role.of("rx"), requested_by.of("ta"));
         FilePass {
             runs,
@@ -216,7 +216,7 @@ impl<'r> FilePass<'r> {
             rows_done: 0,
             radar: Labels::open(|s| RadarId::parse(s).is_some()),
             role,
-            kind: Labels::fixed(KINDS),
+            kind: Labels::fixed(&DwellKind::LABELS),
             requested_by,
             out: DwellSums::default(),
             keys: Vec::new(),

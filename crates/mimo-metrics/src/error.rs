@@ -118,6 +118,12 @@ pub enum MetricsError {
         why: String,
     },
 
+    /// A table file fails the store's checks (`mimo_store::checked`): not a table of this name
+    /// and schema version, a column missing or of another type, a value breaking its column's
+    /// rule, a row of another run than the file's.
+    #[error(transparent)]
+    Table(#[from] mimo_store::StoreError),
+
     /// A scoring option is out of range.
     #[error("invalid scoring option {option} = {value}: {expected}")]
     InvalidOption {
@@ -151,6 +157,10 @@ pub enum MetricsError {
 impl MetricsError {
     /// Is this error caused by the input (exit status 2) rather than by the machine (exit status 1)?
     pub fn is_bad_input(&self) -> bool {
-        !matches!(self, MetricsError::Write { .. } | MetricsError::Internal { .. })
+        match self {
+            MetricsError::Table(e) => e.is_input_error(),
+            MetricsError::Write { .. } | MetricsError::Internal { .. } => false,
+            _ => true,
+        }
     }
 }

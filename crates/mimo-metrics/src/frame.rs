@@ -1,9 +1,8 @@
-//! A [`Frame`]: the columns of one input table as Arrow arrays, each already converted to the
-//! type the metrics want (`crate::read`), looked up by name. It is all the scorer needs of a
+//! A [`Frame`]: the columns of one input table as Arrow arrays, each of the type its table's spec
+//! gives (checked by `crate::read`), looked up by name. It is all the scorer needs of a
 //! data frame: typed slices of the values, stacking the files of a table, and slices of rows.
 
 use crate::error::MetricsError;
-use crate::read::Want;
 use arrow::array::{Array, ArrayRef, AsArray, StringArray};
 use arrow::datatypes::{Float64Type, UInt32Type, UInt64Type};
 
@@ -104,9 +103,9 @@ pub(crate) fn f64_values(array: &ArrayRef) -> Result<&[f64], MetricsError> {
 
 /// The parts of one column (one per Arrow batch) as one array; an empty column of the wanted type
 /// when there are none.
-pub(crate) fn concat(mut parts: Vec<ArrayRef>, want: Want) -> Result<ArrayRef, MetricsError> {
+pub(crate) fn concat(mut parts: Vec<ArrayRef>, ty: &arrow::datatypes::DataType) -> Result<ArrayRef, MetricsError> {
     match parts.len() {
-        0 => Ok(arrow::array::new_empty_array(&want.arrow())),
+        0 => Ok(arrow::array::new_empty_array(ty)),
         1 => parts.pop().ok_or_else(|| internal("reading a column", "no part")),
         _ => {
             let refs: Vec<&dyn Array> = parts.iter().map(|a| a.as_ref()).collect();

@@ -97,8 +97,13 @@
 //! ## Errors
 //!
 //! Input problems are [`MetricsError`] variants naming the file, the column, the row and what was
-//! expected: missing table, missing column, wrong column type, null, NaN/∞ (positions,
-//! velocities, times, durations, energies), unknown enumeration value, unknown run.
+//! expected. Every file is read through the store's checks (`mimo_store::checked`, wrapped in
+//! [`MetricsError::Table`]): the table's name and schema version in the metadata, every column of
+//! the table's spec with exactly its type, each value keeping its column's rule (finite numbers,
+//! non-negative dwell times and energies, labels of the enumerations, radar ids, covariances),
+//! rows of `run-K.parquet` of run K. Beyond them: a missing table, a run of the tracks or dwells
+//! that the truth does not have, a table rule broken (times out of order, rows of one track at
+//! one time that `n_updates` cannot order).
 #![warn(missing_docs)]
 
 mod dwell_pages;
@@ -111,6 +116,7 @@ mod mean;
 pub mod memory;
 pub mod ospa;
 mod output;
+mod parallel;
 mod parts;
 mod purpose;
 mod purpose_read;
@@ -401,43 +407,42 @@ fn mean_over_runs(rows: &[TrackMetricsRow]) -> Result<Vec<TrackMetricsMeanRow>, 
         .collect())
 }
 
-fn summarize(
-    opts: &ScoreOptions,
-    runs: &[u32],
-    target_names: &[String],
-    rows: &[TrackMetricsRow],
-    tally: &[TargetTally],
-    u: &usage::UsageOutput,
-) -> Result<Summary, MetricsError> {
-    let n_runs = runs.len().max(1) as f64;
-    let pooled_rmse = |rows: &[&TrackMetricsRow], sq: fn(&TrackMetricsRow) -> f64| {
-        let n: u64 = rows.iter().map(|r| u64::from(r.n_assigned)).sum();
-        (n > 0).then(|| (rows.iter().map(|r| sq(r)).sum::<f64>() / n as f64).sqrt())
-    };
-    let all: Vec<&TrackMetricsRow> = rows.iter().collect();
-    // Rows and usage grouped by run once (linear in the number of runs).
-    let mut by_run: BTreeMap<u32, Vec<&TrackMetricsRow>> = runs.iter().map(|&r| (r, Vec::new())).collect();
-    for r in rows {
-        by_run.entry(r.run).or_default().push(r);
+/// A run's track-metric rows, by run (every run present, with no rows if it has none).
+struct RowsByRun<'a> {
+    rows: BTreeMap<u32, Vec<&'a TrackMetricsRow>>,
+    none: Vec<&'a TrackMetricsRow>,
+}
+
+impl<'a> RowsByRun<'a> {
+    fn new(runs: &[u32], rows: &'a [TrackMetricsRow]) -> RowsByRun<'a> {
+        let mut by_run: BTreeMap<u32, Vec<&TrackMetricsRow>> = runs.iter().map(|&r| (r, Vec::new())).collect();
+        for r in rows {
+            by_run.entry(r.run).or_default().push(r);
+        }
+        RowsByRun { rows: by_run, none: Vec::new() }
     }
-    let mut usage_by_run: BTreeMap<u32, Vec<&RunRadarUsage>> = BTreeMap::new();
-    for x in &u.per_run {
-        usage_by_run.entry(x.run).or_default().push(x);
+
+    fn of(&self, run: u32) -> &[&'a TrackMetricsRow] {
+        self.rows.get(&run).unwrap_or(&self.none)
     }
-    let no_rows: Vec<&TrackMetricsRow> = Vec::new();
-    let run_rows = |run: u32| by_run.get(&run).unwrap_or(&no_rows);
-    let per_run_breaks = |run: u32| run_rows(run).iter().map(|r| r.breaks).sum::<u32>();
-    let per_run_switches = |run: u32| run_rows(run).iter().map(|r| r.switches).sum::<u32>();
-    let completeness = mean(all.iter().filter_map(|r| r.completeness));
-    let track = TrackSummary {
-        completeness,
-        redundant_ratio: mean(all.iter().filter_map(|r| r.redundant_ratio)),
-        spurious_ratio: mean(all.iter().filter_map(|r| r.spurious_ratio)),
-        breaks: runs.iter().map(|&r| f64::from(per_run_breaks(r))).sum::<f64>() / n_runs,
-        switches: runs.iter().map(|&r| f64::from(per_run_switches(r))).sum::<f64>() / n_runs,
-        position_rmse_m: pooled_rmse(&all, |r| r.position_sq_sum_m2),
-        velocity_rmse_mps: pooled_rmse(&all, |r| r.velocity_sq_sum_m2ps2),
-    };
+
+    fn breaks(&self, run: u32) -> u32 {
+        self.of(run).iter().map(|r| r.breaks).sum()
+    }
+
+    fn switches(&self, run: u32) -> u32 {
+        self.of(run).iter().map(|r| r.switches).sum()
+    }
+}
+
+/// RMSE pooled over the assigned pairs of `rows` (`sq`: a row's sum of squared errors).
+fn pooled_rmse(rows: &[&TrackMetricsRow], sq: fn(&TrackMetricsRow) -> f64) -> Option<f64> {
+    let n: u64 = rows.iter().map(|r| u64::from(r.n_assigned)).sum();
+    (n > 0).then(|| (rows.iter().map(|r| sq(r)).sum::<f64>() / n as f64).sqrt())
+}
+
+/// The summary's usage: sensor totals per radar and their sums.
+fn usage_summary(u: &usage::UsageOutput) -> UsageSummary {
     let per_radar = NamedList(
         u.per_radar
             .iter()
@@ -454,18 +459,25 @@ fn summarize(
             })
             .collect(),
     );
-    let usage = UsageSummary {
+    UsageSummary {
         total_dwell_time_s: u.per_radar.iter().map(|r| r.dwell_time_s).sum(),
         total_energy_j: u.per_radar.iter().map(|r| r.energy_j).sum(),
         ta_dwell_time_s: u.per_radar.iter().map(|r| r.ta_dwell_time_s).sum(),
         ta_energy_j: u.per_radar.iter().map(|r| r.ta_energy_j).sum(),
         per_radar,
         by_purpose: PurposeUsage::default(),
-    };
-    let per_run = runs
-        .iter()
+    }
+}
+
+/// The summary of each run (its usage by purpose left for the caller).
+fn run_summaries(runs: &[u32], by_run: &RowsByRun<'_>, u: &usage::UsageOutput) -> Vec<RunSummary> {
+    let mut usage_by_run: BTreeMap<u32, Vec<&RunRadarUsage>> = BTreeMap::new();
+    for x in &u.per_run {
+        usage_by_run.entry(x.run).or_default().push(x);
+    }
+    runs.iter()
         .map(|&run| {
-            let rr = run_rows(run);
+            let rr = by_run.of(run);
             let usage_of = |f: fn(&RunRadarUsage) -> f64| {
                 usage_by_run.get(&run).map_or(0.0, |v| v.iter().map(|x| f(x)).sum::<f64>())
             };
@@ -475,8 +487,8 @@ fn summarize(
                 completeness: mean(rr.iter().filter_map(|r| r.completeness)),
                 redundant_ratio: mean(rr.iter().filter_map(|r| r.redundant_ratio)),
                 spurious_ratio: mean(rr.iter().filter_map(|r| r.spurious_ratio)),
-                breaks: per_run_breaks(run),
-                switches: per_run_switches(run),
+                breaks: by_run.breaks(run),
+                switches: by_run.switches(run),
                 position_rmse_m: pooled_rmse(rr, |r| r.position_sq_sum_m2),
                 velocity_rmse_mps: pooled_rmse(rr, |r| r.velocity_sq_sum_m2ps2),
                 ospa_m: mean(rr.iter().filter_map(|r| r.ospa_m)),
@@ -491,8 +503,12 @@ fn summarize(
                 by_purpose: PurposeUsage::default(),
             }
         })
-        .collect();
-    let per_target = NamedList(
+        .collect()
+}
+
+/// The summary of each target (tallies over every run).
+fn target_summaries(target_names: &[String], tally: &[TargetTally], n_runs: f64) -> NamedList<TargetSummary> {
+    NamedList(
         target_names
             .iter()
             .zip(tally)
@@ -508,7 +524,33 @@ fn summarize(
                 )
             })
             .collect(),
-    );
+    )
+}
+
+fn summarize(
+    opts: &ScoreOptions,
+    runs: &[u32],
+    target_names: &[String],
+    rows: &[TrackMetricsRow],
+    tally: &[TargetTally],
+    u: &usage::UsageOutput,
+) -> Result<Summary, MetricsError> {
+    let n_runs = runs.len().max(1) as f64;
+    let all: Vec<&TrackMetricsRow> = rows.iter().collect();
+    let by_run = RowsByRun::new(runs, rows);
+    let completeness = mean(all.iter().filter_map(|r| r.completeness));
+    let track = TrackSummary {
+        completeness,
+        redundant_ratio: mean(all.iter().filter_map(|r| r.redundant_ratio)),
+        spurious_ratio: mean(all.iter().filter_map(|r| r.spurious_ratio)),
+        breaks: runs.iter().map(|&r| f64::from(by_run.breaks(r))).sum::<f64>() / n_runs,
+        switches: runs.iter().map(|&r| f64::from(by_run.switches(r))).sum::<f64>() / n_runs,
+        position_rmse_m: pooled_rmse(&all, |r| r.position_sq_sum_m2),
+        velocity_rmse_mps: pooled_rmse(&all, |r| r.velocity_sq_sum_m2ps2),
+    };
+    let usage = usage_summary(u);
+    let per_run = run_summaries(runs, &by_run, u);
+    let per_target = target_summaries(target_names, tally, n_runs);
     Ok(Summary {
         scenario: opts.scenario.clone(),
         runs: runs.len() as u32,

@@ -4,17 +4,18 @@
 use crate::MetricsError;
 use crate::dwell_sums::DwellSums;
 use crate::frame::Frame;
-use crate::read::{Check, Want, col as rcol, read_file, read_table_checked};
+use crate::read::{Check, Col, col as rcol, read_file, read_table_checked};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::TrackStatus;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
 
-pub(crate) const TRACK_STATUSES: &[&str] = &["tentative", "confirmed", "deleted"];
-pub(crate) const ROLES: &[&str] = &["tx", "rx", "txrx"];
-pub(crate) const REQUESTERS: &[&str] = &["radar", "ta"];
-pub(crate) const KINDS: &[&str] = &["search", "confirm", "track", "mimo"];
+/// Every column of `table`'s spec (the whole table, each column checked), `run` with `run_check`.
+fn all_columns<'a>(table: &'static str, run_check: Check<'a>) -> Result<Vec<Col<'a>>, MetricsError> {
+    let spec = crate::read::spec_of(table)?;
+    Ok(spec.columns.iter().map(|c| rcol(c.name, if c.name == "run" { run_check } else { Check::Any })).collect())
+}
 
 pub(crate) fn vec3s(df: &Frame, names: [&str; 3]) -> Result<Vec<DVec3>, MetricsError> {
     let (x, y, z) = (df.f64s(names[0])?, df.f64s(names[1])?, df.f64s(names[2])?);
@@ -30,20 +31,7 @@ pub(crate) struct Truth {
 }
 
 pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, Any),
-        rcol("t_s", F64, Finite),
-        rcol("target", Utf8, Any),
-        rcol("x_m", F64, Finite),
-        rcol("y_m", F64, Finite),
-        rcol("z_m", F64, Finite),
-        rcol("vx_mps", F64, Finite),
-        rcol("vy_mps", F64, Finite),
-        rcol("vz_mps", F64, Finite),
-        rcol("alt_m", F64, Finite),
-    ];
+    let cols = all_columns("truth", Check::Any)?;
     let df = read_table_checked("truth", paths, &cols, &crate::rules::check_truth)?;
     let run = df.u32s("run")?;
     let t = df.f64s("t_s")?;
@@ -78,7 +66,7 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
     let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();
     let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
     let mut current: Option<(u32, usize)> = None;
-    for i in crate::row_order::stable_order(run, &target_of_row, t) {
+    for i in crate::row_order::stable_order(run, &target_of_row, t, None) {
         let key = (run[i], target_of_row[i]);
         let list = per_run.entry(run[i]).or_default();
         if current != Some(key) {
@@ -98,43 +86,22 @@ pub(crate) fn load_tracks(
     paths: &[PathBuf],
     runs: &BTreeSet<u32>,
 ) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
-    use Check::*;
-    use Want::*;
-    let cols = [
-        rcol("run", U32, RunIn(runs)),
-        rcol("t_s", F64, Finite),
-        rcol("track_id", U64, Any),
-        rcol("status", Utf8, OneOf(TRACK_STATUSES)),
-        rcol("x_m", F64, Finite),
-        rcol("y_m", F64, Finite),
-        rcol("z_m", F64, Finite),
-        rcol("vx_mps", F64, Finite),
-        rcol("vy_mps", F64, Finite),
-        rcol("vz_mps", F64, Finite),
-    ];
+    let cols = all_columns("tracks", Check::RunIn(runs))?;
     let df = read_table_checked("tracks", paths, &cols, &crate::rules::check_tracks)?;
     let run = df.u32s("run")?;
     let id = df.u64s("track_id")?;
     let t = df.f64s("t_s")?;
     let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
     let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
-    let status_col = df.strs("status")?;
-    let mut last: Option<(&str, Option<TrackStatus>)> = None;
-    let mut status = Vec::with_capacity(run.len());
-    for s in status_col.iter().flatten() {
-        let parsed = match last {
-            Some((name, parsed)) if name == s => parsed,
-            _ => TrackStatus::parse(s),
-        };
-        last = Some((s, parsed));
-        status.push(parsed);
-    }
+    let status = crate::rules::track_statuses(&df)?;
+    let rank = crate::rules::track_ranks(&df, &status)?;
 
-    // The rows by run, track and time.
+    // The rows by run, track, time and rank at one time (the table's order, whatever the files'
+    // row order: rows it cannot order were refused by `check_tracks`).
     let mut out: BTreeMap<u32, Vec<TrackLife>> = BTreeMap::new();
     let mut current: Option<(u32, u64)> = None;
     let mut ended = false;
-    for i in crate::row_order::stable_order(run, id, t) {
+    for i in crate::row_order::stable_order(run, id, t, Some(&rank)) {
         let key = (run[i], id[i]);
         let list = out.entry(run[i]).or_default();
         if current != Some(key) {
@@ -190,7 +157,7 @@ pub(crate) fn load_dwell_sums(
         });
     }
     let mut sums = DwellSums::default();
-    let per_file = crate::parts::parallel(paths, threads, &|path: &PathBuf| dwell_file_sums(path, runs, interval_s));
+    let per_file = crate::parallel::parallel(paths, threads, &|path: &PathBuf| dwell_file_sums(path, runs, interval_s));
     for file_sums in per_file {
         sums.add(file_sums?);
     }
@@ -198,19 +165,19 @@ pub(crate) fn load_dwell_sums(
     Ok((sums, radars))
 }
 
-/// The columns of the dwells table that the usage figures need, with their checks.
-fn dwell_cols(runs: &BTreeSet<u32>) -> [crate::read::Col<'_>; 8] {
-    use Check::*;
-    use Want::*;
+/// The columns of the dwells table that the usage figures need (their checks from the table's
+/// spec; `run` also among the truth's runs).
+fn dwell_cols(runs: &BTreeSet<u32>) -> [Col<'_>; 8] {
+    let any = |name| rcol(name, Check::Any);
     [
-        rcol("run", U32, RunIn(runs)),
-        rcol("radar", Utf8, Radar),
-        rcol("role", Utf8, OneOf(ROLES)),
-        rcol("kind", Utf8, OneOf(KINDS)),
-        rcol("requested_by", Utf8, OneOf(REQUESTERS)),
-        rcol("t_s", F64, FiniteNonNeg),
-        rcol("duration_s", F64, FiniteNonNeg),
-        rcol("energy_j", F64, FiniteNonNeg),
+        rcol("run", Check::RunIn(runs)),
+        any("radar"),
+        any("role"),
+        any("kind"),
+        any("requested_by"),
+        any("t_s"),
+        any("duration_s"),
+        any("energy_j"),
     ]
 }
 
@@ -219,7 +186,17 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [crate::read::Col<'_>; 8] {
 /// every check, whose error names the row and rule.
 fn dwell_file_sums(path: &std::path::Path, runs: &BTreeSet<u32>, interval_s: f64) -> Result<DwellSums, MetricsError> {
     let n_rows = crate::read::file_rows("dwells", path)?;
-    if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs), runs, interval_s, n_rows) {
+    // A file of run K holds run K alone: the one-pass readers take that run only (any other
+    // leaves them to the checked read, which names the row).
+    let of_file: BTreeSet<u32>;
+    let runs_here = match mimo_store::invariants::file_run(path) {
+        Some(k) => {
+            of_file = runs.iter().copied().filter(|&r| r == k).collect();
+            &of_file
+        }
+        None => runs,
+    };
+    if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs_here), runs_here, interval_s, n_rows) {
         return Ok(sums);
     }
     dwell_file_sums_whole(path, runs, interval_s)
@@ -253,6 +230,39 @@ fn dwell_file_sums_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mimo_core::records::{DwellKind, Requester, Role};
+
+    /// Dwell rows at times `t`: four radars in turn, every role, kind and requester.
+    fn dwell_rows(t: &[f64]) -> Vec<mimo_core::records::DwellRow> {
+        let n = t.len();
+        let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
+        let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
+        let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
+        (0..n)
+            .map(|i| mimo_core::records::DwellRow {
+                run: 0,
+                dwell_id: i as u64,
+                group_id: i as u64,
+                radar: mimo_core::ids::RadarId::parse(&format!("R{}", 1 + i % 4)).expect("radar"),
+                role: Role::parse(&label(&Role::LABELS, i)).expect("role"),
+                kind: DwellKind::parse(&label(&DwellKind::LABELS, i / 3)).expect("kind"),
+                requested_by: Requester::parse(&label(&Requester::LABELS, i / 5)).expect("requester"),
+                t_s: t[i],
+                duration_s: duration[i],
+                pulse_width_s: 1e-5,
+                n_pulses: 10,
+                peak_power_w: 1e5,
+                energy_j: energy[i],
+                waveform: 0,
+                face: 0,
+                beam_u: 0.0,
+                beam_v: 0.0,
+                aim_x_m: 1.0,
+                aim_y_m: 2.0,
+                aim_z_m: 3.0,
+            })
+            .collect()
+    }
 
     /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times
     /// increasing; with `back_at`, that row's time is set before its radar's previous row.
@@ -264,46 +274,25 @@ mod tests {
         if let Some(i) = back_at {
             t[i] = t[i - 4] - 0.001;
         }
-        let radar: Vec<String> = (0..n).map(|i| format!("R{}", 1 + i % 4)).collect();
-        let role: Vec<&str> = (0..n).map(|i| if Some(i) == bad_role_at { "bogus" } else { ROLES[i % 3] }).collect();
-        let kind: Vec<&str> = (0..n).map(|i| KINDS[(i / 3) % 4]).collect();
-        let by: Vec<&str> = (0..n).map(|i| REQUESTERS[(i / 5) % 2]).collect();
-        let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
-        let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
-        // mimo's layout (required columns, plain pages, `t_s` byte-stream-split, zstd), in row
-        // groups of 300 rows and pages of 100, so that every reader of `crate::dwell_read` takes
-        // the file and crosses pages and row groups.
-        use arrow::array::{ArrayRef, Float64Array, RecordBatch, StringArray, UInt32Array};
-        use arrow::datatypes::{DataType as A, Field, Schema};
+        let rows = dwell_rows(&t);
+        let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
+        // mimo's layout and metadata (the table's spec: required columns, plain pages, `t_s`
+        // byte-stream-split, zstd), in row groups of 300 rows and pages of 100, so that every
+        // reader of `crate::dwell_read` takes the file and crosses pages and row groups.
+        use arrow::array::{ArrayRef, StringArray};
         use parquet::basic::{Compression, Encoding};
         use parquet::file::properties::WriterProperties;
         use std::sync::Arc;
-        let strings = |v: Vec<String>| Arc::new(StringArray::from(v)) as ArrayRef;
-        let owned = |v: Vec<&str>| v.into_iter().map(str::to_string).collect::<Vec<_>>();
-        let floats = |v: Vec<f64>| Arc::new(Float64Array::from(v)) as ArrayRef;
-        let fields = [
-            ("run", A::UInt32),
-            ("radar", A::Utf8),
-            ("role", A::Utf8),
-            ("kind", A::Utf8),
-            ("requested_by", A::Utf8),
-            ("t_s", A::Float64),
-            ("duration_s", A::Float64),
-            ("energy_j", A::Float64),
-        ];
-        let schema =
-            Arc::new(Schema::new(fields.iter().map(|(n, t)| Field::new(*n, t.clone(), false)).collect::<Vec<_>>()));
-        let columns = vec![
-            Arc::new(UInt32Array::from(vec![0u32; n])) as ArrayRef,
-            strings(radar),
-            strings(owned(role)),
-            strings(owned(kind)),
-            strings(owned(by)),
-            floats(t),
-            floats(duration),
-            floats(energy),
-        ];
-        let batch = RecordBatch::try_new(schema.clone(), columns).expect("batch");
+        let mut batch = mimo_store::rows::to_batch(&rows).expect("batch");
+        if let Some(bad) = bad_role_at {
+            let roles: Vec<String> =
+                (0..n).map(|i| if i == bad { "bogus".to_string() } else { label(&Role::LABELS, i) }).collect();
+            let schema = batch.schema();
+            let mut columns = batch.columns().to_vec();
+            columns[schema.index_of("role").expect("role")] = Arc::new(StringArray::from(roles)) as ArrayRef;
+            batch = arrow::array::RecordBatch::try_new(schema, columns).expect("batch");
+        }
+        let schema = batch.schema();
         let props = WriterProperties::builder()
             .set_compression(Compression::ZSTD(Default::default()))
             .set_dictionary_enabled(false)
@@ -413,6 +402,24 @@ mod tests {
         assert_eq!(got, whole.iter().map(|(_, s)| *s).collect::<Vec<_>>());
     }
 
+    /// The store's own writer output takes the page decoder's fast path (`crate::dwell_pages`),
+    /// across pages and row groups: a change of the writer's settings, or of the parquet crate,
+    /// that turned the fast path off fails here.
+    #[test]
+    fn the_store_writer_output_takes_the_fast_path() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let n = mimo_store::ROW_GROUP_ROWS + mimo_store::PAGE_ROWS + 100;
+        let t: Vec<f64> = (0..n).map(|i| 0.013 * i as f64).collect();
+        mimo_store::write_table(&path, &dwell_rows(&t)).expect("write");
+        let runs = BTreeSet::from([0u32]);
+        let fast = crate::dwell_pages::file_sums(&path, &runs, 1.0, crate::dwell_sums::DWELL_SLICE_ROWS);
+        let fast = fast.expect("the store's dwells file takes the fast path");
+        let whole = dwell_file_sums_whole(&path, &runs, 1.0).expect("checked read");
+        assert_eq!(fast.groups, whole.groups);
+        assert_eq!(fast.radars(), whole.radars());
+    }
+
     /// A time that runs backwards across a slice boundary is caught by the sliced pass, and the
     /// whole read then names it.
     #[test]
@@ -438,10 +445,7 @@ mod tests {
         assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
         assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
-        assert!(
-            matches!(&err, MetricsError::InvalidValue { column: "role", row: 500, value, .. } if value == "bogus"),
-            "{err}"
-        );
+        assert!(err.to_string().contains("column 'role' is 'bogus' at row 500"), "{err}");
         let whole = dwell_file_sums_whole(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
         assert_eq!(err.to_string(), whole.to_string());
     }

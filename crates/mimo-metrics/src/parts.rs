@@ -14,7 +14,7 @@
 
 use crate::MetricsError;
 use crate::load::{Truth, load_tracks, load_truth};
-use crate::read::{Check, Want, col as rcol, read_file};
+use crate::read::{Check, col as rcol, read_file};
 use crate::track_metrics::{RunOutput, TargetTally};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
@@ -30,7 +30,7 @@ pub(crate) struct Part {
 
 /// The runs named in one file's `run` column.
 fn file_runs(table: &'static str, path: &std::path::Path) -> Result<BTreeSet<u32>, MetricsError> {
-    let df = read_file(table, path, &[rcol("run", Want::U32, Check::Any)])?;
+    let df = read_file(table, path, &[rcol("run", Check::Any)])?;
     let runs = df.u32s("run")?;
     Ok(runs.iter().copied().collect())
 }
@@ -150,39 +150,6 @@ pub(crate) fn score_part(
     Ok(PartOutput { runs })
 }
 
-/// Run `f` over `items` on `threads` workers (each takes the next item when done), results in
-/// item order.
-pub(crate) fn parallel<T: Sync, R: Send>(items: &[T], threads: usize, f: &(dyn Fn(&T) -> R + Sync)) -> Vec<R> {
-    if threads <= 1 || items.len() <= 1 {
-        return items.iter().map(f).collect();
-    }
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let mut results: Vec<(usize, R)> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..threads.min(items.len()))
-            .map(|_| {
-                s.spawn(|| {
-                    let mut done = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(item) = items.get(i) else { break };
-                        done.push((i, f(item)));
-                    }
-                    done
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| match h.join() {
-                Ok(v) => v,
-                Err(panic) => std::panic::resume_unwind(panic),
-            })
-            .collect()
-    });
-    results.sort_by_key(|(i, _)| *i);
-    results.into_iter().map(|(_, r)| r).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,12 +198,5 @@ mod tests {
         let (t, k) = (paths("t", 2), paths("k", 2));
         assert!(group(&t, &runs(&[&[0], &[1]]), &k, &runs(&[&[0], &[7]])).is_none());
         assert!(group(&t, &runs(&[&[0, 1], &[1]]), &k, &runs(&[&[0], &[1]])).is_none());
-    }
-
-    #[test]
-    fn parallel_keeps_item_order() {
-        let items: Vec<u32> = (0..50).collect();
-        let out = parallel(&items, 3, &|&x| x * 2);
-        assert_eq!(out, items.iter().map(|x| x * 2).collect::<Vec<_>>());
     }
 }

@@ -283,7 +283,7 @@ fn file_sums(
 pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, MetricsError> {
     // Which truth files hold each run (their `run` column only), so that each dwells file reads
     // the truth of its own runs.
-    let runs_of_file = crate::parts::parallel(input.truth, input.threads, &|path: &PathBuf| {
+    let runs_of_file = crate::parallel::parallel(input.truth, input.threads, &|path: &PathBuf| {
         let mut runs = BTreeSet::new();
         for_batches("truth", path, &["run"], |b| {
             runs.extend(b.u32("run")?.values().iter().copied());
@@ -298,7 +298,7 @@ pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, Metr
         }
     }
     let per_file =
-        crate::parts::parallel(input.dwells, input.threads, &|path: &PathBuf| file_sums(path, input, &truth_files));
+        crate::parallel::parallel(input.dwells, input.threads, &|path: &PathBuf| file_sums(path, input, &truth_files));
     let mut out = PurposeSums::new();
     for file in per_file {
         let (radars, sums) = file?;

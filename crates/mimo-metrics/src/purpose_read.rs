@@ -9,8 +9,6 @@ use arrow::compute::{CastOptions, cast_with_options};
 use arrow::datatypes::{DataType, Float64Type, UInt8Type, UInt32Type, UInt64Type};
 use arrow::record_batch::RecordBatch;
 use parquet::arrow::ProjectionMask;
-use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
-use std::fs::File;
 use std::path::Path;
 
 /// Rows decoded at a time.
@@ -36,12 +34,8 @@ pub(crate) fn for_batches(
     columns: &[&'static str],
     mut each: impl FnMut(&Batch<'_>) -> Result<(), MetricsError>,
 ) -> Result<(), MetricsError> {
-    let file = File::open(path).map_err(|e| MetricsError::MissingTable {
-        table,
-        path: path.to_path_buf(),
-        detail: e.to_string(),
-    })?;
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| read_err(table, path, e.to_string()))?;
+    let builder = crate::read::open_checked(table, path)?;
+    let spec = crate::read::spec_of(table)?;
     let mut roots = Vec::with_capacity(columns.len());
     for &name in columns {
         let i = builder.schema().index_of(name).map_err(|_| MetricsError::MissingColumn {
@@ -61,6 +55,8 @@ pub(crate) fn for_batches(
     let mut first_row = 0;
     for batch in reader {
         let batch = batch.map_err(|e| read_err(table, path, e.to_string()))?;
+        // The spec's rules and the file's run, on the columns read.
+        mimo_store::rows::Batch::check_values(&batch, path, spec, first_row)?;
         let b = Batch { table, path, batch, first_row };
         each(&b)?;
         first_row += b.batch.num_rows();

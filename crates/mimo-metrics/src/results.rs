@@ -109,48 +109,26 @@ pub struct AssignmentRow {
     pub velocity_error_mps: Option<f64>,
 }
 
-/// Usage of one radar in one scoring interval, averaged over runs.
+/// Usage of one radar in one scoring interval, averaged over runs: the radar and its figures,
+/// which are those a [`UsageTotalRow`] holds for all radars (read them through `Deref`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UsageRow {
     /// Radar id R1…R4.
     pub radar: String,
-    /// Interval index j (1-based), covering `[t_start_s, t_end_s)`.
-    pub interval: u32,
-    /// Interval start (s).
-    pub t_start_s: f64,
-    /// Interval end (s).
-    pub t_end_s: f64,
-    /// Runs that reach this interval.
-    pub runs: u32,
-    /// Scorable objects at the interval's scoring time, averaged over runs.
-    pub n_scorable_mean: f64,
-    /// Σ τ_dwell of transmit dwells starting in the interval (s), mean over runs.
-    pub dwell_time_s: f64,
-    /// Σ emitted energy (J), mean over runs.
-    pub energy_j: f64,
-    /// As dwell_time_s, TA-requested dwells only (s).
-    pub ta_dwell_time_s: f64,
-    /// As energy_j, TA-requested dwells only (J).
-    pub ta_energy_j: f64,
-    /// `T[m,j]`: dwell time per scorable object (s); null when no run has a scorable object.
-    pub dwell_time_per_object_s: Option<f64>,
-    /// `E[m,j]`: energy per scorable object (J).
-    pub energy_per_object_j: Option<f64>,
-    /// As dwell_time_per_object_s, TA-requested dwells only (s).
-    pub ta_dwell_time_per_object_s: Option<f64>,
-    /// As energy_per_object_j, TA-requested dwells only (J).
-    pub ta_energy_per_object_j: Option<f64>,
-    /// Cumulative raw sums up to and including this interval.
-    pub cum_dwell_time_s: f64,
-    /// Energy_j summed up to this interval (J).
-    pub cum_energy_j: f64,
-    /// Ta_dwell_time_s summed up to this interval (s).
-    pub cum_ta_dwell_time_s: f64,
-    /// Ta_energy_j summed up to this interval (J).
-    pub cum_ta_energy_j: f64,
+    /// The radar's figures in the interval.
+    #[serde(flatten)]
+    pub figures: UsageTotalRow,
 }
 
-/// Usage of all radars in one scoring interval (the sums over radars of [`UsageRow`]).
+impl std::ops::Deref for UsageRow {
+    type Target = UsageTotalRow;
+    fn deref(&self) -> &UsageTotalRow {
+        &self.figures
+    }
+}
+
+/// Usage in one scoring interval, averaged over runs: of one radar (in a [`UsageRow`]) or of all
+/// radars (`usage_total`, the sums over radars of the [`UsageRow`]s).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct UsageTotalRow {
     /// Interval index j, 1-based; a dwell belongs to it by its start time.

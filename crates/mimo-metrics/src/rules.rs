@@ -4,8 +4,10 @@
 
 use crate::MetricsError;
 use crate::frame::Frame;
+use mimo_core::records::TrackStatus;
 use mimo_core::table_rules::{
-    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, times_nearly_ordered_per_key, times_ordered_per_key,
+    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, times_nearly_ordered_per_key, times_ordered_per_key, track_row_order,
+    track_rows_orderable,
 };
 use std::path::Path;
 
@@ -54,11 +56,36 @@ fn ordered_few_keys<K: PartialEq>(keys: impl IntoIterator<Item = K>, t_s: &[f64]
     true
 }
 
-/// Tracks: no row more than `TRACK_OUT_OF_SEQUENCE_S` before its track's latest earlier row.
+/// Tracks: no row more than `TRACK_OUT_OF_SEQUENCE_S` before its track's latest earlier row, and
+/// rows of one track at one time that the table can order (`track_rows_orderable`).
 pub(crate) fn check_tracks(path: &Path, df: &Frame) -> Result<(), MetricsError> {
     let (run, id, t) = (df.u32s("run")?, df.u64s("track_id")?, df.f64s("t_s")?);
-    let keys = run.iter().zip(id).map(|(r, i)| Key2(*r, *i));
-    times_nearly_ordered_per_key(keys, t, TRACK_OUT_OF_SEQUENCE_S, "track").map_err(to_err("tracks", path))
+    let keys = || run.iter().zip(id).map(|(r, i)| Key2(*r, *i));
+    times_nearly_ordered_per_key(keys(), t, TRACK_OUT_OF_SEQUENCE_S, "track").map_err(to_err("tracks", path))?;
+    let rank = track_ranks(df, &track_statuses(df)?)?;
+    track_rows_orderable(keys(), t, &rank).map_err(to_err("tracks", path))
+}
+
+/// Each tracks row's status (`None` only for a label the checked read refused).
+pub(crate) fn track_statuses(df: &Frame) -> Result<Vec<Option<TrackStatus>>, MetricsError> {
+    let mut last: Option<(&str, Option<TrackStatus>)> = None;
+    let mut status = Vec::with_capacity(df.height());
+    for s in df.strs("status")?.iter() {
+        let s = s.unwrap_or_default();
+        let parsed = match last {
+            Some((name, parsed)) if name == s => parsed,
+            _ => TrackStatus::parse(s),
+        };
+        last = Some((s, parsed));
+        status.push(parsed);
+    }
+    Ok(status)
+}
+
+/// Each tracks row's rank among its track's rows at its time (`track_row_order`).
+pub(crate) fn track_ranks(df: &Frame, status: &[Option<TrackStatus>]) -> Result<Vec<u64>, MetricsError> {
+    let n_updates = df.u32s("n_updates")?;
+    Ok(n_updates.iter().zip(status).map(|(&n, s)| track_row_order(n, *s == Some(TrackStatus::Deleted))).collect())
 }
 
 /// Truth: one row per (run, target, t_s), times increasing within each target.

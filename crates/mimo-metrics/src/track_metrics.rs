@@ -172,164 +172,240 @@ fn ratio(num: u32, den: u32) -> Option<f64> {
     (den > 0).then(|| f64::from(num) / f64::from(den))
 }
 
-/// Score one run.
-pub(crate) fn score_run(input: &RunInput<'_>) -> RunOutput {
-    let n_targets_total = input.target_names.len();
-    let live = live_tracks(input.tracks, input.n_times, input.interval_s);
-    let mut cursors = vec![0usize; input.targets.len()];
-    // Per local target: assigned at the previous scoring time, and the last track assigned.
-    let mut prev_assigned = vec![false; input.targets.len()];
-    let mut last_track: Vec<Option<u64>> = vec![None; input.targets.len()];
-    let mut tally = vec![TargetTally::default(); n_targets_total];
-    let mut rows = Vec::with_capacity(input.n_times);
-    let mut assignments = Vec::new();
-    let (mut cum_breaks, mut cum_switches) = (0u32, 0u32);
-    let gate = input.gate_m;
+/// The truths present at one scoring time and their distances to the live tracks.
+#[derive(Default)]
+struct Scene {
+    /// (local target, position, velocity, scorable) of each truth present.
+    present: Vec<(usize, DVec3, DVec3, bool)>,
+    /// Distance of present truth i to live track j at `i * m + j`.
+    dist: Vec<f64>,
+    /// The present truths that are scorable (indices into `present`).
+    scorable: Vec<usize>,
+    /// Live tracks.
+    m: usize,
+}
 
-    // Scratch buffers reused across scoring times.
-    let mut present: Vec<(usize, DVec3, DVec3, bool)> = Vec::new();
-    let mut dist: Vec<f64> = Vec::new();
-    let mut cost: Vec<f64> = Vec::new();
-    let mut scorable_idx: Vec<usize> = Vec::new();
-    let mut truth_pos: Vec<DVec3> = Vec::new();
-    let mut track_pos: Vec<DVec3> = Vec::new();
-
-    for (k, tracks) in live.iter().enumerate().skip(1) {
-        let t = scoring_time(k, input.interval_s);
-        present.clear();
+impl Scene {
+    /// The truths present at `t` (`cursors` advance through each target's samples) and their
+    /// distances to `tracks`.
+    fn fill(&mut self, input: &RunInput<'_>, cursors: &mut [usize], t: f64, tracks: &[LiveTrack]) {
+        self.present.clear();
         for (li, tt) in input.targets.iter().enumerate() {
             if let Some((p, v, alt)) = truth_at(&tt.samples, &mut cursors[li], t) {
                 let ok = (input.scorable)(t, p, alt);
-                present.push((li, p, v, ok));
+                self.present.push((li, p, v, ok));
             }
         }
-        let (np, m) = (present.len(), tracks.len());
-        dist.clear();
-        dist.reserve(np * m);
-        for &(_, p, _, _) in &present {
-            dist.extend(tracks.iter().map(|tr| p.distance(tr.p)));
+        self.m = tracks.len();
+        self.dist.clear();
+        self.dist.reserve(self.present.len() * self.m);
+        for &(_, p, _, _) in &self.present {
+            self.dist.extend(tracks.iter().map(|tr| p.distance(tr.p)));
         }
-        scorable_idx.clear();
-        scorable_idx.extend((0..np).filter(|&i| present[i].3));
-        let n = scorable_idx.len();
+        self.scorable.clear();
+        self.scorable.extend((0..self.present.len()).filter(|&i| self.present[i].3));
+    }
 
-        // Gated optimal assignment: maximum cardinality first, then minimum total distance.
+    /// Gated optimal assignment of the scorable truths to the tracks: maximum cardinality first,
+    /// then minimum total distance. The track of each scorable truth, in `scorable` order.
+    fn assign(&self, gate: f64, cost: &mut Vec<f64>) -> Vec<Option<usize>> {
+        let (n, m) = (self.scorable.len(), self.m);
         cost.clear();
-        for &i in &scorable_idx {
-            cost.extend(dist[i * m..(i + 1) * m].iter().map(|&d| if d <= gate { d } else { f64::INFINITY }));
+        for &i in &self.scorable {
+            cost.extend(self.dist[i * m..(i + 1) * m].iter().map(|&d| if d <= gate { d } else { f64::INFINITY }));
         }
         let miss = gate * ((n.min(m) + 1) as f64);
-        let sol = assign_with_miss(&cost, n, m, &vec![miss; n]);
+        assign_with_miss(cost, n, m, &vec![miss; n])
+    }
 
-        let mut track_assigned = vec![false; m];
-        let (mut n_assigned, mut breaks, mut switches) = (0u32, 0u32, 0u32);
-        let (mut pos_sq, mut vel_sq) = (0.0, 0.0);
+    /// Redundant tracks (unassigned, inside the gate of some scorable truth) and spurious tracks
+    /// (inside the gate of no truth at all, scorable or not).
+    fn redundant_and_spurious(&self, track_assigned: &[bool], gate: f64) -> (u32, u32) {
+        let m = self.m;
+        let (mut n_redundant, mut n_spurious) = (0u32, 0u32);
+        for (j, &assigned) in track_assigned.iter().enumerate() {
+            let near_scorable = self.scorable.iter().any(|&i| self.dist[i * m + j] <= gate);
+            if !assigned && near_scorable {
+                n_redundant += 1;
+            }
+            if !(0..self.present.len()).any(|i| self.dist[i * m + j] <= gate) {
+                n_spurious += 1;
+            }
+        }
+        (n_redundant, n_spurious)
+    }
+}
+
+/// What one scoring time's assignment gave: counts, squared-error sums, the redundant and
+/// spurious tracks, and the run's cumulative breaks and switches so far.
+#[derive(Default)]
+struct Assigned {
+    n_assigned: u32,
+    breaks: u32,
+    switches: u32,
+    pos_sq: f64,
+    vel_sq: f64,
+    n_redundant: u32,
+    n_spurious: u32,
+    cum_breaks: u32,
+    cum_switches: u32,
+}
+
+/// The state a run's scoring carries from one scoring time to the next, and its output.
+struct RunScorer<'a, 'i> {
+    input: &'a RunInput<'i>,
+    /// Per local target: assigned at the previous scoring time, and the last track assigned.
+    prev_assigned: Vec<bool>,
+    last_track: Vec<Option<u64>>,
+    tally: Vec<TargetTally>,
+    assignments: Vec<AssignmentRow>,
+    cum_breaks: u32,
+    cum_switches: u32,
+}
+
+impl RunScorer<'_, '_> {
+    /// Record the assignment `sol` at time `t`: per-target breaks, switches and tallies, the
+    /// assignment rows, and which tracks were taken (`track_assigned`).
+    fn record(
+        &mut self,
+        scene: &Scene,
+        sol: &[Option<usize>],
+        tracks: &[LiveTrack],
+        t: f64,
+        track_assigned: &mut [bool],
+    ) -> Assigned {
+        let input = self.input;
+        let mut a = Assigned::default();
         let mut is_scorable_now = vec![false; input.targets.len()];
-        for (row, &i) in scorable_idx.iter().enumerate() {
-            let (li, _, v, _) = present[i];
+        for (row, &i) in scene.scorable.iter().enumerate() {
+            let (li, _, v, _) = scene.present[i];
             is_scorable_now[li] = true;
             let target = input.targets[li].target;
-            tally[target].scorable += 1;
-            match sol[row] {
+            self.tally[target].scorable += 1;
+            let (track_id, pe, ve) = match sol[row] {
                 Some(j) => {
                     track_assigned[j] = true;
-                    n_assigned += 1;
-                    tally[target].assigned += 1;
+                    a.n_assigned += 1;
+                    self.tally[target].assigned += 1;
                     let tr = tracks[j];
-                    let pe = dist[i * m + j];
+                    let pe = scene.dist[i * scene.m + j];
                     let ve = v.distance(tr.v);
-                    pos_sq += pe * pe;
-                    vel_sq += ve * ve;
-                    if last_track[li].is_some_and(|id| id != tr.id) {
-                        switches += 1;
-                        tally[target].switches += 1;
+                    a.pos_sq += pe * pe;
+                    a.vel_sq += ve * ve;
+                    if self.last_track[li].is_some_and(|id| id != tr.id) {
+                        a.switches += 1;
+                        self.tally[target].switches += 1;
                     }
-                    last_track[li] = Some(tr.id);
-                    prev_assigned[li] = true;
-                    assignments.push(AssignmentRow {
-                        run: input.run,
-                        t_s: t,
-                        target: input.target_names[target].clone(),
-                        track_id: Some(tr.id),
-                        position_error_m: Some(pe),
-                        velocity_error_mps: Some(ve),
-                    });
+                    self.last_track[li] = Some(tr.id);
+                    self.prev_assigned[li] = true;
+                    (Some(tr.id), Some(pe), Some(ve))
                 }
                 None => {
-                    if prev_assigned[li] {
-                        breaks += 1;
-                        tally[target].breaks += 1;
+                    if self.prev_assigned[li] {
+                        a.breaks += 1;
+                        self.tally[target].breaks += 1;
                     }
-                    prev_assigned[li] = false;
-                    assignments.push(AssignmentRow {
-                        run: input.run,
-                        t_s: t,
-                        target: input.target_names[target].clone(),
-                        track_id: None,
-                        position_error_m: None,
-                        velocity_error_mps: None,
-                    });
+                    self.prev_assigned[li] = false;
+                    (None, None, None)
                 }
-            }
+            };
+            self.assignments.push(AssignmentRow {
+                run: input.run,
+                t_s: t,
+                target: input.target_names[target].clone(),
+                track_id,
+                position_error_m: pe,
+                velocity_error_mps: ve,
+            });
         }
         // A truth that is absent or not scorable now was not assigned at this time.
         for (li, s) in is_scorable_now.iter().enumerate() {
             if !s {
-                prev_assigned[li] = false;
+                self.prev_assigned[li] = false;
             }
         }
-        // Redundant: unassigned tracks inside the gate of some scorable truth.
-        // Spurious: tracks inside the gate of no truth at all (scorable or not).
-        let (mut n_redundant, mut n_spurious) = (0u32, 0u32);
-        for j in 0..m {
-            let near_scorable = scorable_idx.iter().any(|&i| dist[i * m + j] <= gate);
-            if !track_assigned[j] && near_scorable {
-                n_redundant += 1;
-            }
-            if !(0..np).any(|i| dist[i * m + j] <= gate) {
-                n_spurious += 1;
-            }
-        }
-        cum_breaks += breaks;
-        cum_switches += switches;
+        self.cum_breaks += a.breaks;
+        self.cum_switches += a.switches;
+        (a.cum_breaks, a.cum_switches) = (self.cum_breaks, self.cum_switches);
+        a
+    }
+}
 
+/// The row of scoring time `k` (time `t`).
+fn metrics_row(
+    input: &RunInput<'_>,
+    (k, t): (usize, f64),
+    scene: &Scene,
+    a: &Assigned,
+    og: Option<crate::ospa::OspaGospa>,
+) -> TrackMetricsRow {
+    let (n, m) = (scene.scorable.len() as u32, scene.m as u32);
+    let (n_assigned, n_redundant, n_spurious) = (a.n_assigned, a.n_redundant, a.n_spurious);
+    TrackMetricsRow {
+        run: input.run,
+        k: k as u32,
+        t_s: t,
+        n_truths: scene.present.len() as u32,
+        n_scorable: n,
+        n_tracks: m,
+        n_assigned,
+        n_redundant,
+        n_spurious,
+        completeness: ratio(n_assigned, n),
+        redundant_ratio: ratio(n_redundant, n),
+        spurious_ratio: ratio(n_spurious, m),
+        breaks: a.breaks,
+        switches: a.switches,
+        cum_breaks: a.cum_breaks,
+        cum_switches: a.cum_switches,
+        position_sq_sum_m2: a.pos_sq,
+        velocity_sq_sum_m2ps2: a.vel_sq,
+        position_rmse_m: (n_assigned > 0).then(|| (a.pos_sq / f64::from(n_assigned)).sqrt()),
+        velocity_rmse_mps: (n_assigned > 0).then(|| (a.vel_sq / f64::from(n_assigned)).sqrt()),
+        ospa_m: og.map(|o| o.ospa_m),
+        gospa_m: og.map(|o| o.gospa_m),
+        gospa_localisation_m: og.map(|o| o.gospa_localisation_m),
+        gospa_missed: og.map(|o| o.gospa_missed),
+        gospa_false: og.map(|o| o.gospa_false),
+    }
+}
+
+/// Score one run: at each scoring time, the truths present ([`Scene::fill`]), their gated
+/// optimal assignment to the live tracks ([`Scene::assign`]), breaks, switches and assignment
+/// rows ([`RunScorer::record`]), redundant and spurious tracks, OSPA/GOSPA, and the row.
+pub(crate) fn score_run(input: &RunInput<'_>) -> RunOutput {
+    let live = live_tracks(input.tracks, input.n_times, input.interval_s);
+    let n_local = input.targets.len();
+    let mut s = RunScorer {
+        input,
+        prev_assigned: vec![false; n_local],
+        last_track: vec![None; n_local],
+        tally: vec![TargetTally::default(); input.target_names.len()],
+        assignments: Vec::new(),
+        cum_breaks: 0,
+        cum_switches: 0,
+    };
+    let mut cursors = vec![0usize; n_local];
+    let mut rows = Vec::with_capacity(input.n_times);
+    // Scratch buffers reused across scoring times.
+    let (mut scene, mut cost) = (Scene::default(), Vec::new());
+    let (mut truth_pos, mut track_pos): (Vec<DVec3>, Vec<DVec3>) = (Vec::new(), Vec::new());
+    for (k, tracks) in live.iter().enumerate().skip(1) {
+        let t = scoring_time(k, input.interval_s);
+        scene.fill(input, &mut cursors, t, tracks);
+        let sol = scene.assign(input.gate_m, &mut cost);
+        let mut track_assigned = vec![false; scene.m];
+        let mut a = s.record(&scene, &sol, tracks, t, &mut track_assigned);
+        (a.n_redundant, a.n_spurious) = scene.redundant_and_spurious(&track_assigned, input.gate_m);
         truth_pos.clear();
-        truth_pos.extend(scorable_idx.iter().map(|&i| present[i].1));
+        truth_pos.extend(scene.scorable.iter().map(|&i| scene.present[i].1));
         track_pos.clear();
         track_pos.extend(tracks.iter().map(|tr| tr.p));
-        let og = (n > 0 || m > 0).then(|| ospa_gospa(&truth_pos, &track_pos, input.ospa_c_m, input.ospa_p));
-
-        let n = n as u32;
-        let m = m as u32;
-        rows.push(TrackMetricsRow {
-            run: input.run,
-            k: k as u32,
-            t_s: t,
-            n_truths: np as u32,
-            n_scorable: n,
-            n_tracks: m,
-            n_assigned,
-            n_redundant,
-            n_spurious,
-            completeness: ratio(n_assigned, n),
-            redundant_ratio: ratio(n_redundant, n),
-            spurious_ratio: ratio(n_spurious, m),
-            breaks,
-            switches,
-            cum_breaks,
-            cum_switches,
-            position_sq_sum_m2: pos_sq,
-            velocity_sq_sum_m2ps2: vel_sq,
-            position_rmse_m: (n_assigned > 0).then(|| (pos_sq / f64::from(n_assigned)).sqrt()),
-            velocity_rmse_mps: (n_assigned > 0).then(|| (vel_sq / f64::from(n_assigned)).sqrt()),
-            ospa_m: og.map(|o| o.ospa_m),
-            gospa_m: og.map(|o| o.gospa_m),
-            gospa_localisation_m: og.map(|o| o.gospa_localisation_m),
-            gospa_missed: og.map(|o| o.gospa_missed),
-            gospa_false: og.map(|o| o.gospa_false),
-        });
+        let any = !scene.scorable.is_empty() || scene.m > 0;
+        let og = any.then(|| ospa_gospa(&truth_pos, &track_pos, input.ospa_c_m, input.ospa_p));
+        rows.push(metrics_row(input, (k, t), &scene, &a, og));
     }
-    RunOutput { rows, assignments, tally }
+    RunOutput { rows, assignments: s.assignments, tally: s.tally }
 }
 
 #[cfg(test)]

@@ -64,7 +64,7 @@ fn score_runs(
             scorable: &*input.scorable,
         })
         .collect();
-    parts::parallel(&run_inputs, threads, &track_metrics::score_run)
+    crate::parallel::parallel(&run_inputs, threads, &track_metrics::score_run)
 }
 
 fn add(acc: &mut TargetTally, t: &TargetTally) {
@@ -114,7 +114,8 @@ pub(crate) fn track_results_by_parts(
     let all_runs = &split.truth_runs;
     let check = |t: &Truth| check_scoring_times(t, opts);
     let score = |t: &Truth, k: &BTreeMap<u32, Vec<TrackLife>>| score_runs(t, k, input, opts, 1);
-    let results = parts::parallel(&split.parts, threads, &|p: &Part| parts::score_part(p, all_runs, &check, &score));
+    let results =
+        crate::parallel::parallel(&split.parts, threads, &|p: &Part| parts::score_part(p, all_runs, &check, &score));
     let mut by_run: BTreeMap<u32, (RunOutput, BTreeMap<String, TargetTally>)> = BTreeMap::new();
     for r in results {
         for (run, o, tally) in r?.runs {

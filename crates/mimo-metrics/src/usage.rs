@@ -31,23 +31,23 @@ pub(crate) struct UsageOutput {
     pub per_run: Vec<RunRadarUsage>,
 }
 
-pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOutput, MetricsError> {
-    let dt = input.interval_s;
+/// Per radar and interval, the means over the runs that reach that scoring time (in the runs'
+/// order): the raw sums (0 where a run has no dwell there), the normalized sums (null where
+/// nothing is scorable) and the scorable count.
+#[derive(Default)]
+struct Cell {
+    sums: [GroupMean; 4],
+    norms: [GroupMean; 4],
+    n_scorable: GroupMean,
+}
+
+fn cells<'a>(sums: &'a DwellSums, input: &UsageInput<'a>) -> BTreeMap<(&'a str, u32), Cell> {
     let by_key: HashMap<(u32, &str, i64), [f64; 4]> = sums
         .groups
         .iter()
         .zip(&sums.sums)
         .map(|(&(run, radar, k), s)| ((run, sums.radar_names[radar].as_str(), k), s.value()))
         .collect();
-    // Per radar and interval, the means over the runs that reach that scoring time (in the
-    // runs' order): the raw sums (0 where a run has no dwell there), the normalized sums (null
-    // where nothing is scorable) and the scorable count.
-    #[derive(Default)]
-    struct Cell {
-        sums: [GroupMean; 4],
-        norms: [GroupMean; 4],
-        n_scorable: GroupMean,
-    }
     let mut cells: BTreeMap<(&str, u32), Cell> = BTreeMap::new();
     for &run in input.runs {
         let counts = input.n_scorable.get(&run).map(Vec::as_slice).unwrap_or(&[]);
@@ -65,8 +65,13 @@ pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOut
             }
         }
     }
+    cells
+}
+
+/// The per-interval rows of each radar, in radar then interval order, with cumulative sums.
+fn interval_rows(cells: &BTreeMap<(&str, u32), Cell>, radars: &[String], dt: f64) -> Vec<UsageRow> {
     let mut per_interval = Vec::new();
-    for radar in input.radars {
+    for radar in radars {
         let mut acc = [0.0; 4];
         for ((_, k), cell) in cells.range((radar.as_str(), 0)..=(radar.as_str(), u32::MAX)) {
             let s = |q: usize| cell.sums[q].value().unwrap_or(0.0);
@@ -74,8 +79,7 @@ pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOut
             for (a, v) in acc.iter_mut().zip([dwell_time_s, energy_j, ta_dwell_time_s, ta_energy_j]) {
                 *a += v;
             }
-            per_interval.push(UsageRow {
-                radar: radar.clone(),
+            let figures = UsageTotalRow {
                 interval: *k,
                 t_start_s: f64::from(k - 1) * dt,
                 t_end_s: f64::from(*k) * dt,
@@ -93,13 +97,17 @@ pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOut
                 cum_energy_j: acc[1],
                 cum_ta_dwell_time_s: acc[2],
                 cum_ta_energy_j: acc[3],
-            });
+            };
+            per_interval.push(UsageRow { radar: radar.clone(), figures });
         }
     }
-    let total = totals(&per_interval, dt);
+    per_interval
+}
 
-    // Sensor totals over the whole run (every dwell, also those after the last scoring time),
-    // summed over the interval groups in their order, so the same rows give the same bits.
+/// Sensor totals over the whole run (every dwell, also those after the last scoring time),
+/// summed over the interval groups in their order, so the same rows give the same bits; runs
+/// sorted and each once.
+fn run_rows(sums: &DwellSums, input: &UsageInput<'_>) -> (Vec<RunRadarUsage>, usize) {
     let totals_by_key = run_totals(sums);
     let mut per_run = Vec::with_capacity(input.runs.len() * input.radars.len());
     let mut runs_sorted = input.runs.to_vec();
@@ -118,32 +126,40 @@ pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOut
             });
         }
     }
-    // Means over runs, radars in id order.
-    let n_runs = runs_sorted.len() as f64;
-    let per_radar: Vec<RadarUsage> = if runs_sorted.is_empty() {
-        Vec::new()
-    } else {
-        input
-            .radars
-            .iter()
-            .map(|radar| {
-                let mut acc = [0.0; 4];
-                for r in per_run.iter().filter(|r| r.radar == *radar) {
-                    for (a, v) in acc.iter_mut().zip([r.dwell_time_s, r.energy_j, r.ta_dwell_time_s, r.ta_energy_j]) {
-                        *a += v;
-                    }
-                }
-                RadarUsage {
-                    radar: radar.clone(),
-                    dwell_time_s: acc[0] / n_runs,
-                    energy_j: acc[1] / n_runs,
-                    ta_dwell_time_s: acc[2] / n_runs,
-                    ta_energy_j: acc[3] / n_runs,
-                }
-            })
-            .collect()
-    };
+    (per_run, runs_sorted.len())
+}
 
+/// Means over `n_runs` runs of the per-run totals, radars in id order.
+fn radar_means(per_run: &[RunRadarUsage], radars: &[String], n_runs: usize) -> Vec<RadarUsage> {
+    if n_runs == 0 {
+        return Vec::new();
+    }
+    let n_runs = n_runs as f64;
+    radars
+        .iter()
+        .map(|radar| {
+            let mut acc = [0.0; 4];
+            for r in per_run.iter().filter(|r| r.radar == *radar) {
+                for (a, v) in acc.iter_mut().zip([r.dwell_time_s, r.energy_j, r.ta_dwell_time_s, r.ta_energy_j]) {
+                    *a += v;
+                }
+            }
+            RadarUsage {
+                radar: radar.clone(),
+                dwell_time_s: acc[0] / n_runs,
+                energy_j: acc[1] / n_runs,
+                ta_dwell_time_s: acc[2] / n_runs,
+                ta_energy_j: acc[3] / n_runs,
+            }
+        })
+        .collect()
+}
+
+pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOutput, MetricsError> {
+    let per_interval = interval_rows(&cells(sums, input), input.radars, input.interval_s);
+    let total = totals(&per_interval, input.interval_s);
+    let (per_run, n_runs) = run_rows(sums, input);
+    let per_radar = radar_means(&per_run, input.radars, n_runs);
     Ok(UsageOutput { per_interval, total, per_radar, per_run })
 }
 

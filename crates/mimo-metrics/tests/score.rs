@@ -1,12 +1,18 @@
-//! Hand-made cases with known answers. Every case writes small Parquet tables (arrow-rs) into a
-//! temporary run directory and scores them.
+//! Hand-made cases with known answers. Every case writes small Parquet tables (arrow-rs, with the
+//! table's name and schema version in the metadata, as mimo writes them) into a temporary run
+//! directory and scores them. Files holding several runs are named `part-K.parquet` (a
+//! `run-K.parquet` file holds run K only).
 
-use arrow::array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray, UInt32Array, UInt64Array};
+use arrow::array::{
+    ArrayRef, FixedSizeListArray, Float64Array, Int64Array, RecordBatch, StringArray, UInt8Array, UInt32Array,
+    UInt64Array,
+};
 use arrow::datatypes::{Field, Schema};
 use glam::DVec3;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, Requester, Role, TrackRow, TrackStatus, TruthRow};
 use mimo_metrics::{MetricsError, ScorablePredicate, Score, ScoreInput, ScoreOptions, always_scorable, score};
+use mimo_store::StoreError;
 use std::fs::File;
 use std::path::Path;
 use std::sync::Arc;
@@ -41,6 +47,17 @@ fn truth_line(run: u32, target: &str, p0: DVec3, v: DVec3, t0: f64, t1: f64) -> 
         .collect()
 }
 
+/// A covariance (1 m², 1 m²/s²): every track row's.
+const IDENTITY: [[f64; 6]; 6] = {
+    let mut m = [[0.0; 6]; 6];
+    let mut i = 0;
+    while i < 6 {
+        m[i][i] = 1.0;
+        i += 1;
+    }
+    m
+};
+
 fn track_row(run: u32, id: u64, t: f64, status: TrackStatus, p: DVec3, v: DVec3) -> TrackRow {
     TrackRow {
         run,
@@ -53,7 +70,7 @@ fn track_row(run: u32, id: u64, t: f64, status: TrackStatus, p: DVec3, v: DVec3)
         vx_mps: v.x,
         vy_mps: v.y,
         vz_mps: v.z,
-        cov: [0.0; 21],
+        cov: mimo_core::records::pack_cov(&IDENTITY),
         n_updates: 1,
         last_meas_id: None,
     }
@@ -167,6 +184,11 @@ impl ToArray for Vec<Option<u64>> {
         Arc::new(UInt64Array::from(self))
     }
 }
+impl ToArray for Vec<u8> {
+    fn to_array(self) -> ArrayRef {
+        Arc::new(UInt8Array::from(self))
+    }
+}
 impl ToArray for Vec<i64> {
     fn to_array(self) -> ArrayRef {
         Arc::new(Int64Array::from(self))
@@ -228,6 +250,7 @@ fn tracks_frame(rows: &[TrackRow]) -> DataFrame {
         c!(vx_mps),
         c!(vy_mps),
         c!(vz_mps),
+        ("cov".to_string(), cov_column(rows)),
         c!(n_updates),
         c!(last_meas_id),
     ])
@@ -255,7 +278,7 @@ fn dwells_frame(rows: &[DwellRow]) -> DataFrame {
         c!(peak_power_w),
         c!(energy_j),
         c!(waveform),
-        col_of("face", rows.iter().map(|r| u32::from(r.face)).collect::<Vec<_>>()),
+        c!(face),
         c!(beam_u),
         c!(beam_v),
         c!(aim_x_m),
@@ -265,10 +288,26 @@ fn dwells_frame(rows: &[DwellRow]) -> DataFrame {
     .expect("dwells frame")
 }
 
+/// The tracks' covariances as the fixed-size list of 21 the table holds.
+fn cov_column(rows: &[TrackRow]) -> ArrayRef {
+    let values = Float64Array::from_iter_values(rows.iter().flat_map(|r| r.cov));
+    let item = Arc::new(Field::new("item", arrow::datatypes::DataType::Float64, false));
+    Arc::new(FixedSizeListArray::new(item, 21, Arc::new(values), None))
+}
+
+/// Write a frame as a file of the table its directory names (`truth/…`), with that table's name
+/// and schema version in the file's metadata.
 fn write(path: &Path, df: DataFrame) {
-    std::fs::create_dir_all(path.parent().expect("parent")).expect("mkdir");
+    let dir = path.parent().expect("parent");
+    std::fs::create_dir_all(dir).expect("mkdir");
+    let table = dir.file_name().expect("table directory").to_string_lossy().to_string();
     let fields: Vec<Field> = df.0.iter().map(|(n, a)| Field::new(n, a.data_type().clone(), true)).collect();
-    let schema = Arc::new(Schema::new(fields));
+    let metadata = [
+        (mimo_store::schema::META_TABLE.to_string(), table),
+        (mimo_store::schema::META_SCHEMA_VERSION.to_string(), mimo_store::schema::SCHEMA_VERSION.to_string()),
+    ];
+    let schema =
+        Arc::new(Schema::new(fields).with_metadata(metadata.into_iter().collect::<std::collections::HashMap<_, _>>()));
     let batch = RecordBatch::try_new(schema.clone(), df.0.into_iter().map(|(_, a)| a).collect()).expect("batch");
     let f = File::create(path).expect("create");
     let mut w = parquet::arrow::ArrowWriter::try_new(f, schema, None).expect("writer");
@@ -283,9 +322,9 @@ fn default_dwells() -> Vec<DwellRow> {
 /// Write a run directory with the three tables (one file each).
 fn run_dir(truth: &[TruthRow], tracks: &[TrackRow], dwells: &[DwellRow]) -> TempDir {
     let dir = tempfile::tempdir().expect("tempdir");
-    write(&dir.path().join("truth/run-0000.parquet"), truth_frame(truth));
-    write(&dir.path().join("tracks/run-0000.parquet"), tracks_frame(tracks));
-    write(&dir.path().join("dwells/run-0000.parquet"), dwells_frame(dwells));
+    write(&dir.path().join("truth/part-0000.parquet"), truth_frame(truth));
+    write(&dir.path().join("tracks/part-0000.parquet"), tracks_frame(tracks));
+    write(&dir.path().join("dwells/part-0000.parquet"), dwells_frame(dwells));
     dir
 }
 
@@ -549,10 +588,10 @@ fn usage_by_hand() {
         dwell(0, 9, 9, 1, Txrx, Search, Radar, 4.5, 0.01, 7.0),
     ];
     let dir = tempfile::tempdir().expect("tempdir");
-    write(&dir.path().join("truth/run-0000.parquet"), truth_frame(&truth));
-    write(&dir.path().join("tracks/run-0000.parquet"), tracks_frame(&[]));
-    write(&dir.path().join("dwells/run-0000.parquet"), dwells_frame(&dwells));
-    write(&dir.path().join("dwells/run-0001.parquet"), dwells_frame(&[]));
+    write(&dir.path().join("truth/part-0000.parquet"), truth_frame(&truth));
+    write(&dir.path().join("tracks/part-0000.parquet"), tracks_frame(&[]));
+    write(&dir.path().join("dwells/part-0000.parquet"), dwells_frame(&dwells));
+    write(&dir.path().join("dwells/part-0001.parquet"), dwells_frame(&[]));
     let pred: ScorablePredicate =
         Box::new(|t, p: DVec3, _| if p.y < 20_000.0 { (t - 3.0).abs() > 0.01 } else { t <= 1.01 });
     let opts = ScoreOptions { scenario: "hand".into(), ..ScoreOptions::default() };
@@ -712,9 +751,9 @@ fn missing_tracks_table() {
     assert!(e.is_bad_input());
     // An explicitly listed file that is absent.
     let input = ScoreInput {
-        truth: vec![dir.path().join("truth/run-0000.parquet")],
-        dwells: vec![dir.path().join("dwells/run-0000.parquet")],
-        tracks: vec![dir.path().join("tracks/run-0000.parquet")],
+        truth: vec![dir.path().join("truth/part-0000.parquet")],
+        dwells: vec![dir.path().join("dwells/part-0000.parquet")],
+        tracks: vec![dir.path().join("tracks/part-0000.parquet")],
         scorable: always_scorable(),
         beams: mimo_metrics::BeamGeometry::none(),
     };
@@ -729,18 +768,25 @@ fn tracks_with_a_wrong_column_type() {
     let mut df = tracks_frame(&tracks);
     let t_str: Vec<String> = tracks.iter().map(|r| r.t_s.to_string()).collect();
     df.replace("t_s", col_of("t_s", t_str)).expect("replace");
-    let path = dir.path().join("tracks/run-0000.parquet");
+    let path = dir.path().join("tracks/part-0000.parquet");
     write(&path, df);
     let e = score_dir(&dir, always_scorable(), &ScoreOptions::default()).expect_err("must fail");
+    assert!(e.is_bad_input());
     match &e {
-        MetricsError::ColumnType { table, path: p, column, expected, found } => {
-            assert_eq!((*table, *column, *expected, found.as_str()), ("tracks", "t_s", "float64", "utf8"));
-            assert_eq!(p, &path);
+        MetricsError::Table(StoreError::BadColumn { file, column, why }) => {
+            assert_eq!((file, column.as_str()), (&path, "t_s"));
+            assert_eq!(why, "has type Utf8, expected float64");
         }
         other => panic!("wrong error: {other}"),
     }
-    let msg = e.to_string();
-    assert!(msg.contains("run-0000.parquet") && msg.contains("`t_s`") && msg.contains("float64"), "{msg}");
+}
+
+/// The message of a store check's refusal of a column (panics on another error).
+fn bad_column(e: &MetricsError) -> (String, String) {
+    match e {
+        MetricsError::Table(StoreError::BadColumn { column, why, .. }) => (column.clone(), why.clone()),
+        other => panic!("not a bad column: {other}"),
+    }
 }
 
 #[test]
@@ -749,44 +795,42 @@ fn other_bad_input() {
     let tracks = follow(0, 1, A0, VA, DVec3::ZERO, 0.5, 99.0, false);
     let fails = |truth: DataFrame, tracks: DataFrame, dwells: DataFrame| {
         let dir = tempfile::tempdir().expect("tempdir");
-        write(&dir.path().join("truth/run-0000.parquet"), truth);
-        write(&dir.path().join("tracks/run-0000.parquet"), tracks);
-        write(&dir.path().join("dwells/run-0000.parquet"), dwells);
+        write(&dir.path().join("truth/part-0000.parquet"), truth);
+        write(&dir.path().join("tracks/part-0000.parquet"), tracks);
+        write(&dir.path().join("dwells/part-0000.parquet"), dwells);
         score_dir(&dir, always_scorable(), &ScoreOptions::default()).expect_err("must fail")
     };
     // NaN in a truth position.
     let mut bad = truth.clone();
     bad[7].y_m = f64::NAN;
     let e = fails(truth_frame(&bad), tracks_frame(&tracks), dwells_frame(&default_dwells()));
-    assert!(matches!(e, MetricsError::NonFinite { table: "truth", column: "y_m", row: 7, .. }), "{e}");
-    assert!(e.to_string().contains("NaN"), "{e}");
+    assert_eq!(bad_column(&e), ("y_m".into(), "is NaN at row 7 (expected a finite number)".into()));
     // NaN in a track velocity.
     let mut bad = tracks.clone();
     bad[2].vz_mps = f64::NAN;
     let e = fails(truth_frame(&truth), tracks_frame(&bad), dwells_frame(&default_dwells()));
-    assert!(matches!(e, MetricsError::NonFinite { table: "tracks", column: "vz_mps", .. }), "{e}");
+    assert_eq!(bad_column(&e), ("vz_mps".into(), "is NaN at row 2 (expected a finite number)".into()));
     // Missing column.
     let e =
         fails(truth_frame(&truth).drop("alt_m").expect("drop"), tracks_frame(&tracks), dwells_frame(&default_dwells()));
-    assert!(
-        matches!(e, MetricsError::MissingColumn { table: "truth", column: "alt_m", expected: "float64", .. }),
-        "{e}"
-    );
+    assert_eq!(bad_column(&e), ("alt_m".into(), "missing (expected float64)".into()));
     // Unknown status.
     let mut df = tracks_frame(&tracks);
     let st: Vec<String> = (0..tracks.len()).map(|i| if i == 3 { "lost".into() } else { "confirmed".into() }).collect();
     df.replace("status", col_of("status", st)).expect("replace");
     let e = fails(truth_frame(&truth), df, dwells_frame(&default_dwells()));
-    assert!(matches!(&e, MetricsError::InvalidValue { column: "status", row: 3, value, .. } if value == "lost"), "{e}");
+    let (column, why) = bad_column(&e);
+    assert_eq!(column, "status");
+    assert!(why.starts_with("is 'lost' at row 3"), "{why}");
     // Negative energy, bad radar id.
     let mut d = default_dwells();
     d[0].energy_j = -1.0;
     let e = fails(truth_frame(&truth), tracks_frame(&tracks), dwells_frame(&d));
-    assert!(matches!(e, MetricsError::InvalidValue { table: "dwells", column: "energy_j", .. }), "{e}");
+    assert_eq!(bad_column(&e), ("energy_j".into(), "is -1 at row 0 (expected a finite number >= 0)".into()));
     let mut df = dwells_frame(&default_dwells());
     df.replace("radar", col_of("radar", vec!["Radar-1".to_string()])).expect("replace");
     let e = fails(truth_frame(&truth), tracks_frame(&tracks), df);
-    assert!(matches!(e, MetricsError::InvalidValue { column: "radar", .. }), "{e}");
+    assert_eq!(bad_column(&e).0, "radar");
     // A track of a run the truth does not have.
     let mut bad = tracks.clone();
     bad[0].run = 5;
@@ -799,28 +843,21 @@ fn other_bad_input() {
     assert!(matches!(e, MetricsError::InvalidOption { option: "interval_s", .. }), "{e}");
 }
 
+/// A table of other integer widths (as pandas and pyarrow write ids and runs) is not the table
+/// its metadata names: refused, naming the column, rather than converted.
 #[test]
-fn integer_widths_from_other_writers_are_accepted() {
-    // pandas/pyarrow write int64 ids and runs; those score the same.
+fn integer_widths_from_other_writers_are_refused() {
     let truth = truth_line(0, "A", A0, VA, 0.0, 3.0);
     let tracks = follow(0, 1, A0, VA, DVec3::ZERO, 0.5, 99.0, false);
     let mut tdf = tracks_frame(&tracks);
     let ids: Vec<i64> = tracks.iter().map(|r| r.track_id as i64).collect();
     tdf.replace("track_id", col_of("track_id", ids)).expect("replace");
-    let runs: Vec<i64> = tracks.iter().map(|_| 0).collect();
-    tdf.replace("run", col_of("run", runs)).expect("replace");
     let dir = tempfile::tempdir().expect("tempdir");
-    write(&dir.path().join("truth/run-0000.parquet"), truth_frame(&truth));
-    write(&dir.path().join("tracks/run-0000.parquet"), tdf.clone());
-    write(&dir.path().join("dwells/run-0000.parquet"), dwells_frame(&default_dwells()));
-    let s = score_dir(&dir, always_scorable(), &ScoreOptions::default()).expect("score");
-    assert_eq!(s.summary.track.completeness, Some(1.0));
-    // A negative id does not fit u64.
-    let ids: Vec<i64> = tracks.iter().map(|_| -4).collect();
-    tdf.replace("track_id", col_of("track_id", ids)).expect("replace");
-    write(&dir.path().join("tracks/run-0000.parquet"), tdf);
+    write(&dir.path().join("truth/part-0000.parquet"), truth_frame(&truth));
+    write(&dir.path().join("tracks/part-0000.parquet"), tdf);
+    write(&dir.path().join("dwells/part-0000.parquet"), dwells_frame(&default_dwells()));
     let e = score_dir(&dir, always_scorable(), &ScoreOptions::default()).expect_err("must fail");
-    assert!(matches!(e, MetricsError::InvalidValue { column: "track_id", row: 0, .. }), "{e}");
+    assert_eq!(bad_column(&e), ("track_id".into(), "has type Int64, expected uint64".into()));
 }
 
 /// Usage is computed file by file (docs/design.md §6): one file per run, a run split over
@@ -860,8 +897,8 @@ fn usage_does_not_depend_on_how_the_dwells_are_split_into_files() {
     let opts = ScoreOptions { scenario: "split".into(), ..ScoreOptions::default() };
     let score_with = |files: Vec<Vec<DwellRow>>| -> Score {
         let dir = tempfile::tempdir().expect("tempdir");
-        write(&dir.path().join("truth/run-0000.parquet"), truth_frame(&truth));
-        write(&dir.path().join("tracks/run-0000.parquet"), tracks_frame(&[]));
+        write(&dir.path().join("truth/part-0000.parquet"), truth_frame(&truth));
+        write(&dir.path().join("tracks/part-0000.parquet"), tracks_frame(&[]));
         for (i, rows) in files.iter().enumerate() {
             write(&dir.path().join(format!("dwells/part-{i:04}.parquet")), dwells_frame(rows));
         }
@@ -969,13 +1006,13 @@ fn track_metrics_do_not_depend_on_how_truth_and_tracks_are_split_into_files() {
         let pick = |rows: &[Vec<TruthRow>], f: &[u32]| f.iter().flat_map(|&r| rows[r as usize].clone()).collect();
         for (i, f) in truth_files.iter().enumerate() {
             let rows: Vec<TruthRow> = pick(&truth, f);
-            write(&dir.path().join(format!("truth/run-{i:04}.parquet")), truth_frame(&rows));
+            write(&dir.path().join(format!("truth/part-{i:04}.parquet")), truth_frame(&rows));
         }
         for (i, f) in tracks_files.iter().enumerate() {
             let rows: Vec<TrackRow> = f.iter().flat_map(|&r| tracks[r as usize].clone()).collect();
-            write(&dir.path().join(format!("tracks/run-{i:04}.parquet")), tracks_frame(&rows));
+            write(&dir.path().join(format!("tracks/part-{i:04}.parquet")), tracks_frame(&rows));
         }
-        write(&dir.path().join("dwells/run-0000.parquet"), dwells_frame(&default_dwells()));
+        write(&dir.path().join("dwells/part-0000.parquet"), dwells_frame(&default_dwells()));
         score_dir(&dir, always_scorable(), &opts).expect("score")
     };
     let one_per_run = score_with(&[&[0], &[1], &[2], &[3]], &[&[0], &[1], &[2], &[3]]);

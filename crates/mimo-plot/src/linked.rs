@@ -16,10 +16,9 @@ use arrow::datatypes::{DataType, Float64Type, UInt64Type};
 use mimo_core::records::{DwellRow, Requester};
 use mimo_metrics::{ScorablePredicate, ScoreInput, ScoreOptions};
 use mimo_store::layout::ScoreDir;
-use mimo_store::score_schema::{SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS};
-use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use mimo_store::schema::TableSpec;
+use mimo_store::score_schema::{self, SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS};
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::path::Path;
 
 /// Scoring results of one run.
@@ -51,12 +50,19 @@ fn bad(file: &Path, why: impl std::fmt::Display) -> PlotError {
     PlotError::BadScore { file: file.to_path_buf(), why: why.to_string() }
 }
 
-/// A score table's batches (the whole file; score tables are small).
-fn read_frame(file: &Path) -> Result<Vec<RecordBatch>, PlotError> {
-    let f = File::open(file).map_err(|e| bad(file, e))?;
+/// A score table's batches (the whole file; score tables are small), read through the store's
+/// checks of table `spec` (`mimo_store::checked`: metadata, column types, value rules).
+fn read_frame(file: &Path, spec: &'static TableSpec) -> Result<Vec<RecordBatch>, PlotError> {
+    let reader = mimo_store::checked::open(file, spec)?;
     let unreadable = |e: &dyn std::fmt::Display| bad(file, format!("not a readable score table ({e})"));
-    let reader = ParquetRecordBatchReaderBuilder::try_new(f).and_then(|b| b.build()).map_err(|e| unreadable(&e))?;
-    reader.collect::<Result<Vec<_>, _>>().map_err(|e| unreadable(&e))
+    let reader = reader.build().map_err(|e| unreadable(&e))?;
+    let batches = reader.collect::<Result<Vec<_>, _>>().map_err(|e| unreadable(&e))?;
+    let mut first_row = 0;
+    for b in &batches {
+        mimo_store::rows::Batch::check_values(b, file, spec, first_row)?;
+        first_row += b.num_rows();
+    }
+    Ok(batches)
 }
 
 /// Column `name` of every batch, cast to `want`.
@@ -100,7 +106,7 @@ pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
     let interval_s = interval_s.ok_or_else(|| bad(&summary_f, "field 'interval_s': expected a positive number"))?;
 
     let tm_f = score.table(&SCORE_TRACK_METRICS);
-    let df = read_frame(&tm_f)?;
+    let df = read_frame(&tm_f, &score_schema::SCORE_TRACK_METRICS)?;
     let runs = col_u64(&df, &tm_f, "run")?;
     let t = col_f64(&df, &tm_f, "t_s")?;
     let comp = col_f64(&df, &tm_f, "completeness")?;
@@ -121,7 +127,7 @@ pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
     }
 
     let as_f = score.table(&SCORE_ASSIGNMENTS);
-    let df = read_frame(&as_f)?;
+    let df = read_frame(&as_f, &score_schema::SCORE_ASSIGNMENTS)?;
     let runs = col_u64(&df, &as_f, "run")?;
     let t = col_f64(&df, &as_f, "t_s")?;
     let target = col_str(&df, &as_f, "target")?;

@@ -279,7 +279,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
             to_s: t1,
             dropped,
             kinds: objects::KINDS.iter().map(|k| k.as_str()).collect(),
-            statuses: vec!["tentative", "confirmed", "deleted"],
+            statuses: mimo_core::records::TrackStatus::LABELS.to_vec(),
         },
         frame: frame.json(),
         radars,

@@ -76,7 +76,7 @@ fn synthetic_run_dir(dir: &Path) {
             vx_mps: v.x,
             vy_mps: v.y,
             vz_mps: v.z,
-            cov: [0.0; 21],
+            cov: unit_cov(),
             n_updates: 1,
             last_meas_id: None,
         };
@@ -283,4 +283,13 @@ fn trend_helpers() {
     assert_eq!(ma[1].1, None);
     assert_eq!(ma[0].1, Some(1.0));
     assert_eq!(ma[2].1, Some(3.0));
+}
+
+/// A covariance of 1 m² and 1 m²/s² on the diagonal (the readers refuse a zero variance).
+fn unit_cov() -> [f64; 21] {
+    let mut c = [0.0; 21];
+    for i in 0..6 {
+        c[mimo_core::records::cov_index(i, i)] = 1.0;
+    }
+    c
 }

@@ -11,7 +11,7 @@
 
 use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
-use arrow::array::{BooleanArray, RecordBatch};
+use arrow::array::BooleanArray;
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
 use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
@@ -80,8 +80,8 @@ fn open_checked(
     let builder = crate::open_table::<DwellRow>(path)?;
     let spec = schema::table(DwellRow::SPEC.name)
         .ok_or_else(|| StoreError::Arrow(format!("unknown table {}", DwellRow::SPEC.name)))?;
-    // Every column present with its type, as `read_table` checks on each batch.
-    Batch::check(&RecordBatch::new_empty(builder.schema().clone()), path, spec)?;
+    // Every column present with its type (checked by `open_table`); the values are checked as
+    // they are read.
     Ok((builder, spec))
 }
 
@@ -97,7 +97,7 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     let mut k = DwellKeys::default();
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch { batch: &batch, file: path, spec };
+        let b = Batch::check_values(&batch, path, spec, k.len())?;
         k.run.extend(b.u32("run")?);
         k.dwell_id.extend(b.u64("dwell_id")?);
         k.group_id.extend(b.u64("group_id")?);
@@ -122,12 +122,11 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     Ok(k)
 }
 
-/// Read whole rows of one dwells file: the rows at the given file positions (ascending), in file
-/// order. `keys` are the file's keys ([`read_dwell_keys`]); only the other columns are decoded.
-/// Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
-pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
-    let (builder, spec) = open_checked(path)?;
-    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
+/// The file positions `rows` (of a file of `n_rows` rows) as ranges to read; a short gap between
+/// two positions is read through and its rows dropped after the read (decoding a few rows costs
+/// less than a skip and a new read in every column). Errors ([`StoreError::BadRow`]) on a
+/// position past the end or out of order.
+fn read_ranges(path: &Path, rows: &[usize], n_rows: usize) -> Result<Vec<std::ops::Range<usize>>, StoreError> {
     let bad = |row: usize, why: &str| StoreError::BadRow {
         file: path.to_path_buf(),
         column: "dwell_id",
@@ -138,13 +137,10 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
         return Err(bad(w[1], "rows asked for out of order"));
     }
     if let Some(&last) = rows.last()
-        && (last >= n_rows || last >= keys.len())
+        && last >= n_rows
     {
         return Err(bad(last, "row asked for past the end of the file"));
     }
-    // Positions as ranges; a short gap between two positions is read through and its rows
-    // dropped after the read (decoding a few rows costs less than a skip and a new read in every
-    // column).
     let mut ranges: Vec<std::ops::Range<usize>> = Vec::new();
     for &r in rows {
         match ranges.last_mut() {
@@ -152,6 +148,16 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
             _ => ranges.push(r..r + 1),
         }
     }
+    Ok(ranges)
+}
+
+/// Read whole rows of one dwells file: the rows at the given file positions (ascending), in file
+/// order. `keys` are the file's keys ([`read_dwell_keys`]); only the other columns are decoded.
+/// Errors ([`StoreError::BadRow`]) on a position past the end or out of order.
+pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<Vec<DwellRow>, StoreError> {
+    let (builder, spec) = open_checked(path)?;
+    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
+    let ranges = read_ranges(path, rows, n_rows.min(keys.len()))?;
     // The file positions of the rows the reader returns, in order, and which were asked for.
     let mut positions = ranges.clone().into_iter().flatten();
     let mut asked = rows.iter().peekable();
@@ -185,7 +191,7 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
             arrow::compute::filter_record_batch(&batch, &BooleanArray::from(keep))
                 .map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?
         };
-        let b = Batch { batch: &batch, file: path, spec };
+        let b = Batch::check_values_at(&batch, path, spec, &rows[out.len()..])?;
         // The checks of `DwellRow::from_batch`, column by column, on the rows read.
         let role = b.parsed("role", Role::parse, "tx, rx, txrx")?;
         let kind = b.parsed("kind", DwellKind::parse, "search, confirm, track, mimo")?;

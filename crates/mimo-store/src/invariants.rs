@@ -6,7 +6,8 @@
 use crate::StoreError;
 use mimo_core::records::*;
 use mimo_core::table_rules::{
-    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, runs_match, times_nearly_ordered_per_key, times_ordered_per_key, unique,
+    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, runs_match, times_nearly_ordered_per_key, times_ordered_per_key,
+    track_row_order, track_rows_orderable, unique,
 };
 use std::path::Path;
 
@@ -69,8 +70,11 @@ impl RowInvariants for MeasurementRow {
 impl RowInvariants for TrackRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-        let keys = rows.iter().map(|r| Key2(r.run, r.track_id));
-        times_nearly_ordered_per_key(keys, &t, TRACK_OUT_OF_SEQUENCE_S, "track")
+        let keys = || rows.iter().map(|r| Key2(r.run, r.track_id));
+        times_nearly_ordered_per_key(keys(), &t, TRACK_OUT_OF_SEQUENCE_S, "track")?;
+        let rank: Vec<u64> =
+            rows.iter().map(|r| track_row_order(r.n_updates, r.status == TrackStatus::Deleted)).collect();
+        track_rows_orderable(keys(), &t, &rank)
     }
     fn run_of(row: &Self) -> u32 {
         row.run

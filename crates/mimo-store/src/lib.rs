@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 pub mod challenge_schema;
+pub mod checked;
 pub mod columns;
 pub mod dwell_keys;
 pub mod failure_point_schema;
@@ -310,8 +311,9 @@ pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), S
     Ok(())
 }
 
-/// Read one Parquet file of table `R`, checking table name, schema version, column types and
-/// finiteness of floating-point values.
+/// Read one Parquet file of table `R`, checked ([`checked`]: table name, schema version, column
+/// types, every value against its column's rule, runs matching the file) and its rows against
+/// the table's rules ([`invariants`]).
 pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
     let builder = open_table::<R>(path)?;
     let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
@@ -320,62 +322,22 @@ pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
     let mut out = Vec::new();
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch::check(&batch, path, table_spec)?;
+        let b = Batch::check_from(&batch, path, table_spec, out.len())?;
         out.extend(R::from_batch(&b)?);
     }
     invariants::check(path, &out)?;
     Ok(out)
 }
 
-/// Open one Parquet file of table `R` for reading, checking its table name, schema version and
-/// column-chunk ranges (what [`read_table`] checks before reading a value).
+/// Open one Parquet file of table `R` for reading, checked ([`checked::open`]: table name,
+/// schema version, column chunks, column types).
 pub(crate) fn open_table<R: TableRow>(path: &Path) -> Result<ParquetRecordBatchReaderBuilder<File>, StoreError> {
-    let file = File::open(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::NotFound {
-            StoreError::Missing { path: path.to_path_buf() }
-        } else {
-            StoreError::Io { path: path.to_path_buf(), source: e }
-        }
-    })?;
-    let builder = ParquetRecordBatchReaderBuilder::try_new(file)
-        .map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-    let md = builder.schema().metadata().clone();
-    let spec = &R::SPEC;
-    match md.get(schema::META_TABLE) {
-        Some(t) if t == spec.name => {}
-        Some(t) => {
-            return Err(StoreError::BadTable {
-                file: path.into(),
-                why: format!("holds table '{t}', expected '{}'", spec.name),
-            });
-        }
-        None => {
-            return Err(StoreError::BadTable {
-                file: path.into(),
-                why: format!("has no '{}' metadata: not written by mimo", schema::META_TABLE),
-            });
-        }
-    }
-    let want = schema::SCHEMA_VERSION.to_string();
-    match md.get(schema::META_SCHEMA_VERSION) {
-        Some(v) if *v == want => {}
-        v => {
-            return Err(StoreError::BadTable {
-                file: path.into(),
-                why: format!(
-                    "schema version {} does not match this mimo's {want}",
-                    v.map(String::as_str).unwrap_or("(none)")
-                ),
-            });
-        }
-    }
-    check_chunk_ranges(builder.metadata(), path)?;
-    Ok(builder)
+    checked::open(path, &R::SPEC)
 }
 
 /// Refuse a footer whose column chunks lie at negative offsets or lengths (a damaged file): the
 /// Parquet reader asserts on them instead of returning an error.
-fn check_chunk_ranges(md: &parquet::file::metadata::ParquetMetaData, path: &Path) -> Result<(), StoreError> {
+pub(crate) fn check_chunk_ranges(md: &parquet::file::metadata::ParquetMetaData, path: &Path) -> Result<(), StoreError> {
     for rg in md.row_groups() {
         for c in rg.columns() {
             let start = c.dictionary_page_offset().unwrap_or(c.data_page_offset());

@@ -5,7 +5,7 @@
 //! that floating-point values are finite, naming the file and column when they are not.
 
 use crate::StoreError;
-use crate::schema::{self, ColType, TableSpec};
+use crate::schema::{self, TableSpec};
 use arrow::array::{
     Array, ArrayRef, BooleanArray, FixedSizeListArray, Float64Array, Int64Array, RecordBatch, StringArray, UInt8Array,
     UInt32Array, UInt64Array,
@@ -43,28 +43,50 @@ pub struct Batch<'a> {
 }
 
 impl<'a> Batch<'a> {
-    /// Check every spec column is present with the right type.
+    /// Check every spec column is present with the right type and keeps its rule
+    /// ([`crate::checked`]), and every row is the file's run; rows are numbered from 0.
     pub fn check(batch: &'a RecordBatch, file: &'a Path, spec: &'static TableSpec) -> Result<Batch<'a>, StoreError> {
-        let schema = batch.schema();
-        for c in spec.columns {
-            let field = schema.field_with_name(c.name).map_err(|_| StoreError::BadColumn {
-                file: file.to_path_buf(),
-                column: c.name.to_string(),
-                why: format!("missing (expected {})", c.ty.name()),
-            })?;
-            let ok = match (c.ty, field.data_type()) {
-                (ColType::Cov21, arrow::datatypes::DataType::FixedSizeList(inner, 21)) => {
-                    *inner.data_type() == arrow::datatypes::DataType::Float64
-                }
-                (t, d) => t.arrow() == *d,
-            };
-            if !ok {
-                return Err(StoreError::BadColumn {
-                    file: file.to_path_buf(),
-                    column: c.name.to_string(),
-                    why: format!("has type {}, expected {}", field.data_type(), c.ty.name()),
-                });
+        Self::check_from(batch, file, spec, 0)
+    }
+
+    /// [`Batch::check`] of a batch whose first row is row `first_row` of the file.
+    pub fn check_from(
+        batch: &'a RecordBatch,
+        file: &'a Path,
+        spec: &'static TableSpec,
+        first_row: usize,
+    ) -> Result<Batch<'a>, StoreError> {
+        crate::checked::check_types(file, &batch.schema(), spec)?;
+        Self::check_values(batch, file, spec, first_row)
+    }
+
+    /// The values of the spec's columns the batch holds (a projection: types already checked
+    /// when the file was opened) checked against their rules, and `run` against the file's run;
+    /// the batch's first row is row `first_row` of the file.
+    pub fn check_values(
+        batch: &'a RecordBatch,
+        file: &'a Path,
+        spec: &'static TableSpec,
+        first_row: usize,
+    ) -> Result<Batch<'a>, StoreError> {
+        check_values_of(batch, file, spec, first_row)?;
+        Ok(Batch { batch, file, spec })
+    }
+
+    /// [`Batch::check_values`] of a batch of rows picked from the file: batch row `i` is file
+    /// row `file_rows[i]`, named in the error.
+    pub fn check_values_at(
+        batch: &'a RecordBatch,
+        file: &'a Path,
+        spec: &'static TableSpec,
+        file_rows: &[usize],
+    ) -> Result<Batch<'a>, StoreError> {
+        if check_values_of(batch, file, spec, 0).is_err() {
+            // Row by row, to name the file row of the first value that breaks a rule.
+            for (i, &row) in file_rows.iter().enumerate().take(batch.num_rows()) {
+                check_values_of(&batch.slice(i, 1), file, spec, row)?;
             }
+            check_values_of(batch, file, spec, 0)?;
         }
         Ok(Batch { batch, file, spec })
     }
@@ -218,6 +240,20 @@ impl<'a> Batch<'a> {
         }
         Ok(out)
     }
+}
+
+/// The values of the spec's columns that `batch` holds against their rules, and `run` against the
+/// file's run.
+fn check_values_of(batch: &RecordBatch, file: &Path, spec: &TableSpec, first_row: usize) -> Result<(), StoreError> {
+    for c in spec.columns {
+        if let Some(array) = batch.column_by_name(c.name) {
+            crate::checked::check_array(file, c, array.as_ref(), first_row)?;
+            if c.name == "run" {
+                crate::checked::check_file_run(file, array.as_ref(), first_row)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 fn f64s<R>(rows: &[R], f: impl Fn(&R) -> f64) -> ArrayRef {

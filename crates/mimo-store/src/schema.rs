@@ -6,6 +6,7 @@
 //! these specs, so they cannot drift apart; a test fails when `schemas/` and the code disagree.
 
 use arrow::datatypes::{DataType, Field, Schema};
+use mimo_core::records::{DwellKind, Requester, Role, TrackStatus};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -70,6 +71,27 @@ impl ColType {
     }
 }
 
+/// What every value of a column must be, beyond its type (checked on every read,
+/// [`crate::checked`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// Any value of the type.
+    Any,
+    /// A finite number (every `float64` column unless it says more).
+    Finite,
+    /// A finite number `>= 0`.
+    NonNegative,
+    /// A finite number `> 0` (variances).
+    Positive,
+    /// One of these labels (an enumeration of `mimo-core`, e.g. `Role::LABELS`).
+    OneOf(&'static [&'static str]),
+    /// A radar id `R1`, `R2`, ….
+    RadarId,
+    /// A covariance: finite, positive variances, positive semi-definite
+    /// (`mimo_core::table_rules::covariance_ok`).
+    Covariance,
+}
+
 /// One column.
 #[derive(Debug, Clone, Copy)]
 pub struct ColumnSpec {
@@ -83,14 +105,32 @@ pub struct ColumnSpec {
     pub unit: &'static str,
     /// Meaning of the column, written to the field metadata and to `schemas/`.
     pub description: &'static str,
+    /// What every (non-null) value must be.
+    pub rule: Rule,
+}
+
+/// The rule a column of type `ty` has unless it says more.
+const fn default_rule(ty: ColType) -> Rule {
+    match ty {
+        ColType::F64 => Rule::Finite,
+        ColType::Cov21 => Rule::Covariance,
+        _ => Rule::Any,
+    }
 }
 
 pub(crate) const fn col(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
-    ColumnSpec { name, ty, nullable: false, unit, description }
+    ColumnSpec { name, ty, nullable: false, unit, description, rule: default_rule(ty) }
 }
 
 pub(crate) const fn opt(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
-    ColumnSpec { name, ty, nullable: true, unit, description }
+    ColumnSpec { name, ty, nullable: true, unit, description, rule: default_rule(ty) }
+}
+
+impl ColumnSpec {
+    /// The same column with the rule `rule`.
+    pub(crate) const fn with(self, rule: Rule) -> ColumnSpec {
+        ColumnSpec { rule, ..self }
+    }
 }
 
 /// One table.
@@ -174,16 +214,18 @@ pub const DWELLS: TableSpec = TableSpec {
         RUN,
         col("dwell_id", U64, "", "id of this radar's part in the dwell, unique within a run"),
         col("group_id", U64, "", "id shared by all radars of one (MIMO) dwell"),
-        col("radar", Utf8, "", "radar id R1…R4"),
-        col("role", Utf8, "", "tx, rx or txrx"),
-        col("kind", Utf8, "", "search, confirm, track or mimo"),
-        col("requested_by", Utf8, "", "radar (own background search) or ta (test article)"),
-        col("t_s", F64, "s", "dwell start time"),
-        col("duration_s", F64, "s", "timeline occupancy τ_dwell"),
+        col("radar", Utf8, "", "radar id R1…R4").with(Rule::RadarId),
+        col("role", Utf8, "", "tx, rx or txrx").with(Rule::OneOf(&Role::LABELS)),
+        col("kind", Utf8, "", "search, confirm, track or mimo").with(Rule::OneOf(&DwellKind::LABELS)),
+        col("requested_by", Utf8, "", "radar (own background search) or ta (test article)")
+            .with(Rule::OneOf(&Requester::LABELS)),
+        col("t_s", F64, "s", "dwell start time").with(Rule::NonNegative),
+        col("duration_s", F64, "s", "timeline occupancy τ_dwell").with(Rule::NonNegative),
         col("pulse_width_s", F64, "s", "pulse width τ_pw"),
         col("n_pulses", U32, "", "pulses integrated coherently"),
         col("peak_power_w", F64, "W", "peak transmit power"),
-        col("energy_j", F64, "J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)"),
+        col("energy_j", F64, "J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)")
+            .with(Rule::NonNegative),
         col("waveform", U32, "", "orthogonal waveform (code) index transmitted"),
         col("face", U8, "", "array face used (0-based)"),
         col("beam_u", F64, "", "beam steering direction cosine u in the face frame"),
@@ -202,8 +244,8 @@ pub const VOLTAGES: TableSpec = TableSpec {
     columns: &[
         RUN,
         col("dwell_id", U64, "", "receiver's dwell part"),
-        col("rx", Utf8, "", "receiving radar"),
-        col("tx", Utf8, "", "transmitting radar (matched filter)"),
+        col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
+        col("tx", Utf8, "", "transmitting radar (matched filter)").with(Rule::RadarId),
         col("range_cell", I64, "", "cell index k, ρ_k = k·δs"),
         col("range_m", F64, "m", "equivalent monostatic range ρ = R_B/2 of the cell"),
         col("sum_i", F64, "", "sum channel in-phase (√SNR units)"),
@@ -223,8 +265,8 @@ pub const PRIMITIVES: TableSpec = TableSpec {
         RUN,
         col("dwell_id", U64, "", "receiver's dwell part"),
         col("t_s", F64, "s", "dwell time"),
-        col("rx", Utf8, "", "receiving radar"),
-        col("tx", Utf8, "", "transmitting radar"),
+        col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
+        col("tx", Utf8, "", "transmitting radar").with(Rule::RadarId),
         col("rx_face", U8, "", "receiver face the (u, v) refer to"),
         col("range_cell", I64, "", "peak cell index"),
         col("range_m", F64, "m", "centroided equivalent monostatic range ρ = R_B/2"),
@@ -235,9 +277,9 @@ pub const PRIMITIVES: TableSpec = TableSpec {
         col("merged", Bool, "", "flagged as possibly unresolved (merged) targets"),
         col("beam_u", F64, "", "receiver beam steering u"),
         col("beam_v", F64, "", "receiver beam steering v"),
-        col("var_range_m2", F64, "m^2", "variance of range_m"),
-        col("var_u", F64, "", "variance of u"),
-        col("var_v", F64, "", "variance of v"),
+        col("var_range_m2", F64, "m^2", "variance of range_m").with(Rule::Positive),
+        col("var_u", F64, "", "variance of u").with(Rule::Positive),
+        col("var_v", F64, "", "variance of v").with(Rule::Positive),
         opt("target_hint", Utf8, "", "truth id of the dominant contributor (evaluation only); null for false alarms"),
     ],
 };
@@ -251,16 +293,16 @@ pub const MEASUREMENTS: TableSpec = TableSpec {
         col("meas_id", U64, "", "measurement id, unique within a run"),
         col("dwell_id", U64, "", "receiver's dwell part"),
         col("t_s", F64, "s", "dwell time"),
-        col("rx", Utf8, "", "receiving radar"),
-        col("tx", Utf8, "", "transmitting radar"),
+        col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
+        col("tx", Utf8, "", "transmitting radar").with(Rule::RadarId),
         col("rx_face", U8, "", "receiver face the (u, v) refer to"),
         col("range_m", F64, "m", "equivalent monostatic range ρ = (R_t+R_r)/2"),
         col("u", F64, "", "direction cosine u (receiver face)"),
         col("v", F64, "", "direction cosine v (receiver face)"),
         col("snr_db", F64, "dB", "observed SNR"),
-        col("var_range_m2", F64, "m^2", "variance of range_m"),
-        col("var_u", F64, "", "variance of u"),
-        col("var_v", F64, "", "variance of v"),
+        col("var_range_m2", F64, "m^2", "variance of range_m").with(Rule::Positive),
+        col("var_u", F64, "", "variance of u").with(Rule::Positive),
+        col("var_v", F64, "", "variance of v").with(Rule::Positive),
         col("n_primitives", U32, "", "primitives merged into this measurement"),
         col("merged", Bool, "", "possibly unresolved targets"),
         opt("target_hint", Utf8, "", "truth id of the dominant contributor; null for false alarms (evaluation only)"),
@@ -275,7 +317,7 @@ pub const TRACKS: TableSpec = TableSpec {
         RUN,
         col("t_s", F64, "s", "time of the state"),
         col("track_id", U64, "", "track id, unique within a run"),
-        col("status", Utf8, "", "tentative, confirmed or deleted"),
+        col("status", Utf8, "", "tentative, confirmed or deleted").with(Rule::OneOf(&TrackStatus::LABELS)),
         col("x_m", F64, "m", "ECEF x position"),
         col("y_m", F64, "m", "ECEF y position"),
         col("z_m", F64, "m", "ECEF z position"),
@@ -459,9 +501,13 @@ pub const STUDY_TABLES: [TableSpec; 6] = [
     crate::failure_point_schema::STUDY_FAILURE_POINTS,
 ];
 
-/// Look up a table by name.
+/// Look up a table (run, study or score table) by name.
 pub fn table(name: &str) -> Option<&'static TableSpec> {
-    ALL_TABLES.iter().chain(STUDY_TABLES.iter()).find(|t| t.name == name)
+    ALL_TABLES
+        .iter()
+        .chain(STUDY_TABLES.iter())
+        .chain(crate::score_schema::SCORE_TABLES.iter())
+        .find(|t| t.name == name)
 }
 
 /// The manifest's keys and meanings, written to `schemas/manifest.json`.

@@ -163,10 +163,16 @@ fn measurements() -> Vec<MeasurementRow> {
 }
 
 fn tracks() -> Vec<TrackRow> {
-    let mut cov = [0.0; 21];
-    for (k, c) in cov.iter_mut().enumerate() {
-        *c = k as f64 * 0.5;
+    // A covariance: variances 1…6 on the diagonal, a few correlations of 0.1–0.5.
+    let mut m = [[0.0; 6]; 6];
+    for (i, row) in m.iter_mut().enumerate() {
+        row[i] = 1.0 + i as f64;
     }
+    for (i, j, r) in [(0, 3, 0.5), (1, 4, 0.3), (2, 5, 0.1)] {
+        let c = r * (m[i][i] * m[j][j]).sqrt();
+        (m[i][j], m[j][i]) = (c, c);
+    }
+    let cov = mimo_core::records::pack_cov(&m);
     vec![
         TrackRow {
             run: 0,
@@ -283,7 +289,7 @@ fn non_finite_values_are_rejected() {
     rows[2].x_m = f64::NAN;
     write_table(&p, &rows).expect("write");
     let err = read_table::<TruthRow>(&p).expect_err("nan");
-    assert!(err.to_string().contains("column 'x_m' has a non-finite value"), "{err}");
+    assert!(err.to_string().contains("column 'x_m' is NaN at row 2 (expected a finite number)"), "{err}");
 }
 
 fn manifest() -> Manifest {
