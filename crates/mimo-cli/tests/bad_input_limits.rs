@@ -140,6 +140,17 @@ const LIMITS: &[Case] = &[
         fragment: "manifest.json: field 'runs': invalid value: integer `-1`, expected u32",
     },
     Case {
+        name: "a FIFO in place of a run's manifest",
+        setup: |d| {
+            std::fs::remove_file(d.join("r/manifest.json")).expect("rm manifest");
+            let made = std::process::Command::new("mkfifo").arg(d.join("r/manifest.json")).status().expect("mkfifo");
+            assert!(made.success());
+        },
+        args: &["score", "r"],
+        code: 2,
+        fragment: "manifest.json: field '(file)': not a regular file (a FIFO); expected a text file",
+    },
+    Case {
         name: "a wrong type deep in a manifest names its path",
         setup: |d| edit_manifest(&d.join("r"), |m| m["tables"]["tracks"][0]["rows"] = "many".into()),
         args: &["score", "r"],

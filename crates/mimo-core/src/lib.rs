@@ -34,6 +34,7 @@ pub mod records;
 pub mod rng;
 pub mod sink;
 pub mod table_rules;
+pub mod text_file;
 pub mod time;
 
 pub use glam::{DMat3, DVec3};

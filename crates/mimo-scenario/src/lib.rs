@@ -45,7 +45,9 @@ mod model;
 mod ship;
 pub mod ship_frames;
 pub mod stress;
-pub mod text_file;
+/// Reading small text inputs within a memory budget (kept here for the callers that found it
+/// here; it lives in mimo-core so that the store reads manifests the same way).
+pub use mimo_core::text_file;
 pub mod toml_path;
 mod trajectory;
 mod validate;

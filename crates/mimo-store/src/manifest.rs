@@ -5,12 +5,18 @@
 //! timings), which is why timings live here and not in the tables.
 
 use crate::StoreError;
+use mimo_core::text_file::{TextFileError, read_text_file};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// File name of the manifest inside a run directory.
 pub const MANIFEST_FILE: &str = "manifest.json";
+
+/// Largest `manifest.json` read: 64 MiB (a recording of scenario 7 holds about 9 kB per run). Only a regular
+/// file is read, so a FIFO or a device in its place is refused instead of blocking or filling
+/// memory (docs/design.md §7).
+pub const MAX_MANIFEST_BYTES: u64 = 64 << 20;
 
 /// One file of a table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -98,16 +104,14 @@ impl Manifest {
         if !run_dir.is_dir() {
             return Err(StoreError::Missing { path: run_dir.to_path_buf() });
         }
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            if e.kind() == std::io::ErrorKind::NotFound {
-                StoreError::BadManifest {
-                    file: path.clone(),
-                    field: "(file)".into(),
-                    why: "missing: not a finished mimo run directory".into(),
-                }
-            } else {
-                StoreError::Io { path: path.clone(), source: e }
-            }
+        let text = read_text_file(&path, MAX_MANIFEST_BYTES).map_err(|e| match e {
+            TextFileError::Io(e) if e.kind() == std::io::ErrorKind::NotFound => StoreError::BadManifest {
+                file: path.clone(),
+                field: "(file)".into(),
+                why: "missing: not a finished mimo run directory".into(),
+            },
+            TextFileError::Io(e) => StoreError::Io { path: path.clone(), source: e },
+            e => StoreError::BadManifest { file: path.clone(), field: "(file)".into(), why: e.to_string() },
         })?;
         let mut de = serde_json::Deserializer::from_str(&text);
         let m: Manifest = serde_path_to_error::deserialize(&mut de).map_err(|e| {
