@@ -44,6 +44,7 @@ mod load;
 mod model;
 mod ship;
 pub mod ship_frames;
+pub mod raid;
 pub mod stress;
 mod trajectory;
 mod validate;

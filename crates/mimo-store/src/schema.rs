@@ -320,12 +320,13 @@ macro_rules! study_ids {
                 "added to every radar's peak power; null when the plan has no such axis",
             ),
             opt("search_pulses", F64, "", "pulses of the low search band; null when the plan has no such axis"),
+            opt("raid_targets", F64, "", "raid aircraft added to the scenario; null when the plan has no such axis"),
         ]
     };
 }
 
 /// Number of identifying columns opening every study table.
-pub const STUDY_ID_COLUMNS: usize = 11;
+pub const STUDY_ID_COLUMNS: usize = 12;
 
 macro_rules! study_tables {
     ($( ($name:literal, $unit:literal, $desc:literal) ),* $(,)?) => {

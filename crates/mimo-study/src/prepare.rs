@@ -6,6 +6,7 @@
 
 use crate::grid::{self, Cell};
 use crate::plan::{Axis, Plan, PlanError, ScenarioRef};
+use mimo_scenario::stress::Raid;
 use mimo_scenario::{Scenario, Stress};
 use mimo_sim::{SearchConfig, World};
 
@@ -19,12 +20,13 @@ pub struct Prepared {
     pub world_of: Vec<usize>,
 }
 
-fn stress_of(cell: &Cell) -> Stress {
+fn stress_of(cell: &Cell, seed: u64) -> Stress {
     Stress {
         rcs_offset_db: cell.applied(Axis::RcsOffsetDb),
         pfa: cell.applied(Axis::Pfa),
         formation_spacing_scale: cell.applied(Axis::FormationSpacingScale),
         peak_power_offset_db: cell.applied(Axis::PeakPowerOffsetDb),
+        raid: cell.applied(Axis::RaidTargets).map(|n| Raid { targets: n as u32, seed }),
     }
 }
 
@@ -61,7 +63,7 @@ pub fn prepare(plan: &Plan) -> Result<Prepared, PlanError> {
     let mut worlds = Vec::new();
     let mut world_of = Vec::with_capacity(cells.len());
     for cell in &cells {
-        let key = (cell.scenario, stress_of(cell));
+        let key = (cell.scenario, stress_of(cell, plan.seed));
         if let Some(k) = keys.iter().position(|k| *k == key) {
             world_of.push(k);
             continue;

@@ -20,6 +20,7 @@ use std::collections::BTreeSet;
 /// dwell's earlier predictions from the same state and handed back to them at the channel's end
 /// ([`DwellPredictions`]). Every prediction of a channel is made from the track's state at the
 /// channel's start (a track is updated at most once per channel, after its predictions).
+#[derive(Default)]
 struct PredCache {
     basis: Option<StateStamp>,
     entries: Vec<(f64, FilterPrediction)>,
@@ -61,8 +62,9 @@ impl MultiTargetTracker {
         let ids: Vec<u64> = self.tracks.keys().copied().collect();
         let n_m = list.len();
         let filter = &*self.c.filter;
-        let mut caches: Vec<PredCache> =
-            ids.iter().map(|id| PredCache::seeded(&mut self.preds, &self.tracks[id])).collect();
+        // A track's cache is seeded from the dwell's store when one of its pairs passes the
+        // pre-gate (a far track costs no lookup).
+        let mut caches: Vec<Option<PredCache>> = ids.iter().map(|_| None).collect();
         let mut table = HypothesisTable::new(ids.len(), n_m);
         // A measurement inside an existing track's resolution cell, or within its initiation
         // exclusion gate, never starts a track (docs/model.md §6.4).
@@ -74,11 +76,20 @@ impl MultiTargetTracker {
         for (i, id) in ids.iter().enumerate() {
             let track = &self.tracks[id];
             let mut bound = BoundCache::default();
+            let ball = match list.first() {
+                Some(m) => self.balls.get(filter, track, m.t_s - track.t_s),
+                None => None,
+            };
             for (j, m) in list.iter().enumerate() {
-                if pregate.excludes(filter, track, m, &mut bound) {
+                let far = ball.is_some_and(|b| b.covers(track, m.t_s - track.t_s) && pregate.excludes_ball(b, m));
+                if far || pregate.excludes(filter, track, m, &mut bound) {
                     continue;
                 }
-                let pred = caches[i].get(filter, track, m.t_s);
+                let pred = caches[i].get_or_insert_with(|| PredCache::seeded(&mut self.preds, track)).get(
+                    filter,
+                    track,
+                    m.t_s,
+                );
                 if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
                     continue;
                 }
@@ -93,6 +104,7 @@ impl MultiTargetTracker {
                 near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
             }
         }
+        let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
         let mut second = vec![false; n_m];
         let claimed = match self.c.associator.probabilities(&table) {
             Some(probs) => {

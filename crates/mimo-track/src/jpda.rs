@@ -54,28 +54,7 @@ impl JpdaAssociator {
         let (n, m) = (table.n_tracks, table.n_meas);
         let mut beta = vec![vec![0.0; m + 1]; n];
         let log_miss = -0.5 * self.cost.miss_cost();
-        // Clusters: tracks connected through shared gated measurements.
-        let mut cluster = vec![usize::MAX; n];
-        let mut n_clusters = 0;
-        let mut stack = Vec::new();
-        for start in 0..n {
-            if cluster[start] != usize::MAX {
-                continue;
-            }
-            stack.push(start);
-            cluster[start] = n_clusters;
-            while let Some(t) = stack.pop() {
-                for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
-                    for (u, c) in cluster.iter_mut().enumerate() {
-                        if *c == usize::MAX && table.get(u, j).is_some() {
-                            *c = n_clusters;
-                            stack.push(u);
-                        }
-                    }
-                }
-            }
-            n_clusters += 1;
-        }
+        let members = clusters(table);
         // The GNN assignment is the fallback of a cluster with too many (or no) joint events.
         let mut gnn: Option<Vec<Option<usize>>> = None;
         let mut tracks: Vec<usize> = Vec::new();
@@ -83,9 +62,9 @@ impl JpdaAssociator {
         let mut starts: Vec<usize> = Vec::new();
         let mut used = vec![false; m];
         let mut choice: Vec<usize> = Vec::new();
-        for c in 0..n_clusters {
+        for cluster in &members {
             tracks.clear();
-            tracks.extend((0..n).filter(|&t| cluster[t] == c));
+            tracks.extend_from_slice(cluster);
             // Each track's options, one after another: "none", then its gated measurements.
             options.clear();
             starts.clear();
@@ -141,6 +120,49 @@ impl JpdaAssociator {
         }
         AssociationProbabilities { beta }
     }
+}
+
+/// The clusters of a table: tracks connected through shared gated measurements, each in
+/// increasing track order, numbered in order of their first track. A sweep over the gated pairs
+/// (each track's row and each measurement's column once), so that a channel's cost follows its
+/// gated pairs rather than tracks × tracks.
+fn clusters(table: &HypothesisTable) -> Vec<Vec<usize>> {
+    let (n, m) = (table.n_tracks, table.n_meas);
+    let rows: Vec<Vec<usize>> = (0..n).map(|t| (0..m).filter(|&j| table.get(t, j).is_some()).collect()).collect();
+    let mut cols: Vec<Vec<usize>> = vec![Vec::new(); m];
+    for (t, row) in rows.iter().enumerate() {
+        row.iter().for_each(|&j| cols[j].push(t));
+    }
+    let mut cluster = vec![usize::MAX; n];
+    let mut col_done = vec![false; m];
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    let mut stack = Vec::new();
+    for start in 0..n {
+        if cluster[start] != usize::MAX {
+            continue;
+        }
+        let c = members.len();
+        let mut these = vec![start];
+        cluster[start] = c;
+        stack.push(start);
+        while let Some(t) = stack.pop() {
+            for &j in &rows[t] {
+                if std::mem::replace(&mut col_done[j], true) {
+                    continue;
+                }
+                for &u in &cols[j] {
+                    if cluster[u] == usize::MAX {
+                        cluster[u] = c;
+                        these.push(u);
+                        stack.push(u);
+                    }
+                }
+            }
+        }
+        these.sort_unstable();
+        members.push(these);
+    }
+    members
 }
 
 /// Depth-first enumeration of the feasible joint events of one cluster: each track takes one of

@@ -84,6 +84,8 @@ pub struct MultiTargetTracker {
     pub(crate) quiet: crate::deletion_quiet::QuietTracks,
     /// Predictions made in the current dwell, for its other channels and its deletion pass.
     pub(crate) preds: crate::dwell_predictions::DwellPredictions,
+    /// Where each track can be over the next seconds (the channels' spatial pre-selection).
+    pub(crate) balls: crate::track_balls::TrackBalls,
 }
 
 impl fmt::Debug for MultiTargetTracker {
@@ -121,6 +123,7 @@ impl MultiTargetTracker {
             stats: TrackerStats::default(),
             quiet: Default::default(),
             preds: Default::default(),
+            balls: Default::default(),
         }
     }
 
@@ -395,6 +398,7 @@ impl MultiTargetTracker {
         for (id, r) in gone {
             self.tracks.remove(&id);
             self.quiet.forget(id);
+            self.balls.forget(id);
             *self.stats.deleted.entry(r).or_insert(0) += 1;
         }
         rows
