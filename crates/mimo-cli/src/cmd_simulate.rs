@@ -126,10 +126,8 @@ fn add_raid(scenario: &mut Scenario, raid: Option<&str>, seed: u64) -> Result<()
     let Some(text) = raid else { return Ok(()) };
     let targets = parse_raid(text)?;
     if targets > 0 {
-        let stress = mimo_scenario::Stress {
-            raid: Some(mimo_scenario::stress::Raid { targets, seed }),
-            ..Default::default()
-        };
+        let stress =
+            mimo_scenario::Stress { raid: Some(mimo_scenario::stress::Raid { targets, seed }), ..Default::default() };
         stress.apply(scenario).map_err(|e| CliError::input(format!("--raid: {e}")))?;
     }
     Ok(())

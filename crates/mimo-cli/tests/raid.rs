@@ -107,8 +107,12 @@ fn raid_aircraft_are_simulated_and_scored_as_ordinary_targets() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let m: serde_json::Value =
         serde_json::from_slice(&std::fs::read(t.path().join("r/manifest.json")).expect("manifest")).expect("json");
-    let ids: Vec<&str> =
-        m["scenario"]["resolved"]["targets"].as_array().expect("targets").iter().filter_map(|x| x["id"].as_str()).collect();
+    let ids: Vec<&str> = m["scenario"]["resolved"]["targets"]
+        .as_array()
+        .expect("targets")
+        .iter()
+        .filter_map(|x| x["id"].as_str())
+        .collect();
     assert_eq!(ids, ["X", "RAID-0001", "RAID-0002", "RAID-0003", "RAID-0004", "RAID-0005", "RAID-0006"]);
     // The truth table has every target at every truth time (ids in scenario order).
     let truth = t.path().join("r/truth");

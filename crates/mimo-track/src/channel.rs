@@ -85,11 +85,9 @@ impl MultiTargetTracker {
                 if far || pregate.excludes(filter, track, m, &mut bound) {
                     continue;
                 }
-                let pred = caches[i].get_or_insert_with(|| PredCache::seeded(&mut self.preds, track)).get(
-                    filter,
-                    track,
-                    m.t_s,
-                );
+                let pred = caches[i]
+                    .get_or_insert_with(|| PredCache::seeded(&mut self.preds, track))
+                    .get(filter, track, m.t_s);
                 if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
                     continue;
                 }

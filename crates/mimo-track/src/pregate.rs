@@ -243,9 +243,8 @@ mod tests {
     /// the sweep through the gate's edge skips and keeps pairs.
     #[test]
     fn the_imm_bound_skips_only_pairs_whose_nis_is_above_the_gate() {
-        let (gate_nis, pairs) = sweep(crate::config::TrackerKind::Imm, &|g, f, t, _, m| {
-            g.excludes(f, t, m, &mut BoundCache::default())
-        });
+        let (gate_nis, pairs) =
+            sweep(crate::config::TrackerKind::Imm, &|g, f, t, _, m| g.excludes(f, t, m, &mut BoundCache::default()));
         for &(nis, skipped) in &pairs {
             if skipped {
                 assert!(nis > NIS_MARGIN * gate_nis, "skipped a pair with NIS {nis}");

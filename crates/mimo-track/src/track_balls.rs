@@ -61,7 +61,14 @@ impl TrackBall {
         let far = ends.iter().map(|e| (*e - centre).length()).fold(0.0, f64::max);
         let radius_m = far * (1.0 + RADIUS_MARGIN) + RADIUS_MARGIN;
         let finite = centre.is_finite() && radius_m.is_finite() && trace_max_m2.is_finite() && trace_max_m2 >= 0.0;
-        finite.then(|| TrackBall { stamp: StateStamp::of(track), dt_lo_s: a, dt_hi_s: b, centre, radius_m, trace_max_m2 })
+        finite.then(|| TrackBall {
+            stamp: StateStamp::of(track),
+            dt_lo_s: a,
+            dt_hi_s: b,
+            centre,
+            radius_m,
+            trace_max_m2,
+        })
     }
 
     /// Whether the ball holds predictions of `track` over `dt_s`.
