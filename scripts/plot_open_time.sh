@@ -4,7 +4,7 @@
 # its page written, then opened N times from a file URL on the real clock. The page's own marks
 # (performance.now(), ms since navigation; see crates/mimo-plot/assets/view.js) are printed:
 # plotly.js parsed, data parsed, scene drawn, metrics panel drawn, first render (the scene's first
-# WebGL frame painted; pages before issue 11's third round: both panels drawn), all drawn (both
+# WebGL frame painted; pages made before the scene was drawn first: both panels drawn), all drawn (both
 # panels painted), and the mean and worst time of a 1-s slider step from the self-test.
 #
 #   scripts/plot_open_time.sh [N]           (default 3; uses target/debug/mimo)

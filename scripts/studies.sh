@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Regenerate the shipped studies' results under reports/studies/: run each plan of studies/ with
-# a release build, then copy its summary table, charts and report (the run directories stay in
-# runs/studies/, which is not committed). Prints each study's wall time.
+# a release build, then copy its study tables, charts and report and write MADE_BY.md (the
+# commit, the command, the time). The run directories stay in runs/studies/, which is not
+# committed; by default a study keeps only its runs' records there (docs/studies.md).
 #
-#   bash scripts/studies.sh              # both studies
+#   bash scripts/studies.sh              # the challenge and stability studies
 #   bash scripts/studies.sh stability    # one of them
 #   MIMO=target/debug/mimo bash scripts/studies.sh
 set -euo pipefail
@@ -13,16 +14,44 @@ if [[ -z "${MIMO:-}" ]]; then
   cargo build --release --locked --workspace --bins
   MIMO=target/release/mimo
 fi
+commit=$(git rev-parse --short HEAD)
+if [[ -n "$(git status --porcelain -- crates Cargo.toml Cargo.lock studies)" ]]; then
+  commit="$commit with uncommitted changes to crates/ or studies/"
+fi
 for name in "${@:-challenge stability}"; do
   for study in $name; do
     out=runs/studies/$study
+    mkdir -p runs/studies
+    load_before=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
     start=$(date +%s)
-    "$MIMO" study "studies/$study.toml" --out "$out" --force --quiet
-    echo "$study: $(( $(date +%s) - start )) s wall on $(nproc) cores"
+    timing=""
+    if [[ -x /usr/bin/time ]]; then
+      /usr/bin/time -f "%U s user, %S s system, peak %M KB" -o "$out.time" \
+        "$MIMO" study "studies/$study.toml" --out "$out" --force --quiet
+      timing=" ($(cat "$out.time"))"
+    else
+      "$MIMO" study "studies/$study.toml" --out "$out" --force --quiet
+    fi
+    wall=$(( $(date +%s) - start ))
+    echo "$study: $wall s wall on $(nproc) cores$timing"
     dest=reports/studies/$study
     rm -rf "$dest"
     mkdir -p "$dest"
-    cp -r "$out/charts" "$out/report.md" "$out/summary.parquet" "$out/results.parquet" "$out/challenge.parquet" \
-      "$out/challenge_ratios.parquet" "$out/plan.toml" "$dest/"
+    cp -r "$out/charts" "$out/report.md" "$out/summary.parquet" "$out/results.parquet" "$out/costs.parquet" \
+      "$out/challenge.parquet" "$out/challenge_ratios.parquet" "$out/failure_points.parquet" "$out/plan.toml" "$dest/"
+    runs=$(find "$out/runs" -path '*/.items/run-*.json' | wc -l)
+    cat >"$dest/MADE_BY.md" <<MADE
+# How these results were made
+
+* Plan: \`studies/$study.toml\` (copied here as \`plan.toml\`), $runs runs.
+* Binary: \`$MIMO\` of commit \`$commit\`.
+* Command: \`bash scripts/studies.sh $study\`, which ran
+  \`mimo study studies/$study.toml --out $out --force --quiet\` and copied the study tables,
+  charts and report here.
+* Time: $wall s wall on $(nproc) cores$timing, started $(date -u -d "@$start" '+%Y-%m-%d %H:%M UTC');
+  load average $load_before before it started.
+* \`crates/mimo-study/tests/shipped_studies.rs\` re-runs the cheapest item of the plan and checks
+  its metrics against \`results.parquet\`, and checks \`plan.toml\` against \`studies/$study.toml\`.
+MADE
   done
 done

@@ -46,7 +46,7 @@ pub const MAX_DISTANCE_M: f64 = 1.3e7;
 /// Largest OSPA/GOSPA order: c^p must stay finite (docs/design.md §6).
 pub const MAX_OSPA_P: f64 = 20.0;
 
-/// The scoring options, named as the user typed them (docs/DECISIONS.md "Bounds").
+/// The scoring options, named as the user typed them (docs/decisions/0035-bounds-and-exit-statuses.md).
 fn check_options(a: &Args, duration_s: f64) -> Result<(), CliError> {
     let i = a.interval;
     if !(i.is_finite() && i > 0.0) {

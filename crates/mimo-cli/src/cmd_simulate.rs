@@ -68,7 +68,7 @@ pub struct Args {
     pub quiet: bool,
 }
 
-/// Most runs without --many-runs (docs/DECISIONS.md "Bounds").
+/// Most runs without --many-runs (docs/decisions/0035-bounds-and-exit-statuses.md).
 pub const RUNS_WITHOUT_FLAG: u32 = 1000;
 /// Most search pulses per dwell (the radar's own limit is at most 10 000 pulses, docs/model.md §3.4).
 pub const MAX_SEARCH_PULSES: u32 = 1000;

@@ -7,11 +7,12 @@ use std::path::PathBuf;
 
 /// Run a study: methods × scenarios × stress values, Monte Carlo runs per cell, all scored.
 ///
-/// Every cell is an ordinary run directory under OUT/runs/ in hive-style paths
-/// (method=…/scenario=…/axis=value/), so `mimo score` and `mimo track` work on any cell and
-/// polars reads the whole study as one partitioned dataset. At the end OUT holds results.parquet
-/// (one row per cell and run), costs.parquet (timings), summary.parquet (means and 95 %
-/// confidence intervals per cell), charts/ and report.md. A method that fails in a cell is
+/// Every cell is a run directory under OUT/runs/ in hive-style paths
+/// (method=…/scenario=…/axis=value/); a run's tables are deleted once it is scored unless the
+/// plan says `keep_runs = true`, which keeps every cell a complete run directory for `mimo
+/// score`, `mimo track` and polars. At the end OUT holds results.parquet (one row per cell and
+/// run), costs.parquet (timings), summary.parquet (means and 95 % confidence intervals per
+/// cell), failure_points.parquet (where each method fails on each axis), charts/ and report.md. A method that fails in a cell is
 /// recorded (results.parquet `failure`) and the study goes on. See docs/studies.md.
 #[derive(Debug, clap::Args)]
 pub struct Args {

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[derive(Debug, Clone, clap::Args)]
 pub struct TaArgs {
     /// Built-in test article: default (IMM tracker, JPDA with second returns, adaptive revisit
-    /// and energy, MIMO dwells), gnn (the default before issue 13's sixth round: EKF tracker, GNN),
+    /// and energy, MIMO dwells), gnn (the former default: EKF tracker, GNN),
     /// imm (gnn with an IMM), jpda and imm-jpda (gnn and imm with JPDA association), cued
     /// (truth-cued fixed schedule, no tracking), none (background search only).
     #[arg(long, default_value = "default", value_name = "NAME", conflicts_with = "ta_cmd")]

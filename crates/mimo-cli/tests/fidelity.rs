@@ -46,7 +46,7 @@ fn mean_var(x: &[f64]) -> (f64, f64) {
 /// the measurements with a target hint) of `auto` must be the voltage rung's within the same kind
 /// of band (at least 0.005); the measurement rung's is printed, not asserted: it groups only
 /// returns within one cell and one beamwidth, so the formation's returns a few cells apart, which
-/// the voltage level's clusters flag, are not flagged (docs/DECISIONS.md, "The fidelity ladder").
+/// the voltage level's clusters flag, are not flagged (docs/decisions/0038-fidelity-ladder.md).
 #[test]
 fn completeness_agrees_across_the_rungs() {
     let tmp = tempfile::tempdir().expect("tempdir");

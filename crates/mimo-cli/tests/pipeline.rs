@@ -89,7 +89,7 @@ fn replay_reproduces_the_closed_loop() {
         let replayed: Vec<TrackRow> = mimo_store::read_table(&dir.join("tracks/run-0000.parquet")).expect("tracks");
         assert_eq!(replayed, closed, "{} differs from the closed loop", dir.display());
         let m = mimo_store::manifest::Manifest::read(dir).expect("manifest");
-        // Relative to the re-tracked run's own directory (issue 14), and resolving to the run.
+        // Relative to the re-tracked run's own directory, and resolving to the run.
         assert_eq!(m.parent.as_deref(), Some("../run"));
         assert_eq!(
             mimo_store::lineage::source_dir(dir, &m).expect("parent").canonicalize().ok(),
@@ -176,7 +176,7 @@ fn bad_input_exits_2_and_leaves_nothing() {
     let mine = write(&out, "precious.txt", "mine");
     assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "2", "--quiet", "--out", &o]), 2);
     assert_eq!(std::fs::read_to_string(&mine).expect("still there"), "mine");
-    // --force replaces only a mimo run directory, never a folder of the user's (issue 14).
+    // --force replaces only a mimo run directory, never a folder of the user's.
     assert_eq!(mimo(&["simulate", "--scenario", "1", "--duration", "2", "--quiet", "--force", "--out", &o]), 2);
     assert!(mine.exists() && !out.join("manifest.json").exists());
 

@@ -47,7 +47,7 @@ fn stone_soup_ekf_gnn_tracks_scenario_1_in_the_closed_loop() {
 }
 
 /// Measured 98.33 % on this 150-s run (Stone Soup 1.9.1, numpy 2.4; 99.85 % over the full
-/// 1000 s, reports/BENCHMARKS.md "Stone Soup test article"); the floor leaves room for another
+/// 1000 s, reports/benchmarks-history.md "Stone Soup test article"); the floor leaves room for another
 /// numpy's or Stone Soup's rounding.
 const COMPLETENESS_FLOOR: f64 = 0.95;
 

@@ -35,7 +35,7 @@ fn simple_python_ta_tracks_scenario_1_in_the_closed_loop() {
     let deleted = tracks.iter().filter(|r| r.status == mimo_core::records::TrackStatus::Deleted).count();
     assert_eq!(deleted, ids.len());
     // Measured 98.00 % on this 300-s run (numpy 2.4), 99.40 % over the full 1000 s
-    // (reports/BENCHMARKS.md); the bound leaves room for another numpy's rounding.
+    // (reports/benchmarks-history.md); the bound leaves room for another numpy's rounding.
     let c = completeness(&out);
     assert!(c >= 0.95, "completeness {c}");
 }

@@ -11,19 +11,53 @@
 pub fn solve(cost: &[f64], n_rows: usize, n_cols: usize) -> Vec<usize> {
     assert!(n_rows <= n_cols, "assignment needs rows <= cols");
     assert_eq!(cost.len(), n_rows * n_cols);
-    let (n, m) = (n_rows, n_cols);
-    let mut u = vec![0.0; n];
-    let mut v = vec![0.0; m];
-    let mut col4row = vec![usize::MAX; n];
-    let mut row4col = vec![usize::MAX; m];
-    let mut shortest = vec![0.0; m];
-    let mut path = vec![usize::MAX; m];
-    let mut sr = vec![false; n];
-    let mut sc = vec![false; m];
-    let mut remaining: Vec<usize> = Vec::with_capacity(m);
+    let mut s = Solver::new(n_rows, n_cols);
+    for cur_row in 0..n_rows {
+        let (sink, min_val) = s.shortest_path(cost, cur_row);
+        s.augment(cur_row, sink, min_val);
+    }
+    s.col4row
+}
 
-    for cur_row in 0..n {
-        // Dijkstra-like search for the shortest augmenting path from cur_row.
+/// The duals, the assignment so far and the work arrays of [`solve`].
+struct Solver {
+    n: usize,
+    m: usize,
+    u: Vec<f64>,
+    v: Vec<f64>,
+    col4row: Vec<usize>,
+    row4col: Vec<usize>,
+    shortest: Vec<f64>,
+    path: Vec<usize>,
+    sr: Vec<bool>,
+    sc: Vec<bool>,
+    remaining: Vec<usize>,
+}
+
+impl Solver {
+    fn new(n: usize, m: usize) -> Solver {
+        Solver {
+            n,
+            m,
+            u: vec![0.0; n],
+            v: vec![0.0; m],
+            col4row: vec![usize::MAX; n],
+            row4col: vec![usize::MAX; m],
+            shortest: vec![0.0; m],
+            path: vec![usize::MAX; m],
+            sr: vec![false; n],
+            sc: vec![false; m],
+            remaining: Vec::with_capacity(m),
+        }
+    }
+
+    /// Dijkstra-like search for the shortest augmenting path from `cur_row`. Returns the
+    /// unassigned column it ends at and its reduced length.
+    fn shortest_path(&mut self, cost: &[f64], cur_row: usize) -> (usize, f64) {
+        let m = self.m;
+        let (u, v, row4col) = (&self.u, &self.v, &self.row4col);
+        let (shortest, path, sr, sc, remaining) =
+            (&mut self.shortest, &mut self.path, &mut self.sr, &mut self.sc, &mut self.remaining);
         shortest.iter_mut().for_each(|x| *x = f64::INFINITY);
         path.iter_mut().for_each(|x| *x = usize::MAX);
         sr.iter_mut().for_each(|x| *x = false);
@@ -32,7 +66,6 @@ pub fn solve(cost: &[f64], n_rows: usize, n_cols: usize) -> Vec<usize> {
         remaining.extend((0..m).rev());
         let mut min_val = 0.0;
         let mut i = cur_row;
-        let sink;
         loop {
             sr[i] = true;
             let mut index = usize::MAX;
@@ -57,37 +90,38 @@ pub fn solve(cost: &[f64], n_rows: usize, n_cols: usize) -> Vec<usize> {
             let j = remaining.swap_remove(index);
             sc[j] = true;
             if row4col[j] == usize::MAX {
-                sink = j;
-                break;
+                return (j, min_val);
             }
             i = row4col[j];
         }
-        // Update duals.
-        u[cur_row] += min_val;
-        for r in 0..n {
-            if sr[r] && r != cur_row {
-                u[r] += min_val - shortest[col4row[r]];
+    }
+
+    /// Update the duals after a search from `cur_row` that ended at column `sink` with reduced
+    /// length `min_val`, and augment the assignment along its path.
+    fn augment(&mut self, cur_row: usize, sink: usize, min_val: f64) {
+        self.u[cur_row] += min_val;
+        for r in 0..self.n {
+            if self.sr[r] && r != cur_row {
+                self.u[r] += min_val - self.shortest[self.col4row[r]];
             }
         }
-        for c in 0..m {
-            if sc[c] {
-                v[c] -= min_val - shortest[c];
+        for c in 0..self.m {
+            if self.sc[c] {
+                self.v[c] -= min_val - self.shortest[c];
             }
         }
-        // Augment along the path.
         let mut j = sink;
         loop {
-            let r = path[j];
-            row4col[j] = r;
-            let prev = col4row[r];
-            col4row[r] = j;
+            let r = self.path[j];
+            self.row4col[j] = r;
+            let prev = self.col4row[r];
+            self.col4row[r] = j;
             if r == cur_row {
                 break;
             }
             j = prev;
         }
     }
-    col4row
 }
 
 /// Gated assignment with a per-row miss cost. `cost` is `n_rows × n_cols` row-major; entries

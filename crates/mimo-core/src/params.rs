@@ -38,8 +38,8 @@ pub enum FidelityLevel {
     /// Measurements drawn from the statistics the voltage level produces; no cells simulated.
     Measurement,
     /// The default: the voltage level in channels with targets close to each other (or when
-    /// voltages are recorded), the measurement level elsewhere (docs/DECISIONS.md, "The fidelity
-    /// ladder": the fastest rung that holds every band).
+    /// voltages are recorded), the measurement level elsewhere (docs/decisions/0038-fidelity-ladder.md:
+    /// the fastest rung that holds every band).
     #[default]
     Auto,
 }
@@ -264,8 +264,13 @@ impl RadarParams {
                 return Err((n.into(), format!("a finite number of dB >= 0, got {x}")));
             }
         }
-        // Plausible ranges of docs/model.md §3.4: wide around any real surface radar, narrow
-        // enough that energies, SNRs and cell counts stay finite and tractable.
+        self.validate_plausible()
+    }
+
+    /// The plausible ranges of docs/model.md §3.4 (wide around any real surface radar, narrow
+    /// enough that energies, SNRs and cell counts stay finite and tractable), the minimum range,
+    /// the dwell overhead and the polarizations.
+    fn validate_plausible(&self) -> Result<(), (String, String)> {
         for &(name, x, hi, unit) in PLAUSIBLE {
             let x = x(self);
             if x > hi {

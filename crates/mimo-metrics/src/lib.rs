@@ -189,7 +189,7 @@ impl ScoreInput {
     }
 }
 
-/// Most scoring times a run may have (docs/DECISIONS.md "Bounds"): 10^7 times (a 1000 s run at
+/// Most scoring times a run may have (docs/decisions/0035-bounds-and-exit-statuses.md): 10^7 times (a 1000 s run at
 /// 0.1 ms) already take minutes; more only exhausts memory.
 pub const MAX_SCORING_TIMES: f64 = 1e7;
 

@@ -70,7 +70,7 @@
   // lines (per-vertex colours, null breaks) and one of markers (per-point symbol, size and
   // colour; customdata [layer, index] for the click panel). plotly builds WebGL programs per
   // trace, and linking them is most of a page's opening time under software WebGL, so the
-  // scene has few traces (docs/DECISIONS.md, "The run viewer"). Labels are scene annotations.
+  // scene has few traces (docs/decisions/0014-run-viewer-few-traces.md). Labels are scene annotations.
   var COAST = (function () { // coastlines as one broken polyline (static)
     var x = [], y = [], z = [], s = D.coast.starts.concat([D.coast.p.length / 3]);
     for (var l = 0; l + 1 < s.length; l++) {
@@ -110,7 +110,7 @@
   }
   // Markers are opaque (plotly's default opacity for per-point sizes is 0.7): a translucent
   // point cloud is drawn in gl-plot3d's transparent pass, with a shader program of its own
-  // linked at the first frame (docs/DECISIONS.md, fourth round).
+  // linked at the first frame (docs/decisions/0017-run-viewer-opening-cuts.md).
   function markers() {
     return { type: 'scatter3d', mode: 'markers', name: 'objects', x: [], y: [], z: [], customdata: [], text: [],
       marker: { symbol: [], size: [], color: [], opacity: 1, line: { width: 0 } }, hoverinfo: 'text', showlegend: false, meta: 'objects' };
@@ -326,7 +326,7 @@
   // that a hover or click can be looked up. Under software WebGL the first such pass costs
   // compiling its shaders' draw routines. Draws with a pick program (its fragment shader reads
   // pickId or pickGroup) are skipped while the pointer is outside the scene; when it enters, the
-  // pick buffers are drawn at once, before any click can read them (docs/DECISIONS.md, fourth round).
+  // pick buffers are drawn at once, before any click can read them (docs/decisions/0017-run-viewer-opening-cuts.md).
   var PICK = { on: false };
   [window.WebGLRenderingContext, window.WebGL2RenderingContext].forEach(function (C) {
     if (!C) return;
@@ -377,7 +377,7 @@
     // costly to draw (text vectorised per label).
     // The axes are "visible" with no ticks and empty titles rather than hidden: plotly leaves a
     // hidden axis with gl-axes3d's default ticks (−3…3) and titles "x", "y", whose text is
-    // vectorised again at every render although nothing is drawn (docs/DECISIONS.md, fourth round).
+    // vectorised again at every render although nothing is drawn (docs/decisions/0017-run-viewer-opening-cuts.md).
     var NOTICKS = { showticklabels: false, ticks: '', tickmode: 'array', tickvals: [], ticktext: [], showgrid: false, showline: false,
       zeroline: false, showspikes: false, showaxeslabels: false, title: { text: '' } };
     var ax = function (r) { return Object.assign({ visible: true, range: r, showbackground: false }, NOTICKS); };

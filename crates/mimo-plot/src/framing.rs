@@ -1,8 +1,7 @@
 //! Framing: for each step of time, a box of the plot frame that holds every ship and every
 //! target alive during the step, so that the page's region view frames what is in view at t
 //! (not the box of the whole run). The page keeps its current box while the step's box lies
-//! inside it, so the scene is not rescaled at every slider step (docs/DECISIONS.md, "The run
-//! viewer").
+//! inside it, so the scene is not rescaled at every slider step (docs/decisions/0016-run-viewer-thinning-and-framing.md).
 //!
 //! Paths are drawn as chords between samples, so the box of a path's samples within the step
 //! and its interpolated positions at the step's ends holds the path over the whole step.

@@ -66,7 +66,7 @@ fn ticks(lo: f64, hi: f64, step: f64) -> Vec<f64> {
 /// A latitude–longitude graticule on the ellipsoid (height 0) over `[lat0, lat1] × [lon0,
 /// lon1]` (deg): parallels and meridians at the box edges and every `step_deg`, each a polyline
 /// sampled every `sample_deg` (at most), so it follows the earth's curvature. The page draws the
-/// earth with it instead of a filled mesh (docs/DECISIONS.md, "The run viewer").
+/// earth with it instead of a filled mesh (docs/decisions/0014-run-viewer-few-traces.md).
 pub fn graticule(frame: &PlotFrame, lat: (f64, f64), lon: (f64, f64), step_deg: f64, sample_deg: f64) -> Polylines {
     let mut out = Polylines::default();
     let mut n = 0;

@@ -65,7 +65,7 @@ pub fn render(view: &View) -> Result<String, serde_json::Error> {
     let title = escape_text(&format!("mimo plot — {} run {}", view.meta.scenario, view.meta.run));
     // V8's explicit compile hint (a plain comment to other engines), first in the script: every
     // function of plotly.js is compiled with the script instead of at its first call, which
-    // shortened plotly.js's load by about a quarter in Chromium (docs/DECISIONS.md, fourth round).
+    // shortened plotly.js's load by about a quarter in Chromium (docs/decisions/0017-run-viewer-opening-cuts.md).
     let licence = format!("{COMPILE_HINT}\n/*! plotly.js licence:\n{}*/\n", PLOTLY_LICENSE.replace("*/", "* /"));
     // Replace the script placeholders last, so nothing inside plotly.js or the data is touched.
     let page = TEMPLATE.replace("__TITLE__", &title);

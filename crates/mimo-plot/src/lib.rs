@@ -19,9 +19,9 @@
 //!   ([`framing`]).
 //! * [`html`] renders the page with plotly.js (gl3d bundle) inlined; [`write_page`] writes it.
 //!
-//! Rendering uses plotly.js rather than hand-written WebGL; see docs/DECISIONS.md for the
-//! choice of bundle. What the view thins or leaves out to stay small is listed on the page and
-//! in [`view`].
+//! Rendering uses plotly.js rather than hand-written WebGL; see
+//! docs/decisions/0013-run-viewer-single-page.md for the choice of bundle. What the view thins or
+//! leaves out to stay small is listed on the page and in [`view`].
 
 #![warn(missing_docs)]
 

@@ -118,7 +118,7 @@ fn time(min: Duration, n_specs: usize, mut f: impl FnMut(usize, u64) -> usize) -
 
 fn main() {
     let p = RadarParams::default();
-    // The voltage level: the figures in reports/BENCHMARKS.md are the voltage model's.
+    // The voltage level: the figures in reports/benchmarks-history.md are the voltage model's.
     let fid = Fidelity { level: mimo_core::params::FidelityLevel::Voltage, ..Fidelity::default() };
     let ships = vec![ship(0, 36.0, -70.0, &p), ship(1, 36.25, -70.3, &p), ship(2, 35.8, -69.7, &p)];
     let b = Bench { p, fid, ships };

@@ -54,22 +54,42 @@ pub(crate) fn open_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Ret
 
 /// Simulate one channel's cells.
 pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>]) -> Channel {
-    let tx = &d.transmitters[j];
-    let rx = &d.receivers[i];
-    let dr = rx.params.range_cell_m();
     let rets = &returns[j][i];
     let mut ch = open_channel(d, j, i, returns);
     let Some((kmin, kmax)) = ch.window else { return ch };
-    let w = i64::from(d.fidelity.explicit_cells_each_side);
+    let leaks = leakage(d, j, i, returns, (kmin, kmax));
+    let segs = explicit_segments(d, i, rets, &leaks, (kmin, kmax));
+    let mut cells = explicit_cells(d, j, i, rets, &leaks, &segs);
 
-    // Leakage from the other transmitters' echoes (§5.3).
-    struct Leak {
-        target: usize,
-        k0: i64,
-        k1: i64,
-        sd: [f64; 3],
-        tx: RadarId,
+    // False alarms in the remaining noise-only cells (§4.4).
+    if !d.simulate_all_cells {
+        let fa = false_alarm_cells(d, j, i, (kmin, kmax), &segs);
+        ch.shortcut_cells = fa.shortcut_cells;
+        ch.false_alarms = fa.false_alarms;
+        if !fa.cells.is_empty() {
+            cells.extend(fa.cells);
+            cells.sort_unstable_by_key(|c| c.k);
+        }
     }
+    ch.cells = cells;
+    ch
+}
+
+/// The echo of another transmitter's waveform leaking into channel `(j → i)` (§5.3): cells
+/// `k0..=k1` get noise of standard deviations `sd` (Σ, Δaz, Δel).
+struct Leak {
+    target: usize,
+    k0: i64,
+    k1: i64,
+    sd: [f64; 3],
+    tx: RadarId,
+}
+
+/// The leaks into channel `(j → i)` within `window` from the other transmitters' echoes, when the
+/// waveform isolation is modelled.
+fn leakage(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec<Return>>], window: (i64, i64)) -> Vec<Leak> {
+    let (kmin, kmax) = window;
+    let dr = d.receivers[i].params.range_cell_m();
     let mut leaks = Vec::new();
     if let Some(iso_db) = d.fidelity.waveform_isolation_db {
         let f = db_to_lin(-iso_db);
@@ -91,7 +111,15 @@ pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec
             }
         }
     }
+    leaks
+}
 
+/// The explicitly simulated cells of receiver `i`'s `window`, as merged segments: the whole
+/// window, or `explicit_cells_each_side` cells around each return and the leaks' cells.
+fn explicit_segments(d: &Dwell, i: usize, rets: &[Return], leaks: &[Leak], window: (i64, i64)) -> Vec<(i64, i64)> {
+    let (kmin, kmax) = window;
+    let dr = d.receivers[i].params.range_cell_m();
+    let w = i64::from(d.fidelity.explicit_cells_each_side);
     let mut iv = Vec::with_capacity(rets.len() + leaks.len());
     if d.simulate_all_cells {
         iv.push((kmin, kmax));
@@ -103,17 +131,24 @@ pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec
                 iv.push((a, b));
             }
         }
-        for l in &leaks {
+        for l in leaks {
             iv.push((l.k0, l.k1));
         }
     }
-    let segs = merge_intervals(iv);
+    merge_intervals(iv)
+}
 
+/// The cells of the segments `segs` of channel `(j → i)`, sorted: noise, then the returns'
+/// voltages and the leaks.
+fn explicit_cells(d: &Dwell, j: usize, i: usize, rets: &[Return], leaks: &[Leak], segs: &[(i64, i64)]) -> Vec<Cell> {
+    let tx = &d.transmitters[j];
+    let rx = &d.receivers[i];
+    let dr = rx.params.range_cell_m();
     // Noise in the explicit cells.
     let mut noise = stream(d, &[KEY_NOISE, tx.radar.0 as u64, rx.radar.0 as u64]);
     let explicit: i64 = segs.iter().map(|&(a, b)| b - a + 1).sum();
     let mut cells = Vec::with_capacity(explicit as usize + 8);
-    for &(a, b) in &segs {
+    for &(a, b) in segs {
         for k in a..=b {
             cells.push(Cell { k, sum: cn(&mut noise), az: cn(&mut noise), el: cn(&mut noise), source: None });
         }
@@ -135,7 +170,7 @@ pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec
             }
         }
     }
-    for l in &leaks {
+    for l in leaks {
         let mut s = stream(d, &[KEY_LEAKAGE, tx.radar.0 as u64, rx.radar.0 as u64, l.tx.0 as u64, l.target as u64]);
         for k in l.k0..=l.k1 {
             if let Ok(idx) = cells.binary_search_by_key(&k, |c| c.k) {
@@ -147,19 +182,7 @@ pub(crate) fn simulate_channel(d: &Dwell, j: usize, i: usize, returns: &[Vec<Vec
             }
         }
     }
-
-    // False alarms in the remaining noise-only cells (§4.4).
-    if !d.simulate_all_cells {
-        let fa = false_alarm_cells(d, j, i, (kmin, kmax), &segs);
-        ch.shortcut_cells = fa.shortcut_cells;
-        ch.false_alarms = fa.false_alarms;
-        if !fa.cells.is_empty() {
-            cells.extend(fa.cells);
-            cells.sort_unstable_by_key(|c| c.k);
-        }
-    }
-    ch.cells = cells;
-    ch
+    cells
 }
 
 /// What the §4.4 shortcut drew in the noise-only cells of a channel's window.

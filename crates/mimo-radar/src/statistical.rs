@@ -162,68 +162,19 @@ fn group_primitive(
     let rx = &d.receivers[i];
     let dr = rx.params.range_cell_m();
     let gamma = rx.params.threshold();
-    let below = 1.0 - (-gamma).exp();
     // 1. The Σ voltages of the straddled cells and their guard cells.
-    let mut cells: Vec<GroupCell> = Vec::with_capacity((cells_ab.1 - cells_ab.0 + 1) as usize);
-    for k in cells_ab.0..=cells_ab.1 {
-        let mut sig = (Complex64::default(), Complex64::default(), Complex64::default());
-        for &t in g {
-            let p = triangle(k as f64 * dr - rets[t].rho_m, dr);
-            sig.0 += rets[t].sum * p;
-            sig.1 += rets[t].az * p;
-            sig.2 += rets[t].el * p;
-        }
-        let sum = if k >= signal_ab.0 && k <= signal_ab.1 {
-            sig.0 + cn(s)
-        } else {
-            // A guard cell: noise conditioned below the threshold.
-            let p2 = -(1.0 - s.uniform() * below).ln();
-            Complex64::from_polar(p2.sqrt(), s.phase())
-        };
-        cells.push(GroupCell { k, sum, signal: sig });
-    }
-    // 2. Detection: the strongest cell (the first on ties, as the detector's local-maximum rule).
+    let cells = group_cells(rets, g, cells_ab, signal_ab, dr, gamma, s);
+    // 2. Detection.
     let pw: Vec<f64> = cells.iter().map(|c| c.sum.norm_sqr()).collect();
-    let mut m = 0;
-    for (n, &p) in pw.iter().enumerate() {
-        if p > pw[m] {
-            m = n;
-        }
-    }
-    if pw[m] <= gamma {
-        return None;
-    }
-    let left = m.checked_sub(1);
-    let right = (m + 1 < cells.len()).then_some(m + 1);
-    let (nb, other) = match (left, right) {
-        (Some(l), Some(r)) if pw[r] > pw[l] => (Some(r), Some(l)),
-        (Some(l), Some(r)) => (Some(l), Some(r)),
-        (l, r) => (l.or(r), None),
-    };
-    let (mut c0, mut c1) = (m, m);
-    while c0 > 0 && pw[c0 - 1] > gamma {
-        c0 -= 1;
-    }
-    while c1 + 1 < cells.len() && pw[c1 + 1] > gamma {
-        c1 += 1;
-    }
-    let wide = c1 - c0 + 1 >= 3;
-    let other_crosses = other.is_some_and(|o| pw[o] > gamma);
+    let peak = detect_peak(&pw, gamma)?;
+    let (m, nb) = (peak.m, peak.nb);
     let a0 = pw[m].sqrt();
     let a1 = nb.map_or(0.0, |x| pw[x].sqrt());
     let s_obs = (pw[m] + nb.map_or(0.0, |x| pw[x])).max(f64::MIN_POSITIVE);
     let x_hat = if a0 + a1 > 0.0 { a1 / (a0 + a1) } else { 0.0 };
 
     // 3. Truth (power-weighted centroid of the group) and the reported covariance.
-    let (mut wsum, mut rho, mut u, mut v) = (0.0, 0.0, 0.0, 0.0);
-    for &t in g {
-        let w = rets[t].sum.norm_sqr().max(f64::MIN_POSITIVE);
-        wsum += w;
-        rho += w * rets[t].rho_m;
-        u += w * rets[t].u;
-        v += w * rets[t].v;
-    }
-    let (rho, u, v) = (rho / wsum, u / wsum, v / wsum);
+    let (rho, u, v) = group_centroid(rets, g);
     let c = ml_bias_factor(rx.predicted_snr);
     let (eta_a, eta_e) = ant.ratio(u - rx.beam_u, v - rx.beam_v);
     let vq_a = (1.0 + c * eta_a * eta_a) / (2.0 * s_obs);
@@ -244,26 +195,12 @@ fn group_primitive(
         return None;
     }
     // 4. The imaginary-part statistic (§2.7).
-    let (mut qa, mut qe) = (0.0, 0.0);
-    if g.len() > 1 {
-        for n in std::iter::once(m).chain(nb) {
-            let (ss, sa, se) = cells[n].signal;
-            qa += (sa * ss.conj()).im;
-            qe += (se * ss.conj()).im;
-        }
-    }
+    let (qa, qe) = if g.len() > 1 { imaginary_parts(&cells, m, nb) } else { (0.0, 0.0) };
     let eta_qa = qa / s_obs + vq_a.sqrt() * s.normal();
     let eta_qe = qe / s_obs + vq_e.sqrt() * s.normal();
     let t_stat = eta_qa * eta_qa / vq_a + eta_qe * eta_qe / vq_e;
-    let merged = t_stat > MERGE_T_THRESHOLD || wide || other_crosses;
-    // The dominant target of the peak cell names the primitive.
+    let merged = t_stat > MERGE_T_THRESHOLD || peak.wide || peak.other_crosses;
     let k_peak = cells[m].k;
-    let hint = g
-        .iter()
-        .map(|&t| (t, rets[t].sum.norm_sqr() * triangle(k_peak as f64 * dr - rets[t].rho_m, dr).powi(2)))
-        .filter(|&(_, p)| p > 0.0)
-        .fold(None, |best: Option<(usize, f64)>, x| if best.is_none_or(|b| x.1 > b.1) { Some(x) } else { best })
-        .and_then(|(t, _)| targets.get(rets[t].target).map(|x| x.id.to_string()));
     Some(PrimitiveRow {
         run: d.run,
         dwell_id: rx.dwell_id,
@@ -283,6 +220,114 @@ fn group_primitive(
         var_range_m2: sig_r * sig_r,
         var_u,
         var_v,
-        target_hint: hint,
+        target_hint: dominant_target(rets, g, k_peak, dr, targets),
     })
+}
+
+/// The Σ, Δaz and Δel signal voltages of cells `cells_ab` of a group, and each cell's Σ voltage
+/// with noise: signal plus noise in the straddled cells `signal_ab`, noise conditioned below the
+/// threshold `gamma` in the guard cells.
+fn group_cells(
+    rets: &[Return],
+    g: &[usize],
+    cells_ab: (i64, i64),
+    signal_ab: (i64, i64),
+    dr: f64,
+    gamma: f64,
+    s: &mut Stream,
+) -> Vec<GroupCell> {
+    let below = 1.0 - (-gamma).exp();
+    let mut cells: Vec<GroupCell> = Vec::with_capacity((cells_ab.1 - cells_ab.0 + 1) as usize);
+    for k in cells_ab.0..=cells_ab.1 {
+        let mut sig = (Complex64::default(), Complex64::default(), Complex64::default());
+        for &t in g {
+            let p = triangle(k as f64 * dr - rets[t].rho_m, dr);
+            sig.0 += rets[t].sum * p;
+            sig.1 += rets[t].az * p;
+            sig.2 += rets[t].el * p;
+        }
+        let sum = if k >= signal_ab.0 && k <= signal_ab.1 {
+            sig.0 + cn(s)
+        } else {
+            // A guard cell: noise conditioned below the threshold.
+            let p2 = -(1.0 - s.uniform() * below).ln();
+            Complex64::from_polar(p2.sqrt(), s.phase())
+        };
+        cells.push(GroupCell { k, sum, signal: sig });
+    }
+    cells
+}
+
+/// The detection of a group's cells.
+struct Peak {
+    /// The strongest cell.
+    m: usize,
+    /// Its stronger neighbour.
+    nb: Option<usize>,
+    /// Three or more consecutive cells cross the threshold.
+    wide: bool,
+    /// The weaker neighbour crosses the threshold too.
+    other_crosses: bool,
+}
+
+/// The strongest of the cell powers `pw` (the first on ties, as the detector's local-maximum
+/// rule) if it crosses the threshold `gamma`.
+fn detect_peak(pw: &[f64], gamma: f64) -> Option<Peak> {
+    let mut m = 0;
+    for (n, &p) in pw.iter().enumerate() {
+        if p > pw[m] {
+            m = n;
+        }
+    }
+    if pw[m] <= gamma {
+        return None;
+    }
+    let left = m.checked_sub(1);
+    let right = (m + 1 < pw.len()).then_some(m + 1);
+    let (nb, other) = match (left, right) {
+        (Some(l), Some(r)) if pw[r] > pw[l] => (Some(r), Some(l)),
+        (Some(l), Some(r)) => (Some(l), Some(r)),
+        (l, r) => (l.or(r), None),
+    };
+    let (mut c0, mut c1) = (m, m);
+    while c0 > 0 && pw[c0 - 1] > gamma {
+        c0 -= 1;
+    }
+    while c1 + 1 < pw.len() && pw[c1 + 1] > gamma {
+        c1 += 1;
+    }
+    Some(Peak { m, nb, wide: c1 - c0 + 1 >= 3, other_crosses: other.is_some_and(|o| pw[o] > gamma) })
+}
+
+/// The power-weighted centroid `(ρ, u, v)` of a group's returns.
+fn group_centroid(rets: &[Return], g: &[usize]) -> (f64, f64, f64) {
+    let (mut wsum, mut rho, mut u, mut v) = (0.0, 0.0, 0.0, 0.0);
+    for &t in g {
+        let w = rets[t].sum.norm_sqr().max(f64::MIN_POSITIVE);
+        wsum += w;
+        rho += w * rets[t].rho_m;
+        u += w * rets[t].u;
+        v += w * rets[t].v;
+    }
+    (rho / wsum, u / wsum, v / wsum)
+}
+
+/// The noise-free imaginary parts of Δaz·Σ* and Δel·Σ* over the peak cell and its neighbour.
+fn imaginary_parts(cells: &[GroupCell], m: usize, nb: Option<usize>) -> (f64, f64) {
+    let (mut qa, mut qe) = (0.0, 0.0);
+    for n in std::iter::once(m).chain(nb) {
+        let (ss, sa, se) = cells[n].signal;
+        qa += (sa * ss.conj()).im;
+        qe += (se * ss.conj()).im;
+    }
+    (qa, qe)
+}
+
+/// The dominant target of the peak cell `k_peak`, which names the primitive.
+fn dominant_target(rets: &[Return], g: &[usize], k_peak: i64, dr: f64, targets: &[Target]) -> Option<String> {
+    g.iter()
+        .map(|&t| (t, rets[t].sum.norm_sqr() * triangle(k_peak as f64 * dr - rets[t].rho_m, dr).powi(2)))
+        .filter(|&(_, p)| p > 0.0)
+        .fold(None, |best: Option<(usize, f64)>, x| if best.is_none_or(|b| x.1 > b.1) { Some(x) } else { best })
+        .and_then(|(t, _)| targets.get(rets[t].target).map(|x| x.id.to_string()))
 }

@@ -28,13 +28,15 @@
 
 mod draw;
 mod fidelity;
+mod geo;
 mod purpose_chart;
 pub mod study;
 
 pub use draw::{linear_fit, moving_average};
 pub use fidelity::FidelityPoint;
 
-use draw::{Area, BarChart, DrawResult, Line, PALETTE, Panel, Style, Swatch, TimeChart, darken, e, fmt_num, lighten};
+use draw::{Area, BarChart, DrawResult, Line, PALETTE, Panel, Style, TimeChart, darken, e, fmt_num, lighten};
+use geo::GeoChart;
 use mimo_metrics::Score;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -91,7 +93,7 @@ fn draw_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Dra
     match c {
         Chart::Time(t) => draw::draw_time_chart(root, t),
         Chart::Bar(b) => draw::draw_bar_chart(root, b),
-        Chart::Geo(g) => draw_geo(root, g),
+        Chart::Geo(g) => geo::draw_geo(root, g),
         Chart::Study(s) => study::draw_study_chart(root, s),
         Chart::Fidelity(f) => fidelity::draw_fidelity_chart(root, f),
     }?;
@@ -195,17 +197,26 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
     std::fs::create_dir_all(charts_dir)
         .map_err(|err| ReportError::Io { path: charts_dir.to_path_buf(), detail: err.to_string() })?;
     let mut out = Vec::new();
-    let dt = score.options.interval_s;
-    let sub = subtitle(score);
-    let m = &score.track_metrics_mean;
-    let series = |f: fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>| -> Vec<(f64, Option<f64>)> {
-        m.iter().map(|r| (r.t_s, f(r))).collect()
-    };
-    let t_end = m.last().map_or(1.0, |r| r.t_s);
+    render_completeness(score, charts_dir, &mut out)?;
+    render_per_interval(score, charts_dir, &mut out)?;
+    render_cumulative(score, charts_dir, &mut out)?;
+    render_radar_totals(score, charts_dir, &mut out)?;
+    purpose_chart::render(score, charts_dir, &mut out)?;
+    render_track_metrics(score, charts_dir, &mut out)?;
+    Ok(out)
+}
 
-    // Completeness with the required level.
+/// One track metric of the mean over runs against time.
+fn series(score: &Score, f: fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>) -> Vec<(f64, Option<f64>)> {
+    score.track_metrics_mean.iter().map(|r| (r.t_s, f(r))).collect()
+}
+
+/// Completeness with the required level.
+fn render_completeness(score: &Score, charts_dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), ReportError> {
+    let (dt, sub) = (score.options.interval_s, subtitle(score));
+    let t_end = score.track_metrics_mean.last().map_or(1.0, |r| r.t_s);
     let req = score.options.completeness_required;
-    let mut lines = with_ma("track completeness", PALETTE[0], series(|r| r.completeness), dt);
+    let mut lines = with_ma("track completeness", PALETTE[0], series(score, |r| r.completeness), dt);
     lines.push(Line {
         label: format!("required {} %", fmt_num(req * 100.0)),
         color: PALETTE[3],
@@ -213,9 +224,12 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
         points: vec![(0.0, Some(req)), (t_end, Some(req))],
     });
     let c = single(format!("Track completeness {sub}"), "assigned ÷ scorable truths", lines, Some((0.0, 1.08)));
-    save(&c, charts_dir, "completeness", (WIDTH, HEIGHT), &mut out)?;
+    save(&c, charts_dir, "completeness", (WIDTH, HEIGHT), out)
+}
 
-    // Per radar per interval, normalized by the scorable objects.
+/// Per radar per interval, normalized by the scorable objects.
+fn render_per_interval(score: &Score, charts_dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), ReportError> {
+    let (dt, sub) = (score.options.interval_s, subtitle(score));
     type Pick = fn(&mimo_metrics::UsageRow) -> Option<f64>;
     let per_interval: [(&str, &str, &str, Pick, Pick); 2] = [
         (
@@ -259,10 +273,15 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
             panels,
             columns,
         });
-        save(&c, charts_dir, stem, (WIDTH + 200, 150 + rows * 340), &mut out)?;
+        save(&c, charts_dir, stem, (WIDTH + 200, 150 + rows * 340), out)?;
     }
 
-    // Cumulative, stacked by radar.
+    Ok(())
+}
+
+/// Cumulative energy and dwell time, stacked by radar.
+fn render_cumulative(score: &Score, charts_dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), ReportError> {
+    let sub = subtitle(score);
     type Cum = fn(&mimo_metrics::UsageRow) -> f64;
     type CumT = fn(&mimo_metrics::UsageTotalRow) -> f64;
     let cumulative: [(&str, &str, &str, &str, Cum, CumT, CumT); 2] = [
@@ -325,10 +344,15 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
             panels: vec![Panel { title: None, y_label: y_label.into(), lines, areas, y_range: None }],
             columns: 1,
         });
-        save(&c, charts_dir, stem, (WIDTH, HEIGHT), &mut out)?;
+        save(&c, charts_dir, stem, (WIDTH, HEIGHT), out)?;
     }
 
-    // Sensor totals per radar.
+    Ok(())
+}
+
+/// Sensor totals per radar.
+fn render_radar_totals(score: &Score, charts_dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), ReportError> {
+    let sub = subtitle(score);
     let groups: Vec<String> = score.usage_radar.iter().map(|r| r.radar.clone()).collect();
     type Bars<'a> = (&'a str, &'a str, &'a str, Vec<f64>, Vec<f64>);
     let bars: [Bars<'_>; 2] = [
@@ -354,12 +378,15 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
             groups: groups.clone(),
             series: vec![("all dwells".into(), PALETTE[0], all), ("TA-requested".into(), PALETTE[1], ta)],
         });
-        save(&c, charts_dir, stem, (WIDTH, HEIGHT), &mut out)?;
+        save(&c, charts_dir, stem, (WIDTH, HEIGHT), out)?;
     }
 
-    purpose_chart::render(score, charts_dir, &mut out)?;
+    Ok(())
+}
 
-    // Other track metrics over time.
+/// The other track metrics over time.
+fn render_track_metrics(score: &Score, charts_dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), ReportError> {
+    let (dt, sub) = (score.options.interval_s, subtitle(score));
     type Metric<'a> = (&'a str, &'a str, &'a str, fn(&mimo_metrics::TrackMetricsMeanRow) -> Option<f64>);
     let ratio_charts: [Metric<'_>; 4] = [
         ("redundant_ratio", "Redundant track ratio", "redundant tracks ÷ scorable truths", |r| r.redundant_ratio),
@@ -368,32 +395,24 @@ pub fn render_all(score: &Score, charts_dir: &Path) -> Result<Vec<PathBuf>, Repo
         ("velocity_rmse", "Velocity error of assigned tracks", "velocity RMSE (m/s)", |r| r.velocity_rmse_mps),
     ];
     for (i, (stem, title, y_label, f)) in ratio_charts.into_iter().enumerate() {
-        let lines = with_ma(y_label.split(" (").next().unwrap_or(y_label), PALETTE[(i + 4) % 10], series(f), dt);
-        save(&single(format!("{title} {sub}"), y_label, lines, None), charts_dir, stem, (WIDTH, HEIGHT), &mut out)?;
+        let lines = with_ma(y_label.split(" (").next().unwrap_or(y_label), PALETTE[(i + 4) % 10], series(score, f), dt);
+        save(&single(format!("{title} {sub}"), y_label, lines, None), charts_dir, stem, (WIDTH, HEIGHT), out)?;
     }
     let counts: [Metric<'_>; 2] = [
         ("breaks", "Track breaks (cumulative)", "track breaks", |r| Some(r.cum_breaks_mean)),
         ("switches", "Track switches (cumulative)", "track switches", |r| Some(r.cum_switches_mean)),
     ];
     for (i, (stem, title, y_label, f)) in counts.into_iter().enumerate() {
-        let lines = with_fit(&format!("cumulative {y_label} per run"), PALETTE[(i + 8) % 10], series(f), "", 100.0);
-        save(&single(format!("{title} {sub}"), y_label, lines, None), charts_dir, stem, (WIDTH, HEIGHT), &mut out)?;
+        let lines =
+            with_fit(&format!("cumulative {y_label} per run"), PALETTE[(i + 8) % 10], series(score, f), "", 100.0);
+        save(&single(format!("{title} {sub}"), y_label, lines, None), charts_dir, stem, (WIDTH, HEIGHT), out)?;
     }
     let (c_m, p) = (score.options.ospa_c_m, score.options.ospa_p);
-    let mut lines = with_ma("OSPA", PALETTE[0], series(|r| r.ospa_m), dt);
-    lines.extend(with_ma("GOSPA (α = 2)", PALETTE[3], series(|r| r.gospa_m), dt));
+    let mut lines = with_ma("OSPA", PALETTE[0], series(score, |r| r.ospa_m), dt);
+    lines.extend(with_ma("GOSPA (α = 2)", PALETTE[3], series(score, |r| r.gospa_m), dt));
     let title = format!("OSPA and GOSPA, c = {} m, p = {} {sub}", fmt_num(c_m), fmt_num(p));
-    save(&single(title, "distance (m)", lines, None), charts_dir, "ospa", (WIDTH, HEIGHT), &mut out)?;
-    Ok(out)
-}
-
-// ---------------------------------------------------------------------------------------------
-// Geometry map
-
-struct GeoChart {
-    title: String,
-    ships: Vec<(String, f64, f64)>,
-    truth: Vec<(String, Vec<(f64, f64)>)>,
+    save(&single(title, "distance (m)", lines, None), charts_dir, "ospa", (WIDTH, HEIGHT), out)?;
+    Ok(())
 }
 
 /// Draw a scenario map: ships (name, lat °, lon °) as triangles, target trajectories
@@ -424,115 +443,4 @@ pub fn draw_fidelity(points: &[FidelityPoint], title: &str, out: &Path) -> Resul
     }
     let chart = Chart::Fidelity(fidelity::FidelityChart { title: title.to_string(), points: points.to_vec() });
     render(&chart, out, (1000, 700))
-}
-
-fn draw_geo<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, g: &GeoChart) -> DrawResult {
-    root.fill(&WHITE).map_err(e)?;
-    let body = root.titled(&g.title, (draw::FONT, draw::TITLE_PX)).map_err(e)?;
-    let mut legend: Vec<(String, Swatch)> = vec![("ship".into(), Swatch::Triangle(RGBColor(20, 40, 90)))];
-    for (i, (name, _)) in g.truth.iter().enumerate() {
-        legend.push((name.clone(), Swatch::Line(PALETTE[i % PALETTE.len()], 3)));
-    }
-    legend.push(("trajectory start".into(), Swatch::Dot(RGBColor(90, 90, 90))));
-    let (w, h) = body.dim_in_pixel();
-    let lh = draw::legend_height(&body, &legend);
-    let (plot, legend_area) = body.split_vertically(h.saturating_sub(lh).max(1));
-
-    // Extent with margins, then widened so that a degree of latitude and a cos(lat)-scaled
-    // degree of longitude take the same number of pixels.
-    let pts = g.ships.iter().map(|s| (s.1, s.2)).chain(g.truth.iter().flat_map(|t| t.1.iter().copied()));
-    let pts: Vec<(f64, f64)> = pts.filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
-    let (mut la0, mut la1, mut lo0, mut lo1) =
-        pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY), |(a, b, c, d), p| {
-            (a.min(p.0), b.max(p.0), c.min(p.1), d.max(p.1))
-        });
-    if !la0.is_finite() {
-        (la0, la1, lo0, lo1) = (-1.0, 1.0, -1.0, 1.0);
-    }
-    let pad_la = ((la1 - la0) * 0.08).max(0.05);
-    let pad_lo = ((lo1 - lo0) * 0.08).max(0.05);
-    (la0, la1, lo0, lo1) = (la0 - pad_la, la1 + pad_la, lo0 - pad_lo, lo1 + pad_lo);
-    let kx = ((la0 + la1) / 2.0).to_radians().cos().max(0.05);
-    let (pw, ph) = (
-        f64::from(w.saturating_sub(8 + 24 + 90)).max(1.0),
-        f64::from(plot.dim_in_pixel().1.saturating_sub(8 + 55)).max(1.0),
-    );
-    let (sx, sy) = ((lo1 - lo0) * kx / pw, (la1 - la0) / ph);
-    if sx > sy {
-        let grow = (sx * ph - (la1 - la0)) / 2.0;
-        (la0, la1) = (la0 - grow, la1 + grow);
-    } else {
-        let grow = (sy * pw / kx - (lo1 - lo0)) / 2.0;
-        (lo0, lo1) = (lo0 - grow, lo1 + grow);
-    }
-
-    let mut chart = ChartBuilder::on(&plot)
-        .margin_top(8)
-        .margin_right(24)
-        .margin_left(8)
-        .x_label_area_size(55)
-        .y_label_area_size(90)
-        .build_cartesian_2d(lo0..lo1, la0..la1)
-        .map_err(e)?;
-    let deg = |v: &f64| format!("{v:.2}");
-    chart
-        .configure_mesh()
-        .x_desc("longitude (°)")
-        .y_desc("latitude (°)")
-        .label_style((draw::FONT, draw::TICK_PX))
-        .axis_desc_style((draw::FONT, draw::AXIS_DESC_PX))
-        .x_label_formatter(&deg)
-        .y_label_formatter(&deg)
-        .light_line_style(RGBColor(240, 240, 240))
-        .bold_line_style(RGBColor(218, 218, 218))
-        .max_light_lines(4)
-        .draw()
-        .map_err(e)?;
-    let n = g.truth.len();
-    let mut labels = Vec::new();
-    for (i, (name, path)) in g.truth.iter().enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
-        let xy: Vec<(f64, f64)> =
-            path.iter().filter(|p| p.0.is_finite() && p.1.is_finite()).map(|p| (p.1, p.0)).collect();
-        if xy.is_empty() {
-            continue;
-        }
-        chart.draw_series(LineSeries::new(xy.iter().copied(), color.stroke_width(3))).map_err(e)?;
-        chart.draw_series(std::iter::once(Circle::new(xy[0], 5, darken(color, 0.2).filled()))).map_err(e)?;
-        // Names at staggered positions along the paths so that formations stay readable.
-        let f = if n > 1 { 0.12 + 0.76 * i as f64 / (n - 1) as f64 } else { 0.5 };
-        let at = xy[((xy.len() - 1) as f64 * f).round() as usize];
-        labels.push((name, chart.backend_coord(&at), darken(color, 0.3)));
-    }
-    // Labels after every line, so no line crosses a label.
-    for (name, (px, py), color) in labels {
-        label_box(root, name, (px + 10, py - 16), color)?;
-    }
-    let ship_color = RGBColor(20, 40, 90);
-    for (name, lat, lon) in &g.ships {
-        let (px, py) = chart.backend_coord(&(*lon, *lat));
-        root.draw(&Polygon::new(vec![(px, py - 11), (px - 9, py + 7), (px + 9, py + 7)], ship_color.filled()))
-            .map_err(e)?;
-        label_box(root, name, (px + 13, py), ship_color)?;
-    }
-    draw::draw_legend(&legend_area, &legend)
-}
-
-/// A text label on a white box with a coloured border; `at` is the box's left edge and vertical
-/// centre (pixels).
-fn label_box<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    text: &str,
-    at: (i32, i32),
-    color: RGBColor,
-) -> DrawResult {
-    use plotters::style::text_anchor::{HPos, Pos, VPos};
-    let font = (draw::FONT, draw::LEGEND_PX).into_font().color(&color).pos(Pos::new(HPos::Left, VPos::Center));
-    let (w, h) = root.estimate_text_size(text, &font).map_err(e)?;
-    let (x, y) = at;
-    let half = h as i32 / 2 + 5;
-    let rect = [(x, y - half), (x + w as i32 + 10, y + half)];
-    root.draw(&Rectangle::new(rect, WHITE.filled())).map_err(e)?;
-    root.draw(&Rectangle::new(rect, color.stroke_width(1))).map_err(e)?;
-    root.draw(&Text::new(text.to_string(), (x + 5, y), font)).map_err(e)
 }

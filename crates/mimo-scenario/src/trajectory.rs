@@ -4,9 +4,10 @@
 use crate::epoch_balls::{Ball, EpochBalls};
 use crate::error::ScenarioError;
 use crate::flight::{
-    Controls, Ctx, RefState, STEP_S, compile_offsets, direction_of, heading_of, member_state, node, rk4,
+    Controls, Ctx, OffsetTrack, RefNode, RefState, STEP_S, compile_offsets, direction_of, heading_of, member_state,
+    node, rk4,
 };
-use crate::model::{Crossover, Manoeuvre, Offset, Scenario, Split};
+use crate::model::{Crossover, Group, Manoeuvre, Offset, Scenario, Split};
 use glam::DVec3;
 use mimo_core::G0_MPS2;
 use mimo_core::geo::{Geodetic, ecef_to_geodetic, enu_from_ecef};
@@ -109,46 +110,58 @@ impl Builder {
             y = rk4(&controls, t, y, ts - t);
         }
         let nd = node(&controls, ts, y);
-        let dir = direction_of(&nd);
         for (gi, child) in split.groups.iter().enumerate() {
-            let offsets: Vec<Offset> = child
-                .members
-                .iter()
-                .filter_map(|id| {
-                    let q = g.members.iter().position(|(m, _)| m == id)?;
-                    Some(tracks[q].at(ts).0)
-                })
-                .collect();
-            let reference = child.reference.unwrap_or_else(|| centroid(&offsets));
-            let (p_ref, _) = member_state(&nd, reference, Offset::default());
-            let geo = ecef_to_geodetic(p_ref);
-            let psi = heading_of(geo, dir);
-            let y_child = RefState { lat: geo.lat_rad, lon: geo.lon_rad, alt: geo.alt_m, psi };
-            // Each member's offset in the group's own frame, from its actual position, so that
-            // positions are exactly continuous across the split.
-            let enu = enu_from_ecef(geo.lat_rad, geo.lon_rad);
-            let (sp, cp) = psi.sin_cos();
-            let members = child
-                .members
-                .iter()
-                .zip(&offsets)
-                .map(|(id, o)| {
-                    let d = enu * (member_state(&nd, *o, Offset::default()).0 - p_ref);
-                    let rel = Offset { along_m: d.x * sp + d.y * cp, right_m: d.x * cp - d.y * sp, up_m: d.z };
-                    (id.clone(), rel)
-                })
-                .collect();
-            let view = GroupView {
-                members,
-                manoeuvres: &child.manoeuvres,
-                crossovers: &child.crossovers,
-                split: child.split.as_ref(),
-            };
+            let (y_child, view) = child_group(g, child, &tracks, &nd, ts);
             let c = ctx.sub(&format!("split.groups[{gi}]"));
             self.fly(&view, ts, k_end, y_child, nd.v, &c)?;
         }
         Ok(())
     }
+}
+
+/// The state of a group after a split at `ts` (reference node `nd`) and its members with their
+/// offsets in its own frame, taken from their actual positions so that positions are exactly
+/// continuous across the split.
+fn child_group<'a>(
+    g: &GroupView<'_>,
+    child: &'a Group,
+    tracks: &[OffsetTrack],
+    nd: &RefNode,
+    ts: f64,
+) -> (RefState, GroupView<'a>) {
+    let dir = direction_of(nd);
+    let offsets: Vec<Offset> = child
+        .members
+        .iter()
+        .filter_map(|id| {
+            let q = g.members.iter().position(|(m, _)| m == id)?;
+            Some(tracks[q].at(ts).0)
+        })
+        .collect();
+    let reference = child.reference.unwrap_or_else(|| centroid(&offsets));
+    let (p_ref, _) = member_state(nd, reference, Offset::default());
+    let geo = ecef_to_geodetic(p_ref);
+    let psi = heading_of(geo, dir);
+    let y_child = RefState { lat: geo.lat_rad, lon: geo.lon_rad, alt: geo.alt_m, psi };
+    let enu = enu_from_ecef(geo.lat_rad, geo.lon_rad);
+    let (sp, cp) = psi.sin_cos();
+    let members = child
+        .members
+        .iter()
+        .zip(&offsets)
+        .map(|(id, o)| {
+            let d = enu * (member_state(nd, *o, Offset::default()).0 - p_ref);
+            let rel = Offset { along_m: d.x * sp + d.y * cp, right_m: d.x * cp - d.y * sp, up_m: d.z };
+            (id.clone(), rel)
+        })
+        .collect();
+    let view = GroupView {
+        members,
+        manoeuvres: &child.manoeuvres,
+        crossovers: &child.crossovers,
+        split: child.split.as_ref(),
+    };
+    (y_child, view)
 }
 
 /// Mean of offsets (the default reference point of a group after a split).

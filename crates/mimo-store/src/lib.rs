@@ -24,6 +24,7 @@
 pub mod challenge_schema;
 pub mod columns;
 pub mod dwell_keys;
+pub mod failure_point_schema;
 pub mod invariants;
 pub mod lineage;
 pub mod manifest;
@@ -206,7 +207,7 @@ const PLAIN_COLUMNS: &[(&str, &str)] = &[
 /// The zstd level of every table's pages: −5, one of zstd's fast levels (valid levels run from
 /// −131 072 to 22). Against level 1 (the Parquet writer's default) it takes 5.5 % fewer
 /// instructions to simulate scenario 7 and 3 % fewer to score it, for 9 % more bytes
-/// (docs/DECISIONS.md, "Table encoding").
+/// (docs/decisions/0023-zstd-level-minus-5.md).
 const ZSTD_LEVEL: i32 = -5;
 
 /// Writer properties for a table of `schema`: fixed so that identical rows give identical bytes.
@@ -219,7 +220,8 @@ const ZSTD_LEVEL: i32 = -5;
 /// away); page statistics (min/max) only on the integer columns and `t_s`, the columns a reader
 /// may filter on (no reader of mimo uses them; computing them for every float was 2 % of
 /// `mimo simulate`); delta encoding for ids, the byte-stream split for distinct floats, plain
-/// values for every other number (docs/DECISIONS.md, "Table encoding"). Every Parquet reader
+/// values for every other number (docs/decisions/0019-plain-values-no-dictionaries.md,
+/// docs/decisions/0025-no-float-page-statistics.md). Every Parquet reader
 /// (polars, pyarrow, DuckDB, arrow-rs) reads them.
 pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
     use arrow::datatypes::DataType;
@@ -267,7 +269,7 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
 /// Most rows per data page. The Parquet writer's default cuts a page at 1 MiB or 20 000 rows,
 /// so each column of a sparse table (tracks, measurements: ~20 rows/s) kept a page open for
 /// several hundred seconds and its zstd context grew with it: a writer's memory followed the
-/// run's length (docs/DECISIONS.md, "Table encoding").
+/// run's length (docs/decisions/0021-small-pages-and-row-groups.md).
 pub const PAGE_ROWS: usize = 8192;
 
 /// Rows per Parquet row group (and most rows a table writer holds before writing them). The

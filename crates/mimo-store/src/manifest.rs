@@ -53,7 +53,7 @@ pub struct ParentCheck {
     pub manifest_fnv1a64: String,
 }
 
-/// Most Monte Carlo runs a manifest may list (docs/DECISIONS.md "Bounds"): far above any
+/// Most Monte Carlo runs a manifest may list (docs/decisions/0035-bounds-and-exit-statuses.md): far above any
 /// study, far below what would exhaust a file system's directory entries.
 pub const MAX_RUNS: u32 = 100_000;
 

@@ -1,6 +1,6 @@
-//! Who may write an output path (docs/design.md §7, docs/DECISIONS.md "Outputs: --force, locks
-//! and clean-up"): the one owner of these rules for run directories and for the plain files the
-//! commands write (maps, HTML pages).
+//! Who may write an output path (docs/design.md §7,
+//! docs/decisions/0034-force-locks-and-interrupts.md): the one owner of these rules for run
+//! directories and for the plain files the commands write (maps, HTML pages).
 //!
 //! * **`--force` replaces only what mimo made**: a directory holding `manifest.json`, or an empty
 //!   directory. Anything else — a user's folder, a plain file — is refused, even with `--force`.

@@ -451,12 +451,13 @@ pub const STUDY_SUMMARY: TableSpec = TableSpec {
 pub const ALL_TABLES: [TableSpec; 6] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS];
 
 /// The tables a study writes.
-pub const STUDY_TABLES: [TableSpec; 5] = [
+pub const STUDY_TABLES: [TableSpec; 6] = [
     STUDY_RESULTS,
     STUDY_COSTS,
     STUDY_SUMMARY,
     crate::challenge_schema::STUDY_CHALLENGE,
     crate::challenge_schema::STUDY_CHALLENGE_RATIOS,
+    crate::failure_point_schema::STUDY_FAILURE_POINTS,
 ];
 
 /// Look up a table by name.

@@ -24,6 +24,18 @@ pub fn resamples(seed: u64, runs: usize, count: usize) -> Vec<Vec<usize>> {
         .collect()
 }
 
+/// `count` resamples of `runs` run indices for the independent sample `key` (a grid point
+/// whose runs share no random draws with the others'): a stream of its own per key, so that
+/// the resamples of different keys are independent.
+pub fn resamples_keyed(seed: u64, key: u64, runs: usize, count: usize) -> Vec<Vec<usize>> {
+    (0..count)
+        .map(|b| {
+            let mut s = Stream::new(seed, &[STREAM_KEY, runs as u64, b as u64, key]);
+            (0..runs).map(|_| s.below(runs.max(1) as u64) as usize).collect()
+        })
+        .collect()
+}
+
 /// A bootstrap replicate of a figure that a sweep may leave open on one side.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Replicate {
@@ -48,14 +60,13 @@ impl Replicate {
     }
 }
 
-/// The 95 % percentile interval of the defined replicates by nearest rank (the
-/// ⌈0.025 n⌉-th and ⌈0.975 n⌉-th smallest): its ends are replicates, so it lies inside any
-/// bounds the figure has. An end that falls on a censored replicate is `None` (outside the
-/// sweep). `(None, None)` with no defined replicate.
-pub fn percentile_95(reps: &[Replicate]) -> (Option<f64>, Option<f64>) {
+/// The ends of the 95 % percentile interval of the defined replicates by nearest rank (the
+/// ⌈0.025 n⌉-th and ⌈0.975 n⌉-th smallest, censored replicates ranked below and above every
+/// value): `None` with no defined replicate. An end may itself be censored.
+pub fn percentile_95_ends(reps: &[Replicate]) -> Option<(Replicate, Replicate)> {
     let mut r: Vec<Replicate> = reps.iter().copied().filter(|x| *x != Replicate::Undefined).collect();
     if r.is_empty() {
-        return (None, None);
+        return None;
     }
     r.sort_by(|a, b| {
         let (ka, va) = a.rank();
@@ -63,14 +74,20 @@ pub fn percentile_95(reps: &[Replicate]) -> (Option<f64>, Option<f64>) {
         ka.cmp(&kb).then(va.total_cmp(&vb))
     });
     let n = r.len();
-    let at = |q: f64| {
-        let rank = ((q * n as f64).ceil() as usize).clamp(1, n);
-        match r[rank - 1] {
-            Replicate::Value(v) => Some(v),
-            _ => None,
-        }
+    let at = |q: f64| r[((q * n as f64).ceil() as usize).clamp(1, n) - 1];
+    Some((at(0.025), at(0.975)))
+}
+
+/// The 95 % percentile interval of the defined replicates by nearest rank
+/// ([`percentile_95_ends`]): its ends are replicates, so it lies inside any bounds the figure
+/// has. An end that falls on a censored replicate is `None` (outside the sweep). `(None, None)`
+/// with no defined replicate.
+pub fn percentile_95(reps: &[Replicate]) -> (Option<f64>, Option<f64>) {
+    let value = |r: Replicate| match r {
+        Replicate::Value(v) => Some(v),
+        _ => None,
     };
-    (at(0.025), at(0.975))
+    percentile_95_ends(reps).map_or((None, None), |(lo, hi)| (value(lo), value(hi)))
 }
 
 #[cfg(test)]

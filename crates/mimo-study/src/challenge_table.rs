@@ -32,7 +32,7 @@ pub struct FamilyRow {
     pub challenge: Challenge,
 }
 
-fn point_runs(recs: &[ResultRow], knob: Option<f64>) -> PointRuns {
+pub(crate) fn point_runs(recs: &[ResultRow], knob: Option<f64>) -> PointRuns {
     let m = |r: &ResultRow, name: &str| if r.failure.is_some() { None } else { r.metric(name) };
     PointRuns {
         knob,

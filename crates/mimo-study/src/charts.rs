@@ -2,11 +2,13 @@
 //! `mimo_report::study`'s.
 
 use crate::challenge_table::FamilyRow;
+use crate::failure_point::numeric_interval;
+use crate::failure_table::FailureRow;
 use crate::grid::Cell;
 use crate::plan::Architecture;
-use crate::plan::{Axis, Plan};
+use crate::plan::Plan;
 use crate::tables::CellSummary;
-use mimo_report::study::{Estimate, FamilyPoint, StudyAxis, StudyCell, StudyCharts, StudyFamily};
+use mimo_report::study::{Estimate, FamilyPoint, StudyAxis, StudyCell, StudyCharts, StudyFailure, StudyFamily};
 use mimo_store::schema::STUDY_METRICS;
 
 /// The completeness the challenge requires.
@@ -51,8 +53,34 @@ fn frontier_families(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], row
         .collect()
 }
 
+/// The failure points as the stability charts mark them.
+fn failure_marks(plan: &Plan, failures: &[FailureRow]) -> Vec<StudyFailure> {
+    failures
+        .iter()
+        .map(|f| {
+            let (lo, hi, interval) = numeric_interval(f.point.interval, f.axis.harder_when_larger());
+            StudyFailure {
+                method: plan.methods[f.method].name.clone(),
+                scenario: plan.scenarios[f.scenario].label(),
+                axis: f.axis.name().to_string(),
+                status: f.point.failure.status().to_string(),
+                value: f.point.value,
+                lo,
+                hi,
+                interval: interval.to_string(),
+            }
+        })
+        .collect()
+}
+
 /// The charts' input.
-pub fn study_charts(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], families: &[FamilyRow]) -> StudyCharts {
+pub fn study_charts(
+    plan: &Plan,
+    cells: &[Cell],
+    summaries: &[CellSummary],
+    families: &[FamilyRow],
+    failures: &[FailureRow],
+) -> StudyCharts {
     let families = frontier_families(plan, cells, summaries, families);
     let cells = cells
         .iter()
@@ -85,10 +113,11 @@ pub fn study_charts(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], fami
                 name: a.name().to_string(),
                 label: a.label().to_string(),
                 values_by_stress: a.by_stress(values),
-                log: *a == Axis::Pfa,
+                log: a.log_scale(),
             })
             .collect(),
         families,
+        failures: failure_marks(plan, failures),
         cells,
         completeness_required: COMPLETENESS_REQUIRED,
     }

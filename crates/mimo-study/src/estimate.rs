@@ -4,7 +4,7 @@
 //! take ([`metric_range`]: completeness within [0, 1], counts and energies ≥ 0). Clipping a
 //! confidence interval to the parameter's range keeps its coverage (the true mean lies in the
 //! range), and the t interval keeps its coverage with the three to ten runs studies use, where
-//! a percentile bootstrap of the mean covers far less (docs/decisions/0148-bounded-intervals.md).
+//! a percentile bootstrap of the mean covers far less (docs/decisions/0148-challenge-statistics.md).
 
 /// Two-sided 95 % quantiles of Student's t for 1–30 degrees of freedom.
 const T975: [f64; 30] = [

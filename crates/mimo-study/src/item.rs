@@ -1,6 +1,7 @@
 //! One (cell, run) item from start to record: the closed-loop run ([`crate::execute`]), its
-//! tables written into the cell's run directory, the run scored on its own (completed runs only)
-//! and the [`ItemRecord`] written last.
+//! tables written into the cell's run directory, the run scored on its own (completed runs only),
+//! its tables deleted once scored unless the plan keeps them (`keep_runs`; a failed run's stay
+//! for a post-mortem), and the [`ItemRecord`] written last.
 
 use crate::execute::run_item;
 use crate::grid::Cell;
@@ -56,6 +57,27 @@ fn write_tables(
         out.insert(name.clone(), TableFile { file: rel, rows });
     }
     Ok(out)
+}
+
+/// Delete a scored run's table files (a file already gone is no error: an item redone after an
+/// interruption between the deletion and its record).
+fn delete_tables(cell_dir: &Path, tables: &BTreeMap<String, TableFile>) -> Result<(), StoreError> {
+    for tf in tables.values() {
+        let path = cell_dir.join(&tf.file);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(StoreError::Io { path, source: e }),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Remove the table directories of a cell that deleting its runs' tables left empty.
+pub fn remove_empty_table_dirs(cell_dir: &Path) {
+    for name in crate::plan::TABLES {
+        // Only an empty directory is removed; one that holds kept or failed runs' files stays.
+        let _ = std::fs::remove_dir(cell_dir.join(name));
+    }
 }
 
 /// Score one run from its files.
@@ -180,7 +202,7 @@ pub fn do_item(
 ) -> Result<ItemRecord, ItemError> {
     let (c0, w0) = (crate::cpu::thread_cpu(), std::time::Instant::now());
     let r = run_item(plan, cell, world, run);
-    let tables = write_tables(plan, cell_dir, run, &r.tables)?;
+    let mut tables = write_tables(plan, cell_dir, run, &r.tables)?;
     let usage = RunUsage::of(&r.tables.dwells, ScoreOptions::default().interval_s);
     drop(r.tables);
     let metrics = match &r.failure {
@@ -188,6 +210,11 @@ pub fn do_item(
         None => {
             let score = score_run(world, cell_dir, run)
                 .map_err(|e| ItemError::Score { dir: cell_dir.into(), source: Box::new(e) })?;
+            if !plan.keep_runs {
+                // Scored: the merge and the charts need only the record (docs/studies.md).
+                delete_tables(cell_dir, &tables)?;
+                tables.clear();
+            }
             metrics_of(&score, &usage)
         }
     };

@@ -135,6 +135,7 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
     }
     for (dir, m) in dirs.iter().zip(manifests) {
         write_atomic(&dir.join(MANIFEST_FILE), &m)?;
+        crate::item::remove_empty_table_dirs(dir);
     }
     write_results(plan, &prep.cells, &rows, out)?;
     let summaries = summarize(&rows);
@@ -142,13 +143,22 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
     let families = family_rows(plan, &prep.cells, &rows);
     let ratios = ratio_rows(plan, &prep.cells, &families);
     write_challenge(plan, &prep.cells, &families, &ratios, out)?;
-    let charts = crate::charts::study_charts(plan, &prep.cells, &summaries, &families);
+    let failures = crate::failure_table::failure_rows(plan, &prep.cells, &rows);
+    crate::failure_table::write_failure_points(plan, &failures, out)?;
+    let charts = crate::charts::study_charts(plan, &prep.cells, &summaries, &families, &failures);
     mimo_store::rundir::replace_dir(&out.join("charts"), |d: &Path| -> Result<(), StudyError> {
         mimo_report::study::render_study(&charts, d).map_err(|e| StudyError::Report(e.to_string()))?;
         Ok(())
     })?;
-    let challenge = crate::challenge_report::Challenge { families: &families, ratios: &ratios };
-    let report = crate::report::report_md(plan, &prep.cells, &summaries, &rows, &challenge, &charts);
+    let study = crate::report::StudyFigures {
+        plan,
+        cells: &prep.cells,
+        summaries: &summaries,
+        records: &rows,
+        challenge: crate::challenge_report::Challenge { families: &families, ratios: &ratios },
+        failures: &failures,
+    };
+    let report = crate::report::report_md(&study, &charts);
     write_atomic(&out.join("report.md"), &report)?;
     let failed = summaries.iter().map(|s| s.failed as usize).sum();
     Ok(Merged { items: rows.iter().map(Vec::len).sum(), failed })

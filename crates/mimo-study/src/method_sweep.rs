@@ -96,9 +96,9 @@ pub(crate) fn read_knob(ctx: &Ctx, p: &str, v: &Toml) -> Result<Knob, PlanError>
 }
 
 /// Read `methods[i].architecture`, or infer it from the method's configuration.
-pub(crate) fn read_architecture(ctx: &Ctx, p: &str, v: Option<&Toml>, m: &Method) -> Result<Architecture, PlanError> {
+pub(crate) fn read_architecture(ctx: &Ctx, p: &str, v: Option<&str>, m: &Method) -> Result<Architecture, PlanError> {
     match v {
-        Some(v) => match ctx.string(&format!("{p}.architecture"), v)? {
+        Some(v) => match v {
             "mimo" => Ok(Architecture::Mimo),
             "conventional" => Ok(Architecture::Conventional),
             o => {

@@ -10,6 +10,7 @@
 //! seed = 20261122                           # optional
 //! sweep = "grid"                            # "grid" (every combination) or "each" (one axis at a time)
 //! tables = ["truth", "dwells", "measurements", "tracks"]   # optional: what each cell records
+//! keep_runs = false                         # optional: keep each run's tables once it is scored
 //!
 //! [[methods]]
 //! name = "mimo-ekf"                         # its label on every chart
@@ -36,18 +37,16 @@
 //! Every error names the plan file, the key path (`methods[1].config.resource_manager.mimoo`)
 //! and what was expected; nothing is run or written before the whole plan is checked.
 
-use crate::method_sweep;
 pub use crate::method_sweep::Architecture;
 use mimo_scenario::stress::{StressError, bounds, check};
 use mimo_ta::overrides::ConfigError;
-use mimo_ta::registry;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use toml::Value as Toml;
 
-/// A bad plan: the file, the key path and what was expected.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{file}: {key}: {expected}")]
+/// A bad plan: the file (with the line and column of a TOML error), the key path and what was
+/// expected.
+#[derive(Debug, Clone, PartialEq)]
 pub struct PlanError {
     /// The plan file.
     pub file: String,
@@ -55,7 +54,20 @@ pub struct PlanError {
     pub key: String,
     /// What was expected.
     pub expected: String,
+    /// Line and column (from 1) of a TOML error: bad syntax, an unknown key, a wrong type.
+    pub at: Option<(usize, usize)>,
 }
+
+impl std::fmt::Display for PlanError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.at {
+            Some((line, col)) => write!(f, "{}:{line}:{col}: {}: {}", self.file, self.key, self.expected),
+            None => write!(f, "{}: {}: {}", self.file, self.key, self.expected),
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
 
 /// A scenario of the plan.
 #[derive(Debug, Clone, PartialEq)]
@@ -115,8 +127,9 @@ pub struct Method {
     pub architecture: Architecture,
 }
 
-/// A stress axis of a study.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+/// A stress axis of a study (its key in plans is the snake-case name, [`Axis::name`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Axis {
     /// Added to every target's RCS (dB).
     RcsOffsetDb,
@@ -183,6 +196,11 @@ impl Axis {
         matches!(self, Axis::Pfa | Axis::RaidTargets)
     }
 
+    /// Whether values are compared, drawn and interpolated on log10 of the value.
+    pub fn log_scale(self) -> bool {
+        matches!(self, Axis::Pfa)
+    }
+
     /// Values ordered from the least to the most stressing.
     pub fn by_stress(self, values: &[f64]) -> Vec<f64> {
         let mut v = values.to_vec();
@@ -190,7 +208,7 @@ impl Axis {
         v
     }
 
-    fn check(self, v: f64) -> Result<(), String> {
+    pub(crate) fn check(self, v: f64) -> Result<(), String> {
         let r = |b| {
             check(self.name(), v, b)
                 .map_err(|e: StressError| format!("expected a value in [{}, {}], got {v}", e.lo, e.hi))
@@ -268,6 +286,9 @@ pub struct Plan {
     pub axes: Vec<(Axis, Vec<f64>)>,
     /// Tables each cell records.
     pub tables: Vec<String>,
+    /// Keep every run's tables in its cell directory; by default a completed run's tables are
+    /// deleted once it is scored (docs/studies.md, "What a study writes").
+    pub keep_runs: bool,
     /// Failure limits.
     pub limits: Limits,
 }
@@ -278,17 +299,7 @@ pub(crate) struct Ctx<'a> {
 
 impl Ctx<'_> {
     pub(crate) fn err(&self, key: impl Into<String>, expected: impl Into<String>) -> PlanError {
-        PlanError { file: self.file.to_string(), key: key.into(), expected: expected.into() }
-    }
-
-    fn known(&self, t: &toml::Table, prefix: &str, keys: &[&str]) -> Result<(), PlanError> {
-        for k in t.keys() {
-            if !keys.contains(&k.as_str()) {
-                let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
-                return Err(self.err(key, format!("unknown key (expected one of: {})", keys.join(", "))));
-            }
-        }
-        Ok(())
+        PlanError { file: self.file.to_string(), key: key.into(), expected: expected.into(), at: None }
     }
 
     pub(crate) fn number(&self, key: &str, v: &Toml) -> Result<f64, PlanError> {
@@ -297,10 +308,6 @@ impl Ctx<'_> {
             Toml::Integer(i) => Ok(*i as f64),
             _ => Err(self.err(key, format!("expected a finite number, got {v}"))),
         }
-    }
-
-    pub(crate) fn string<'v>(&self, key: &str, v: &'v Toml) -> Result<&'v str, PlanError> {
-        v.as_str().ok_or_else(|| self.err(key, format!("expected a string, got {v}")))
     }
 }
 
@@ -318,69 +325,6 @@ pub(crate) fn config_err(ctx: &Ctx, prefix: &str, e: ConfigError) -> PlanError {
     }
 }
 
-/// The methods of entry `methods[i]`: one, or one per value of its sweep.
-fn method(ctx: &Ctx, i: usize, v: &Toml) -> Result<Vec<Method>, PlanError> {
-    let p = format!("methods[{i}]");
-    let t = v.as_table().ok_or_else(|| ctx.err(&p, "expected a table with name and ta (or ta_cmd)"))?;
-    ctx.known(t, &p, &["name", "ta", "ta_cmd", "config", "sweep", "architecture"])?;
-    let knob = t.get("sweep").map(|k| method_sweep::read_knob(ctx, &p, k)).transpose()?;
-    let name = ctx.string(
-        &format!("{p}.name"),
-        t.get("name").ok_or_else(|| ctx.err(format!("{p}.name"), "missing: every method needs a name"))?,
-    )?;
-    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c)) {
-        return Err(ctx.err(
-            format!("{p}.name"),
-            format!("expected letters, digits, '-', '_' or '.' (it names a directory), got '{name}'"),
-        ));
-    }
-    let overrides = match t.get("config") {
-        None => Value::Object(serde_json::Map::new()),
-        Some(c) if c.is_table() => {
-            mimo_ta::overrides::toml_to_json(c, "").map_err(|e| config_err(ctx, &format!("{p}.config"), e))?
-        }
-        Some(c) => return Err(ctx.err(format!("{p}.config"), format!("expected a table, got {c}"))),
-    };
-    let ta = match (t.get("ta"), t.get("ta_cmd")) {
-        (Some(_), Some(_)) => return Err(ctx.err(&p, "expected either ta or ta_cmd, not both")),
-        (None, None) => {
-            return Err(ctx.err(format!("{p}.ta"), "missing: a built-in test article (ta) or a command (ta_cmd)"));
-        }
-        (Some(ta), None) => {
-            let ta = ctx.string(&format!("{p}.ta"), ta)?;
-            let config =
-                registry::resolve_config(ta, &overrides).map_err(|e| config_err(ctx, &format!("{p}.config"), e))?;
-            if !registry::builtin(ta).is_ok_and(|b| b.tracks) {
-                return Err(ctx.err(format!("{p}.ta"), format!("'{ta}' forms no tracks: a study compares trackers")));
-            }
-            MethodTa::Builtin { ta: ta.to_string(), config }
-        }
-        (None, Some(cmd)) => {
-            let cmd = ctx.string(&format!("{p}.ta_cmd"), cmd)?;
-            if shlex_ok(cmd) {
-                MethodTa::Process { cmd: cmd.to_string(), config: overrides.clone() }
-            } else {
-                return Err(ctx.err(format!("{p}.ta_cmd"), "expected a command line (not empty, quotes balanced)"));
-            }
-        }
-    };
-    let mut m = Method {
-        name: name.to_string(),
-        ta,
-        overrides,
-        family: name.to_string(),
-        knob: None,
-        knob_value: None,
-        architecture: Architecture::Mimo,
-    };
-    m.architecture = method_sweep::read_architecture(ctx, &p, t.get("architecture"), &m)?;
-    method_sweep::expand(ctx, &p, m, knob)
-}
-
-fn shlex_ok(cmd: &str) -> bool {
-    mimo_ta::process::split_command(cmd).is_some()
-}
-
 impl Plan {
     /// Read and check a plan file.
     pub fn read(path: &Path) -> Result<Plan, PlanError> {
@@ -390,186 +334,12 @@ impl Plan {
         Plan::parse(&text, path)
     }
 
-    /// Check a plan's text (`path` names it and anchors relative scenario files).
+    /// Check a plan's text (`path` names it and anchors relative scenario files): its keys and
+    /// their types by serde (module `plan_toml`), then its values (module `plan_check`).
     pub fn parse(text: &str, path: &Path) -> Result<Plan, PlanError> {
         let file = path.display().to_string();
         let ctx = Ctx { file: &file };
-        let t: toml::Table = toml::from_str(text).map_err(|e| {
-            let at = e.span().map(|s| {
-                let before = &text[..s.start.min(text.len())];
-                format!("line {}", before.matches('\n').count() + 1)
-            });
-            ctx.err(at.unwrap_or_else(|| "(toml)".into()), format!("not valid TOML: {}", e.message()))
-        })?;
-        ctx.known(
-            &t,
-            "",
-            &[
-                "title",
-                "scenarios",
-                "runs",
-                "duration_s",
-                "fidelity",
-                "seed",
-                "sweep",
-                "tables",
-                "methods",
-                "axes",
-                "limits",
-            ],
-        )?;
-        let title = match t.get("title") {
-            Some(v) => ctx.string("title", v)?.to_string(),
-            None => path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default(),
-        };
-        let base = path.parent().unwrap_or(Path::new("."));
-        let scenarios = match t.get("scenarios") {
-            Some(Toml::Array(a)) if !a.is_empty() => a
-                .iter()
-                .enumerate()
-                .map(|(i, v)| match v {
-                    Toml::Integer(n) if (1..=i64::from(*mimo_scenario::STANDARD_SCENARIOS.end())).contains(n) => {
-                        Ok(ScenarioRef::Standard(*n as u32))
-                    }
-                    Toml::String(s) => Ok(ScenarioRef::File(base.join(s))),
-                    _ => Err(ctx.err(
-                        format!("scenarios[{i}]"),
-                        format!("expected a standard scenario number 1–7 or a file path, got {v}"),
-                    )),
-                })
-                .collect::<Result<Vec<_>, _>>()?,
-            _ => return Err(ctx.err("scenarios", "expected a non-empty list of scenario numbers or paths")),
-        };
-        let runs = match t.get("runs") {
-            Some(Toml::Integer(n)) if (1..=i64::from(MAX_RUNS)).contains(n) => *n as u32,
-            Some(v) => {
-                return Err(ctx.err("runs", format!("expected a whole number of runs from 1 to {MAX_RUNS}, got {v}")));
-            }
-            None => return Err(ctx.err("runs", "missing: Monte Carlo runs per cell")),
-        };
-        let duration_s = match t.get("duration_s") {
-            Some(v) => {
-                let d = ctx.number("duration_s", v)?;
-                if !(d > 0.0 && d <= mimo_scenario::MAX_DURATION_S) {
-                    return Err(ctx.err(
-                        "duration_s",
-                        format!("expected seconds in (0, {}], got {d}", mimo_scenario::MAX_DURATION_S),
-                    ));
-                }
-                Some(d)
-            }
-            None => None,
-        };
-        let fidelity = match t.get("fidelity").map(|v| ctx.string("fidelity", v)).transpose()? {
-            None => None,
-            Some(l) => Some(mimo_core::params::FidelityLevel::parse(l).ok_or_else(|| {
-                ctx.err("fidelity", format!("expected \"voltage\", \"measurement\" or \"auto\", got \"{l}\""))
-            })?),
-        };
-        let seed = match t.get("seed") {
-            Some(Toml::Integer(n)) if *n >= 0 => *n as u64,
-            Some(v) => return Err(ctx.err("seed", format!("expected a whole number >= 0, got {v}"))),
-            None => mimo_sim::DEFAULT_SEED,
-        };
-        let sweep = match t.get("sweep").map(|v| ctx.string("sweep", v)).transpose()? {
-            None | Some("grid") => Sweep::Grid,
-            Some("each") => Sweep::Each,
-            Some(o) => return Err(ctx.err("sweep", format!("expected \"grid\" or \"each\", got \"{o}\""))),
-        };
-        let tables = match t.get("tables") {
-            None => ["truth", "dwells", "measurements", "tracks"].map(String::from).to_vec(),
-            Some(Toml::Array(a)) => {
-                let mut out = Vec::new();
-                for (i, v) in a.iter().enumerate() {
-                    let s = ctx.string(&format!("tables[{i}]"), v)?;
-                    if !TABLES.contains(&s) {
-                        return Err(ctx.err(format!("tables[{i}]"), format!("expected one of {}", TABLES.join(", "))));
-                    }
-                    out.push(s.to_string());
-                }
-                for needed in ["truth", "dwells", "tracks"] {
-                    if !out.iter().any(|x| x == needed) {
-                        return Err(ctx
-                            .err("tables", format!("must include {needed} (scoring reads truth, dwells and tracks)")));
-                    }
-                }
-                out
-            }
-            Some(v) => return Err(ctx.err("tables", format!("expected a list of table names, got {v}"))),
-        };
-        let entries = match t.get("methods") {
-            Some(Toml::Array(a)) if !a.is_empty() => {
-                a.iter().enumerate().map(|(i, v)| method(&ctx, i, v)).collect::<Result<Vec<_>, _>>()?
-            }
-            _ => return Err(ctx.err("methods", "expected at least one [[methods]] table")),
-        };
-        // Entry names never hold '@', so distinct entries expand into distinct method names.
-        for (i, m) in entries.iter().enumerate() {
-            if entries[..i].iter().any(|o| o[0].family == m[0].family) {
-                return Err(ctx.err(
-                    format!("methods[{i}].name"),
-                    format!("'{}' is used twice: method names label charts and directories", m[0].family),
-                ));
-            }
-        }
-        let methods: Vec<Method> = entries.into_iter().flatten().collect();
-        let mut axes = Vec::new();
-        if let Some(a) = t.get("axes") {
-            let at = a.as_table().ok_or_else(|| ctx.err("axes", "expected a table of axis = [values]"))?;
-            let names: Vec<&str> = Axis::ALL.iter().map(|a| a.name()).collect();
-            ctx.known(at, "axes", &names)?;
-            for axis in Axis::ALL {
-                let Some(v) = at.get(axis.name()) else { continue };
-                let key = format!("axes.{}", axis.name());
-                let list = v
-                    .as_array()
-                    .filter(|l| !l.is_empty())
-                    .ok_or_else(|| ctx.err(&key, "expected a non-empty list of values"))?;
-                let mut values = Vec::new();
-                for (i, x) in list.iter().enumerate() {
-                    let k = format!("{key}[{i}]");
-                    let x = ctx.number(&k, x)?;
-                    axis.check(x).map_err(|e| ctx.err(&k, e))?;
-                    if values.contains(&x) {
-                        return Err(ctx.err(&k, format!("{x} is listed twice")));
-                    }
-                    values.push(x);
-                }
-                axes.push((axis, values));
-            }
-        }
-        let mut limits = Limits::default();
-        if let Some(l) = t.get("limits") {
-            let lt = l.as_table().ok_or_else(|| ctx.err("limits", "expected a table"))?;
-            ctx.known(lt, "limits", &["wall_s_per_run", "max_tracks"])?;
-            if let Some(v) = lt.get("wall_s_per_run") {
-                let x = ctx.number("limits.wall_s_per_run", v)?;
-                if x <= 0.0 {
-                    return Err(ctx.err("limits.wall_s_per_run", "expected a positive number of seconds"));
-                }
-                limits.wall_s_per_run = x;
-            }
-            if let Some(v) = lt.get("max_tracks") {
-                match v {
-                    Toml::Integer(n) if *n >= 1 => limits.max_tracks = *n as u64,
-                    _ => return Err(ctx.err("limits.max_tracks", format!("expected a whole number >= 1, got {v}"))),
-                }
-            }
-        }
-        Ok(Plan {
-            file: path.to_path_buf(),
-            title,
-            scenarios,
-            runs,
-            duration_s,
-            fidelity,
-            seed,
-            sweep,
-            methods,
-            axes,
-            tables,
-            limits,
-        })
+        crate::plan_toml::read(text, &file)?.validate(&ctx, path)
     }
 }
 
@@ -652,9 +422,71 @@ search_pulses = [1, 2]
             assert_ne!(text, GOOD, "case {key}: replacement did not apply");
             let e = parse(&text).expect_err(key);
             assert_eq!(e.key, *key, "{e}");
-            assert!(e.to_string().starts_with("studies/x.toml: "), "{e}");
+            // A TOML error (an unknown key, a wrong type) also gives the line and column.
+            let at = e.at.map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default();
+            assert!(e.to_string().starts_with(&format!("studies/x.toml{at}: {key}: ")), "{e}");
         }
         let e = parse("runs = [").expect_err("toml");
         assert!(e.expected.contains("not valid TOML"), "{e}");
+        assert_eq!(e.at, Some((1, 9)), "{e}");
+    }
+
+    #[test]
+    fn toml_type_errors_name_the_line_the_key_path_and_the_expectation() {
+        let cases: &[(&str, &str, &str)] = &[
+            (
+                "runs = 2",
+                "runs = \"2\"",
+                "studies/x.toml:4:8: runs: expected a whole number of runs from 1 to 10000, got \"2\"",
+            ),
+            (
+                "runs = 2",
+                "runs = 2.5",
+                "studies/x.toml:4:8: runs: expected a whole number of runs from 1 to 10000, got 2.5",
+            ),
+            (
+                "config = { resource_manager = { mimo = false } }",
+                "config = 3",
+                "studies/x.toml:12:10: methods[1].config: expected a table of the test article's configuration, got 3",
+            ),
+            (
+                "name = \"conv\"",
+                "name = \"conv\"\ntracker = \"x\"",
+                "studies/x.toml:11:1: methods[1].tracker: unknown key (expected one of: name, ta, ta_cmd, config, sweep, \
+                 architecture)",
+            ),
+            (
+                "pfa = [1e-6, 1e-5]",
+                "pfa = [1e-6, \"x\"]",
+                "studies/x.toml:17:14: axes.pfa[1]: expected a number, got \"x\"",
+            ),
+            (
+                "pfa = [1e-6, 1e-5]",
+                "pfa = 1e-6",
+                "studies/x.toml:17:7: axes.pfa: expected a non-empty list of numbers, got 1e-6",
+            ),
+            (
+                "runs = 2",
+                "runs = 2\nkeep_runs = \"yes\"",
+                "studies/x.toml:5:13: keep_runs: expected true or false, got \"yes\"",
+            ),
+            (
+                "search_pulses = [1, 2]",
+                "search_pulses = [1, 2]\n[limits]\nmax_tracks = 1.5",
+                "studies/x.toml:20:14: limits.max_tracks: expected a whole number >= 1, got 1.5",
+            ),
+            (
+                "scenarios = [7, \"mine.toml\"]",
+                "scenarios = 7",
+                "studies/x.toml:3:13: scenarios: expected a non-empty list of scenario numbers or paths, got 7",
+            ),
+        ];
+        for (from, to, want) in cases {
+            let text = GOOD.replacen(from, to, 1);
+            assert_ne!(text, GOOD, "{want}: replacement did not apply");
+            assert_eq!(parse(&text).expect_err(want).to_string(), *want);
+        }
+        assert!(parse(&GOOD.replacen("runs = 2", "runs = 2\nkeep_runs = true", 1)).expect("plan").keep_runs);
+        assert!(!parse(GOOD).expect("plan").keep_runs, "deleted once scored by default");
     }
 }

@@ -39,8 +39,12 @@ pub fn search_of(cell: &Cell) -> SearchConfig {
 }
 
 fn load(plan: &Plan, i: usize) -> Result<Scenario, PlanError> {
-    let err =
-        |e: String| PlanError { file: plan.file.display().to_string(), key: format!("scenarios[{i}]"), expected: e };
+    let err = |e: String| PlanError {
+        file: plan.file.display().to_string(),
+        key: format!("scenarios[{i}]"),
+        expected: e,
+        at: None,
+    };
     let mut s = match &plan.scenarios[i] {
         ScenarioRef::Standard(n) => mimo_scenario::load_standard(*n),
         ScenarioRef::File(p) => mimo_scenario::load_path(p),
@@ -75,6 +79,7 @@ pub fn prepare(plan: &Plan) -> Result<Prepared, PlanError> {
             file: plan.file.display().to_string(),
             key: format!("axes ({})", point.join(", ")),
             expected: format!("a scenario that can be flown: scenario {}: {e}", plan.scenarios[cell.scenario].label()),
+            at: None,
         };
         key.1.apply(&mut s).map_err(|e| fail(e.to_string()))?;
         let world = World::new(s).map_err(|e| fail(e.to_string()))?;

@@ -4,6 +4,7 @@
 
 use crate::challenge_report::{Challenge, challenge_md};
 use crate::charts::COMPLETENESS_REQUIRED;
+use crate::failure_table::FailureRow;
 use crate::grid::Cell;
 use crate::paired::paired_rows;
 use crate::plan::{MethodTa, Plan, Sweep};
@@ -14,7 +15,7 @@ use mimo_store::schema::STUDY_METRICS;
 use std::fmt::Write;
 
 /// A value as a reader writes it: `0.25`, `-3`, `1e-6` (paths use `grid::value_text`).
-fn value_text(v: f64) -> String {
+pub(crate) fn value_text(v: f64) -> String {
     if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e6) {
         crate::grid::value_text(v)
     } else {
@@ -58,18 +59,39 @@ fn meets(s: &CellSummary) -> bool {
     s.failed == 0 && s.estimates[k("completeness")].0.is_some_and(|c| c >= COMPLETENESS_REQUIRED)
 }
 
+/// What the report is written from.
+pub struct StudyFigures<'a> {
+    /// The plan.
+    pub plan: &'a Plan,
+    /// Every cell.
+    pub cells: &'a [Cell],
+    /// Every cell's summary.
+    pub summaries: &'a [CellSummary],
+    /// Every cell's rows, run by run.
+    pub records: &'a [Vec<ResultRow>],
+    /// The challenge figures.
+    pub challenge: Challenge<'a>,
+    /// Every method's failure points.
+    pub failures: &'a [FailureRow],
+}
+
 /// The report's Markdown text: it opens with the challenge table.
-pub fn report_md(
-    plan: &Plan,
-    cells: &[Cell],
-    sums: &[CellSummary],
-    records: &[Vec<ResultRow>],
-    challenge: &Challenge,
-    charts: &StudyCharts,
-) -> String {
+pub fn report_md(s: &StudyFigures, charts: &StudyCharts) -> String {
     let mut o = String::new();
-    let _ = writeln!(o, "# {}\n", plan.title);
-    o.push_str(&challenge_md(plan, cells, challenge));
+    let _ = writeln!(o, "# {}\n", s.plan.title);
+    o.push_str(&challenge_md(s.plan, s.cells, &s.challenge));
+    o.push_str(&setup_md(s.plan));
+    o.push_str(&energy_md(s));
+    o.push_str(&compute_md());
+    o.push_str(&crate::failure_report::failure_md(s.plan, s.failures, charts));
+    o.push_str(&paired_md(s.plan, s.cells, s.records));
+    o.push_str(&summary_md(s));
+    o
+}
+
+/// What was compared: scenarios and runs, the methods, the stress axes.
+fn setup_md(plan: &Plan) -> String {
+    let mut o = String::new();
     let dur = plan.duration_s.map(|d| format!("{d} s")).unwrap_or_else(|| "each scenario's own duration".into());
     let _ = writeln!(
         o,
@@ -111,7 +133,13 @@ pub fn report_md(
             let _ = writeln!(o, "- `{}` ({}): {}", a.name(), a.label(), vals.join(", "));
         }
     }
+    o
+}
 
+/// The energy chart and, per scenario, the method that meets the requirement for the least energy.
+fn energy_md(s: &StudyFigures) -> String {
+    let (plan, cells, sums) = (s.plan, s.cells, s.summaries);
+    let mut o = String::new();
     let _ = writeln!(o, "\n## Energy against completeness\n");
     let _ = writeln!(
         o,
@@ -123,11 +151,12 @@ pub fn report_md(
          intervals of the Monte Carlo means; triangles mark where a curve crosses the requirement, with the \
          bootstrap interval of its energy.\n"
     );
-    for (si, s) in plan.scenarios.iter().enumerate() {
-        let base: Vec<usize> =
-            (0..cells.len()).filter(|&c| cells[c].scenario == si && crate::charts::is_baseline(&cells[c])).collect();
+    for (si, sc) in plan.scenarios.iter().enumerate() {
         let mut seen = std::collections::BTreeSet::new();
-        let base: Vec<usize> = base.into_iter().filter(|&c| seen.insert(cells[c].method)).collect();
+        let base: Vec<usize> = (0..cells.len())
+            .filter(|&c| cells[c].scenario == si && crate::charts::is_baseline(&cells[c]))
+            .filter(|&c| seen.insert(cells[c].method))
+            .collect();
         if base.is_empty() {
             continue;
         }
@@ -144,62 +173,25 @@ pub fn report_md(
             ),
             None => format!("no method meets {} % completeness", 100.0 * COMPLETENESS_REQUIRED),
         };
-        let _ = writeln!(o, "- Scenario {}: {line}.", s.label());
+        let _ = writeln!(o, "- Scenario {}: {line}.", sc.label());
     }
+    o
+}
 
-    let _ = writeln!(o, "\n## Compute against accuracy\n");
-    let _ = writeln!(
-        o,
-        "![compute against accuracy](charts/compute_vs_accuracy.png)\n\n\
-         x: compute inside the test article per simulated second, in reference EKF cycles (`ta_cpu_kfu` of \
-         `costs.parquet`: CPU time ÷ the CPU time of one 6-state EKF predict + update measured on the same \
-         machine; CPU seconds when a run lacks the reference); y: position RMSE and GOSPA (c = 1000 m, p = 2).\n"
-    );
+/// The compute chart.
+fn compute_md() -> String {
+    "\n## Compute against accuracy\n\n\
+     ![compute against accuracy](charts/compute_vs_accuracy.png)\n\n\
+     x: compute inside the test article per simulated second, in reference EKF cycles (`ta_cpu_kfu` of \
+     `costs.parquet`: CPU time ÷ the CPU time of one 6-state EKF predict + update measured on the same \
+     machine; CPU seconds when a run lacks the reference); y: position RMSE and GOSPA (c = 1000 m, p = 2).\n\n"
+        .to_string()
+}
 
-    if !charts.axes.is_empty() {
-        let _ = writeln!(o, "## Where each method fails\n");
-        for ax in &charts.axes {
-            let _ = writeln!(o, "![stability against {0}](charts/stability_{0}.png)\n", ax.name);
-        }
-        let _ = writeln!(
-            o,
-            "The failure point is the first value, from the least to the most stressing, where the mean \
-             completeness falls below {} % or a run fails (crosses on the charts).\n",
-            100.0 * COMPLETENESS_REQUIRED
-        );
-        let _ = writeln!(
-            o,
-            "| method | scenario | {} |",
-            charts.axes.iter().map(|a| a.name.as_str()).collect::<Vec<_>>().join(" | ")
-        );
-        let _ = writeln!(o, "|---|---|{}", "---|".repeat(charts.axes.len()));
-        for (mi, m) in plan.methods.iter().enumerate() {
-            for (si, s) in plan.scenarios.iter().enumerate() {
-                let mut row = format!("| {} | {} |", m.name, s.label());
-                for (a, values) in &plan.axes {
-                    let at = a.by_stress(values).into_iter().find(|v| {
-                        cells.iter().zip(sums).any(|(c, sm)| {
-                            c.method == mi
-                                && c.scenario == si
-                                && c.value(*a) == Some(*v)
-                                && (c.swept.is_none_or(|x| x == *a))
-                                && !meets(sm)
-                        })
-                    });
-                    let _ = write!(
-                        row,
-                        " {} |",
-                        at.map(|v| format!("fails at {}", value_text(v)))
-                            .unwrap_or_else(|| "holds over the range".into())
-                    );
-                }
-                let _ = writeln!(o, "{row}");
-            }
-        }
-        let _ = writeln!(o);
-    }
-
-    o.push_str(&paired_md(plan, cells, records));
+/// The summary table of every cell and the list of failed runs.
+fn summary_md(s: &StudyFigures) -> String {
+    let (plan, cells, sums) = (s.plan, s.cells, s.summaries);
+    let mut o = String::new();
     let _ = writeln!(o, "## Summary\n");
     let _ = writeln!(
         o,
@@ -234,16 +226,14 @@ pub fn report_md(
         .iter()
         .zip(sums)
         .filter_map(|(c, s)| {
-            s.failure.as_ref().map(|f| {
-                format!(
-                    "- {} / scenario {} / {}: {} of {} runs failed; the first: {f}",
-                    plan.methods[c.method].name,
-                    plan.scenarios[c.scenario].label(),
-                    point_text(c),
-                    s.failed,
-                    s.runs
-                )
-            })
+            let f = s.failure.as_ref()?;
+            let (m, sc) = (&plan.methods[c.method].name, plan.scenarios[c.scenario].label());
+            Some(format!(
+                "- {m} / scenario {sc} / {}: {} of {} runs failed; the first: {f}",
+                point_text(c),
+                s.failed,
+                s.runs
+            ))
         })
         .collect();
     if !failures.is_empty() {

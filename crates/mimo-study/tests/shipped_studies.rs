@@ -2,8 +2,9 @@
 //! holding `plan.toml`), one (cell, run) item is re-run from the plan and its metrics must equal
 //! the committed `results.parquet` row bit for bit. The item is the cheapest cell's run 0: the
 //! cell with the shortest simulated duration, then the fewest targets, then the first in grid
-//! order. A study directory without `results.parquet` fails (regenerate it with
-//! `scripts/studies.sh` and commit the tables); a directory without `plan.toml` is not a study.
+//! order. A study directory without `results.parquet` or `MADE_BY.md`, or whose `plan.toml` is
+//! no longer the plan of the same name under `studies/`, fails (regenerate it with
+//! `scripts/studies.sh` and commit it); a directory without `plan.toml` is not a study.
 //! The check itself is tested on a small study generated into a temporary directory, and on a
 //! tampered copy of its results.
 
@@ -38,6 +39,24 @@ fn float(b: &RecordBatch, col: &str, i: usize) -> Result<Option<f64>, String> {
     Ok(f.is_valid(i).then(|| f.value(i)))
 }
 
+/// A shipped study says how it was made, and its plan is still the one under `studies/` of the
+/// same name (a plan edited since is a stale study), when there is one.
+fn check_made_by(dir: &Path) -> Result<(), String> {
+    if !dir.join("MADE_BY.md").is_file() {
+        return Err(format!("{}: no MADE_BY.md: regenerate with scripts/studies.sh", dir.display()));
+    }
+    let name = dir.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies").join(format!("{name}.toml"));
+    let read = |p: &Path| std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()));
+    if source.is_file() && read(&source)? != read(&dir.join("plan.toml"))? {
+        return Err(format!(
+            "{}: plan.toml differs from studies/{name}.toml: regenerate with scripts/studies.sh {name}",
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
 /// Check one directory: `Ok(None)` when it is not a study, `Ok(Some(item))` naming the item
 /// re-run when its metrics match, `Err` saying what is stale or missing.
 fn check_study(dir: &Path) -> Result<Option<String>, String> {
@@ -49,6 +68,7 @@ fn check_study(dir: &Path) -> Result<Option<String>, String> {
     if !results.is_file() {
         return Err(format!("{}: no results.parquet: regenerate with scripts/studies.sh and commit it", dir.display()));
     }
+    check_made_by(dir)?;
     let plan = Plan::read(&plan_file).map_err(|e| e.to_string())?;
     let prep = prepare(&plan).map_err(|e| e.to_string())?;
     let cost = |c: usize| {
@@ -178,6 +198,8 @@ fn the_check_passes_on_a_fresh_study_and_catches_a_changed_metric() {
     let (cpu, kf, kfu) = (cpu.expect("c").expect("c"), kf.expect("k").expect("k"), kfu.expect("u").expect("u"));
     assert!(kf > 0.0 && kfu == cpu / kf, "{cpu} / {kf} = {kfu}");
 
+    assert!(check_study(&out).expect_err("no MADE_BY.md").contains("MADE_BY.md"));
+    std::fs::write(out.join("MADE_BY.md"), "made by this test\n").expect("made by");
     let item = check_study(&out).expect("a fresh study is not stale").expect("a study");
     assert_eq!(item, "method=conv/scenario=1/rcs_offset_db=0 run 0", "the first cheapest cell");
 
@@ -191,6 +213,14 @@ fn the_check_passes_on_a_fresh_study_and_catches_a_changed_metric() {
     tamper(&out.join("results.parquet"), "completeness", 0, was);
     tamper(&out.join("results.parquet"), "gospa_m", 3, 1.0);
     assert!(check_study(&out).is_ok());
+
+    // A study named like a shipped plan whose plan is no longer that plan is stale.
+    let named = tmp.path().join("challenge");
+    std::fs::create_dir(&named).expect("dir");
+    for f in ["plan.toml", "results.parquet", "MADE_BY.md"] {
+        std::fs::copy(out.join(f), named.join(f)).expect("copy");
+    }
+    assert!(check_study(&named).expect_err("another plan").contains("differs from studies/challenge.toml"));
 
     // Without results.parquet the study fails the check; a directory without a plan is no study.
     std::fs::remove_file(out.join("results.parquet")).expect("rm");

@@ -61,16 +61,24 @@ fn shards_and_resume_give_the_bytes_of_one_run() {
     let whole = tmp.path().join("whole");
     let o = run_study(&p, PLAN, &opts(&whole), &|_, _| {}).expect("study");
     assert_eq!((o.items, o.ran, o.skipped, o.failed, o.merged.map(|m| m.items)), (8, 8, 0, 0, Some(8)));
-    for f in ["results.parquet", "costs.parquet", "summary.parquet", "report.md", "charts/energy_vs_completeness.png"] {
+    let files = ["results.parquet", "costs.parquet", "summary.parquet", "failure_points.parquet", "report.md"];
+    for f in files.iter().chain(&["charts/energy_vs_completeness.png"]) {
         assert!(whole.join(f).is_file(), "{f}");
     }
     assert!(whole.join("charts/stability_rcs_offset_db.svg").is_file());
-    // A cell is an ordinary run directory.
+    // A cell keeps its manifest and its runs' records; the runs' tables went once scored.
     let cell = whole.join("runs/method=mimo/scenario=1/rcs_offset_db=-6");
     let m = mimo_store::manifest::Manifest::read(&cell).expect("cell manifest");
     assert_eq!(m.runs, 2);
     assert_eq!(m.fidelity["stress"]["rcs_offset_db"], serde_json::json!(-6.0));
-    assert_eq!(m.tables["tracks"].len(), 2);
+    assert!(m.tables.is_empty(), "{:?}", m.tables);
+    for t in ["truth", "dwells", "measurements", "tracks"] {
+        assert!(!cell.join(t).exists(), "{t}/ is left");
+    }
+    assert!(cell.join(".items/run-0001.json").is_file());
+    // The failure points: one row per method and axis.
+    let fp = column(&whole.join("failure_points.parquet"), "axis");
+    assert_eq!(fp, vec![Some("rcs_offset_db".to_string()); 2]);
 
     // Three shards on one thread each, then the merge.
     let sharded = tmp.path().join("sharded");
@@ -104,6 +112,25 @@ fn shards_and_resume_give_the_bytes_of_one_run() {
     let o = run_study(&p, PLAN, &Options { resume: true, ..opts(&resumed) }, &|_, _| {}).expect("resume");
     assert_eq!((o.ran, o.skipped, o.merged.map(|m| m.items)), (4, 4, Some(8)));
     assert!(tree(&whole) == tree(&resumed), "resumed study differs");
+}
+
+#[test]
+fn keep_runs_keeps_every_run_as_a_run_directory() {
+    let text = PLAN.replacen("runs = 2", "runs = 2\nkeep_runs = true", 1);
+    let tmp = tempfile::tempdir().expect("tmp");
+    let p = plan(&text, tmp.path());
+    let out = tmp.path().join("kept");
+    run_study(&p, &text, &opts(&out), &|_, _| {}).expect("study");
+    let cell = out.join("runs/method=mimo/scenario=1/rcs_offset_db=-6");
+    let m = mimo_store::manifest::Manifest::read(&cell).expect("cell manifest");
+    assert_eq!(m.tables["tracks"].len(), 2);
+    assert!(cell.join("tracks/run-0001.parquet").is_file() && cell.join("dwells/run-0000.parquet").is_file());
+    // The same results as a study that deleted its runs' tables.
+    let deleted = tmp.path().join("deleted");
+    run_study(&plan(PLAN, tmp.path()), PLAN, &opts(&deleted), &|_, _| {}).expect("study");
+    for f in ["results.parquet", "summary.parquet", "failure_points.parquet", "challenge.parquet"] {
+        assert!(bytes(out.join(f)) == bytes(deleted.join(f)), "{f} differs");
+    }
 }
 
 fn column(path: &Path, name: &str) -> Vec<Option<String>> {
@@ -152,4 +179,7 @@ fn a_failing_method_is_recorded_and_the_others_finish() {
     assert_eq!(column(&summary, "method"), vec![Some("crashes".into()), Some("works".into())]);
     let report = std::fs::read_to_string(out.join("report.md")).expect("report");
     assert!(report.contains("## Failed runs") && report.contains("crashes / scenario 1"), "{report}");
+    // A failed run's partial tables stay for a post-mortem; a completed run's went once scored.
+    assert!(out.join("runs/method=crashes/scenario=1/truth/run-0000.parquet").is_file());
+    assert!(!out.join("runs/method=works/scenario=1/truth").exists());
 }

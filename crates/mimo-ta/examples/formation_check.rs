@@ -1,4 +1,4 @@
-//! Evaluation of a recorded run directory for the formation goals (issue 13): fighter and airliner
+//! Evaluation of a recorded run directory for the formation goals: fighter and airliner
 //! track NEES against truth, and search starvation (the longest stretch without a search dwell,
 //! per radar). Reads truth, so it is an evaluation tool, never part of a test article.
 //!
@@ -14,7 +14,8 @@
 //! member or a close neighbour; `clean` otherwise) and by whether its dominant target
 //! (`target_hint`) is the nearest truth; and ε is also given against the last measurement's
 //! dominant target ("followed"), which differs from the nearest truth when a track sits on one
-//! aircraft's range with another's cross-range (issue 13, sixth round), and against the truth
+//! aircraft's range with another's cross-range
+//! (docs/decisions/0045-fighter-nees-on-score-assignment.md), and against the truth
 //! nearest in the track's own metric (the smallest ε over the truths sampled within 2 s).
 //!
 //! When the run has been scored, ε is also given against the truth the score's assignment

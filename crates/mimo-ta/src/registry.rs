@@ -31,7 +31,7 @@ pub const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "gnn",
-        about: "the baseline before issue 13's sixth round: EKF (NCV) tracker, GNN, adaptive revisit and energy, MIMO dwells",
+        about: "the former default: EKF (NCV) tracker, GNN, adaptive revisit and energy, MIMO dwells",
         tracks: true,
     },
     Builtin { name: "imm", about: "the baseline with an IMM (CV-low + CV-high) instead of the EKF", tracks: true },
@@ -57,7 +57,7 @@ fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -
     let mut tracker = TrackerConfig { association_method, ..TrackerConfig::for_kind(kind) };
     // The built-in test articles confirm on 2 of 2 looks (a false alarm costs one confirmation
     // look, not two) and look at a confirmed track at least every 2 s (docs/model.md §6.4, §7.1;
-    // issue 13, third round).
+    // docs/decisions/0028-confirmation-revisit-group-looks.md).
     tracker.confirmation = MOfN { m: 2, n: 2 };
     tracker.revisit.t_max_s = 2.0;
     if association_method == AssociationMethod::Jpda {
@@ -69,7 +69,7 @@ fn default_ta_config(kind: TrackerKind, association_method: AssociationMethod) -
     DefaultTaConfig { tracker, ..DefaultTaConfig::default() }
 }
 
-/// The default test article (issue 13, sixth round; docs/DECISIONS.md): the IMM with JPDA, whose
+/// The default test article (docs/decisions/0031-imm-jpda-default.md): the IMM with JPDA, whose
 /// initiation exclusion keeps the resolution cell but not the wide NIS gate, and where a return a
 /// track's gate holds besides the track's preferred one may start a track (β < 0.5,
 /// docs/model.md §6.4): the second aircraft of a pair the two-target estimator split.

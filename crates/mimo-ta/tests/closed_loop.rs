@@ -600,7 +600,7 @@ fn completeness_end_to_end_scenario_7() {
     let (c, stop) = completeness_end_to_end(7);
     assert!(c >= 0.98, "scenario 7: completeness {c}");
     // No radar gives up its background search for long: the default TA does not re-dwell at
-    // 14–16 pulses on pairs in one beam (issue 13; before, R1 and R3 stopped for about 30 s).
+    // 14–16 pulses on pairs in one beam (without the hold, R1 and R3 stopped for about 30 s).
     assert!(stop <= 10.0, "scenario 7: a radar's search stopped for {stop:.1} s");
 }
 

@@ -1,4 +1,4 @@
-//! Identities through the crossover, with known truth (issue 13): scenario 7's pairs swap sides
+//! Identities through the crossover, with known truth: scenario 7's pairs swap sides
 //! in 100–120 s (Δright = ±600 m, pair B passing 150 m above, docs/design.md §6 for the
 //! scoring rule used here). In the closed loop with the built-in test articles, every fighter
 //! is paired one-to-one with a live confirmed track (nearest, 1 km gate, as `mimo score`) before
@@ -106,8 +106,8 @@ fn identities_survive_the_crossover() {
 }
 
 /// The check can fail: the former default (EKF, GNN) loses three of the 40 identities in the
-/// same 10 runs (runs 1 and 3), which is why it is no longer the default (docs/DECISIONS.md,
-/// the formation, sixth round).
+/// same 10 runs (runs 1 and 3), which is why it is no longer the default (
+/// docs/decisions/0031-imm-jpda-default.md).
 #[test]
 fn the_former_default_loses_identities_at_the_crossover() {
     assert!(kept("gnn", 10) < 40, "the former default kept every identity");

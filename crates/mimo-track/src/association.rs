@@ -146,7 +146,7 @@ impl Associator for GnnAssociator {
         let mc = self.cost.miss_cost();
         let mc = if mc.is_finite() { mc } else { 1e9 };
         // A track with no finite pairing can only miss, and leaves the others' assignment as it
-        // is (docs/DECISIONS.md, "GNN over the tracks that gate"): solve for the others alone.
+        // is (docs/decisions/0043-pregate-and-gnn-over-gating-tracks.md): solve for the others alone.
         let rows: Vec<usize> = (0..n).filter(|&t| cost[t * m..(t + 1) * m].iter().any(|c| c.is_finite())).collect();
         let mut out = vec![None; n];
         if rows.is_empty() {

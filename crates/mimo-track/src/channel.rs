@@ -6,7 +6,7 @@ use crate::association::HypothesisTable;
 use crate::diagnostics::NisRecord;
 use crate::dwell::DwellContext;
 use crate::dwell_predictions::DwellPredictions;
-use crate::filter::{FilterPrediction, TrackFilter};
+use crate::filter::{FilterPrediction, FilterUpdate, TrackFilter};
 use crate::jpda::{AssociationProbabilities, combine};
 use crate::measurement::{MeasurementModel, PreparedMeasurement};
 use crate::partner::PartnerMode;
@@ -61,13 +61,55 @@ impl MultiTargetTracker {
     ) {
         let ids: Vec<u64> = self.tracks.keys().copied().collect();
         let n_m = list.len();
-        let filter = &*self.c.filter;
         // A track's cache is seeded from the dwell's store when one of its pairs passes the
         // pre-gate (a far track costs no lookup).
         let mut caches: Vec<Option<PredCache>> = ids.iter().map(|_| None).collect();
+        let (table, near) = self.gate_channel(list, &ids, &mut caches);
+        let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
+        let mut second = vec![false; n_m];
+        let claimed = match self.c.associator.probabilities(&table) {
+            Some(probs) => {
+                if self.config.second_return_max_beta > 0.0 {
+                    second =
+                        crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
+                }
+                self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
+                vec![false; n_m]
+            }
+            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated, excused),
+        };
+        // The channel's predictions, for the dwell's other channels and its deletion pass.
+        for (id, cache) in ids.iter().zip(caches) {
+            if let Some(basis) = cache.basis {
+                self.preds.put(*id, basis, cache.entries);
+            }
+        }
+
+        if !may_initiate {
+            return;
+        }
+        // Unclaimed detections outside every existing track's gate start tentative tracks,
+        // strongest first; a detection inside the gate of a track started in this dwell is taken
+        // as the same target and skipped.
+        let mut cand: Vec<usize> = (0..n_m)
+            .filter(|&j| !claimed[j] && !near[j] && (second[j] || (0..ids.len()).all(|i| table.get(i, j).is_none())))
+            .collect();
+        cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
+        self.initiate(list, &cand, new_ids);
+    }
+
+    /// Gate every track against the channel's measurements. Returns the hypotheses that gate,
+    /// and which measurements lie inside an existing track's resolution cell or its initiation
+    /// exclusion gate (such a measurement never starts a track, docs/model.md §6.4).
+    fn gate_channel(
+        &mut self,
+        list: &[PreparedMeasurement],
+        ids: &[u64],
+        caches: &mut [Option<PredCache>],
+    ) -> (HypothesisTable, Vec<bool>) {
+        let n_m = list.len();
+        let filter = &*self.c.filter;
         let mut table = HypothesisTable::new(ids.len(), n_m);
-        // A measurement inside an existing track's resolution cell, or within its initiation
-        // exclusion gate, never starts a track (docs/model.md §6.4).
         let excl = self.config.initiation_exclusion;
         let cell_uv = excl.beam_fraction * self.config.revisit.beamwidth;
         let mut near = vec![false; n_m];
@@ -102,38 +144,15 @@ impl MultiTargetTracker {
                 near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
             }
         }
-        let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
-        let mut second = vec![false; n_m];
-        let claimed = match self.c.associator.probabilities(&table) {
-            Some(probs) => {
-                if self.config.second_return_max_beta > 0.0 {
-                    second =
-                        crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
-                }
-                self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
-                vec![false; n_m]
-            }
-            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated, excused),
-        };
-        // The channel's predictions, for the dwell's other channels and its deletion pass.
-        for (id, cache) in ids.iter().zip(caches) {
-            if let Some(basis) = cache.basis {
-                self.preds.put(*id, basis, cache.entries);
-            }
-        }
-        let filter = &*self.c.filter;
+        (table, near)
+    }
 
-        if !may_initiate {
-            return;
-        }
-        // Unclaimed detections outside every existing track's gate start tentative tracks,
-        // strongest first; a detection inside the gate of a track started in this dwell is taken
-        // as the same target and skipped.
-        let mut cand: Vec<usize> = (0..n_m)
-            .filter(|&j| !claimed[j] && !near[j] && (second[j] || (0..ids.len()).all(|i| table.get(i, j).is_none())))
-            .collect();
-        cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
-        for j in cand {
+    /// Start a tentative track from each candidate measurement in `cand` (in order), unless it
+    /// falls inside the gate of a track started in this dwell (`new_ids`), which takes it as the
+    /// same target.
+    fn initiate(&mut self, list: &[PreparedMeasurement], cand: &[usize], new_ids: &mut Vec<u64>) {
+        let filter = &*self.c.filter;
+        for &j in cand {
             let m = &list[j];
             let dup = new_ids.iter().any(|nid| {
                 self.tracks.get(nid).is_some_and(|t| {
@@ -182,7 +201,6 @@ impl MultiTargetTracker {
         excused: &mut BTreeSet<u64>,
     ) -> Vec<bool> {
         let n_m = list.len();
-        let filter = &*self.c.filter;
         let mut assign = self.c.associator.associate(table);
         assign.resize(ids.len(), None);
         let mut claimed = vec![false; n_m];
@@ -191,48 +209,10 @@ impl MultiTargetTracker {
                 claimed[*j] = true;
             }
         }
-        // Tracks inside the resolution cell of the track GNN gave a measurement share it as an
-        // unresolved pair's return (`partner_update`, docs/model.md §6.5).
+        let partnered = self.partner_assignments(list, ids, caches, table, &mut assign, excused);
+        let shared =
+            if self.config.share_merged { share_merged(list, table, &mut assign) } else { vec![false; ids.len()] };
         let pu = self.config.partner_update;
-        let mut partnered = vec![false; ids.len()];
-        if pu.enabled() {
-            let tracks = &self.tracks;
-            let mut zp = |i: usize, j: usize| {
-                let track = tracks.get(ids.get(i)?)?;
-                let m = list.get(j)?;
-                Some(m.model.h(&caches[i].get(filter, track, m.t_s).combined.x))
-            };
-            let chosen = pu.partners(table, &assign, self.config.revisit.beamwidth, &mut zp);
-            for (i, j) in chosen.into_iter().enumerate() {
-                match (j, pu.mode) {
-                    (Some(j), PartnerMode::Shift) => {
-                        assign[i] = Some(j);
-                        partnered[i] = true;
-                    }
-                    (Some(_), PartnerMode::Excuse) => {
-                        excused.insert(ids[i]);
-                    }
-                    (None, _) => {}
-                }
-            }
-        }
-        // Tracks given a merged measurement another track already has (`share_merged`).
-        let mut shared = vec![false; ids.len()];
-        if self.config.share_merged {
-            for (i, a) in assign.iter_mut().enumerate() {
-                if a.is_some() {
-                    continue;
-                }
-                let best = (0..n_m)
-                    .filter(|&j| list[j].merged)
-                    .filter_map(|j| table.get(i, j).map(|h| (j, h.nis)))
-                    .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
-                if let Some((j, _)) = best {
-                    *a = Some(j);
-                    shared[i] = true;
-                }
-            }
-        }
         // With the group update, the tracks GNN assigned go first and leave their correction of
         // each merged measurement for the tracks sharing it (docs/model.md §6.5).
         let group = self.config.share_merged && self.config.merged_group_update;
@@ -249,6 +229,7 @@ impl MultiTargetTracker {
             let Some(j) = assign[i].filter(|&j| j < n_m) else { continue };
             let m = &list[j];
             let Some(track) = self.tracks.get(id) else { continue };
+            let filter = &*self.c.filter;
             let iterations =
                 if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
             let pred = caches[i].get(filter, track, m.t_s).clone();
@@ -269,35 +250,84 @@ impl MultiTargetTracker {
                 u
             });
             match outcome {
-                Ok(u) if u.state.is_finite() => {
-                    let Some(track) = self.tracks.get_mut(id) else { continue };
-                    track.state = u.state;
-                    track.t_s = m.t_s;
-                    track.n_updates += 1;
-                    track.last_meas_id = Some(m.meas_id);
-                    track.last_face = Some((m.rx, m.rx_face));
-                    track.nis_sum += u.innovation.nis;
-                    track.nis_count += 1;
-                    self.stats.updates += 1;
-                    if u.jitter {
-                        self.stats.jitter_events += 1;
-                    }
-                    self.nis_log.push(NisRecord {
-                        run: ctx.run,
-                        t_s: m.t_s,
-                        track_id: *id,
-                        meas_id: m.meas_id,
-                        tx: m.tx,
-                        rx: m.rx,
-                        nis: u.innovation.nis,
-                    });
-                    updated.insert(*id);
-                }
+                Ok(u) if u.state.is_finite() => self.commit_update(ctx, *id, m, u, updated),
                 _ => self.stats.failed_updates += 1,
             }
         }
 
         claimed
+    }
+
+    /// With `partner_update` (docs/model.md §6.5), tracks inside the resolution cell of the track
+    /// GNN gave a measurement share it as an unresolved pair's return: `shift` assigns it to them
+    /// (returned as `true`), `excuse` adds them to `excused`.
+    fn partner_assignments(
+        &self,
+        list: &[PreparedMeasurement],
+        ids: &[u64],
+        caches: &mut [PredCache],
+        table: &HypothesisTable,
+        assign: &mut [Option<usize>],
+        excused: &mut BTreeSet<u64>,
+    ) -> Vec<bool> {
+        let filter = &*self.c.filter;
+        let pu = self.config.partner_update;
+        let mut partnered = vec![false; ids.len()];
+        if pu.enabled() {
+            let tracks = &self.tracks;
+            let mut zp = |i: usize, j: usize| {
+                let track = tracks.get(ids.get(i)?)?;
+                let m = list.get(j)?;
+                Some(m.model.h(&caches[i].get(filter, track, m.t_s).combined.x))
+            };
+            let chosen = pu.partners(table, assign, self.config.revisit.beamwidth, &mut zp);
+            for (i, j) in chosen.into_iter().enumerate() {
+                match (j, pu.mode) {
+                    (Some(j), PartnerMode::Shift) => {
+                        assign[i] = Some(j);
+                        partnered[i] = true;
+                    }
+                    (Some(_), PartnerMode::Excuse) => {
+                        excused.insert(ids[i]);
+                    }
+                    (None, _) => {}
+                }
+            }
+        }
+        partnered
+    }
+
+    /// Record a successful update `u` of track `id` with measurement `m`.
+    fn commit_update(
+        &mut self,
+        ctx: &DwellContext,
+        id: u64,
+        m: &PreparedMeasurement,
+        u: FilterUpdate,
+        updated: &mut BTreeSet<u64>,
+    ) {
+        let Some(track) = self.tracks.get_mut(&id) else { return };
+        track.state = u.state;
+        track.t_s = m.t_s;
+        track.n_updates += 1;
+        track.last_meas_id = Some(m.meas_id);
+        track.last_face = Some((m.rx, m.rx_face));
+        track.nis_sum += u.innovation.nis;
+        track.nis_count += 1;
+        self.stats.updates += 1;
+        if u.jitter {
+            self.stats.jitter_events += 1;
+        }
+        self.nis_log.push(NisRecord {
+            run: ctx.run,
+            t_s: m.t_s,
+            track_id: id,
+            meas_id: m.meas_id,
+            tx: m.tx,
+            rx: m.rx,
+            nis: u.innovation.nis,
+        });
+        updated.insert(id);
     }
 
     /// JPDA (docs/model.md §6.8): each track with gated measurements is updated with every one
@@ -380,4 +410,25 @@ impl MultiTargetTracker {
             updated.insert(*id);
         }
     }
+}
+
+/// With `share_merged`, each track left without a measurement takes the gated `merged`
+/// measurement of smallest NIS (which another track already has). Returns which tracks did.
+fn share_merged(list: &[PreparedMeasurement], table: &HypothesisTable, assign: &mut [Option<usize>]) -> Vec<bool> {
+    let n_m = list.len();
+    let mut shared = vec![false; assign.len()];
+    for (i, a) in assign.iter_mut().enumerate() {
+        if a.is_some() {
+            continue;
+        }
+        let best = (0..n_m)
+            .filter(|&j| list[j].merged)
+            .filter_map(|j| table.get(i, j).map(|h| (j, h.nis)))
+            .min_by(|x, y| x.1.total_cmp(&y.1).then(x.0.cmp(&y.0)));
+        if let Some((j, _)) = best {
+            *a = Some(j);
+            shared[i] = true;
+        }
+    }
+    shared
 }

@@ -233,7 +233,8 @@ pub struct TrackerConfig {
 /// A detection never starts a track when it lies, for some existing track, inside the track's
 /// predicted resolution cell or inside a wide exclusion gate (docs/model.md §6.4): an
 /// unresolved or gate-missing return of a tracked target is not a new target. Off by default
-/// (it cost the GNN default completeness on scenario 7, docs/DECISIONS.md); on in the JPDA
+/// (it cost the GNN default completeness on scenario 7,
+/// docs/decisions/0026-formation-measures-as-options.md); on in the JPDA
 /// built-ins ([`InitiationExclusion::resolution_cell`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

@@ -1,6 +1,6 @@
 //! `F P Fᵀ` for the constant-velocity transition `F = [[I, dt I], [0, I]]`, bit for bit equal to
-//! the dense [`crate::linalg::sandwich`] (docs/model.md §6.1; docs/DECISIONS.md, "Exact
-//! constant-velocity predictions").
+//! the dense [`crate::linalg::sandwich`] (docs/model.md §6.1;
+//! docs/decisions/0047-exact-constant-velocity-predictions.md).
 //!
 //! The dense sandwich forms `M = F P` with [`crate::linalg::mul`] (which skips the zeros of `F`, so
 //! `M` is `0 + P_ij + dt·P_i+3,j` or `0 + P_ij` exactly as written here), then each entry of

@@ -106,19 +106,26 @@ impl JpdaAssociator {
                 }
                 true
             });
-            for &t in &tracks {
-                let row = &mut beta[t];
-                row.iter_mut().for_each(|b| *b /= total);
-                for b in row.iter_mut().take(m) {
-                    if *b < self.min_probability {
-                        *b = 0.0;
-                    }
-                }
-                let s: f64 = row.iter().sum();
-                row.iter_mut().for_each(|b| *b /= s);
-            }
+            self.normalize(&mut beta, &tracks, total);
         }
         AssociationProbabilities { beta }
+    }
+
+    /// Divide the rows of `tracks` by the cluster's `total` weight, drop the probabilities below
+    /// `min_probability` and renormalize each row to 1.
+    fn normalize(&self, beta: &mut [Vec<f64>], tracks: &[usize], total: f64) {
+        for &t in tracks {
+            let m = beta[t].len() - 1;
+            let row = &mut beta[t];
+            row.iter_mut().for_each(|b| *b /= total);
+            for b in row.iter_mut().take(m) {
+                if *b < self.min_probability {
+                    *b = 0.0;
+                }
+            }
+            let s: f64 = row.iter().sum();
+            row.iter_mut().for_each(|b| *b /= s);
+        }
     }
 }
 

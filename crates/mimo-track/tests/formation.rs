@@ -1,4 +1,4 @@
-//! Formation consistency (issue 13, docs/model.md §6.6, §6.8): two fighters cross in angle while 60 m
+//! Formation consistency (docs/model.md §6.6, §6.8): two fighters cross in angle while 60 m
 //! apart in range (the standard formation's crossover, closer than its 150 m trailing offset),
 //! seen monostatically by R1 once a second, both detected every look, the two tracks started
 //! from estimates drawn from their initial covariance. N = 40 Monte Carlo runs of

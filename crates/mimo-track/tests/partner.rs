@@ -1,4 +1,4 @@
-//! The partner update (docs/model.md §6.5, issue 13): two fighters 300 m apart across the line of
+//! The partner update (docs/model.md §6.5): two fighters 300 m apart across the line of
 //! sight and 20 m apart in range (inside one resolution cell) return one measurement, not
 //! flagged `merged`, near their centroid. With the partner update both tracks are updated every
 //! look and keep their 300 m; GNN alone gives the measurement to one track and the other coasts.

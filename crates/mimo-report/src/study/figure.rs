@@ -1,7 +1,7 @@
 //! What each study chart shows: its panels, the points with their confidence bars, the
 //! non-dominated front, the stability bands and each method's failure point.
 
-use super::{Estimate, StudyAxis, StudyCell, StudyCharts};
+use super::{Estimate, StudyAxis, StudyCell, StudyCharts, StudyFailure};
 use crate::draw::{PALETTE, Swatch, fmt_num};
 use plotters::style::{BLACK, RGBColor};
 
@@ -29,11 +29,24 @@ pub(super) struct ScatterPanel {
 /// (x, mean, lo, hi)
 pub(super) type BandPoint = (f64, Option<f64>, Option<f64>, Option<f64>);
 
+/// An end of a failure point's interval on the chart: x, and whether it lies on the grid (drawn
+/// with a tick) or runs off it (drawn to the panel's edge).
+pub(super) type MarkEnd = (f64, bool);
+
+/// A method's failure point as a band panel marks it (x on the chart's scale).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Mark {
+    /// The interpolated failure point and its interval (`None` ends: no interval).
+    At { x: f64, lo: Option<MarkEnd>, hi: Option<MarkEnd> },
+    /// Fails already at the least stressing grid value, at this x.
+    AtBaseline(f64),
+}
+
 #[derive(Debug, Clone)]
 pub(super) struct Band {
     pub(super) color: RGBColor,
     pub(super) points: Vec<BandPoint>,
-    pub(super) fail_at: Option<f64>,
+    pub(super) mark: Option<Mark>,
 }
 
 #[derive(Debug, Clone)]
@@ -181,14 +194,23 @@ fn other_base(charts: &StudyCharts, c: &StudyCell, axis: &str) -> bool {
     c.point.iter().filter(|(a, _)| a != axis).all(|(a, v)| base.point.iter().any(|(b, w)| a == b && v == w))
 }
 
-/// The first value, from least to most stressing, where the method fails.
-pub(super) fn failure_point(ax: &StudyAxis, cells: &[(f64, &StudyCell)], required: f64) -> Option<f64> {
-    ax.values_by_stress.iter().copied().find(|v| {
-        cells
-            .iter()
-            .find(|(x, _)| x == v)
-            .is_some_and(|(_, c)| c.failed > 0 || c.get("completeness").mean.is_none_or(|m| m < required))
-    })
+/// The mark of a failure point on an axis drawn from `grid.0` to `grid.1` (chart scale).
+pub(super) fn mark(f: &StudyFailure, ax: &StudyAxis, grid: (f64, f64)) -> Option<Mark> {
+    match f.status.as_str() {
+        "crosses" => {
+            let x = lg(f.value?, ax.log);
+            let (lo, hi) = match f.interval.as_str() {
+                "closed" | "open_below" | "open_above" | "open_both" => (
+                    Some(f.lo.map_or((grid.0, false), |v| (lg(v, ax.log), true))),
+                    Some(f.hi.map_or((grid.1, false), |v| (lg(v, ax.log), true))),
+                ),
+                _ => (None, None),
+            };
+            Some(Mark::At { x, lo, hi })
+        }
+        "fails_at_baseline" => ax.values_by_stress.first().map(|v| Mark::AtBaseline(lg(*v, ax.log))),
+        _ => None,
+    }
 }
 
 pub(super) fn stability(charts: &StudyCharts, ax: &StudyAxis) -> StudyChart {
@@ -205,7 +227,9 @@ pub(super) fn stability(charts: &StudyCharts, ax: &StudyAxis) -> StudyChart {
                 .iter()
                 .map(|m| {
                     let cells = sweep_cells(charts, &ax.name, m, s);
-                    let fail_at = failure_point(ax, &cells, charts.completeness_required);
+                    let xs = cells.iter().map(|(x, _)| lg(*x, ax.log));
+                    let grid = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+                    let of = |f: &&StudyFailure| f.method == *m && f.scenario == *s && f.axis == ax.name;
                     Band {
                         color: method_color(charts, m),
                         points: cells
@@ -216,7 +240,7 @@ pub(super) fn stability(charts: &StudyCharts, ax: &StudyAxis) -> StudyChart {
                                 (lg(*x, ax.log), f(e.mean), f(e.lo), f(e.hi))
                             })
                             .collect(),
-                        fail_at: fail_at.map(|v| lg(v, ax.log)),
+                        mark: charts.failures.iter().find(of).and_then(|f| mark(f, ax, grid)).filter(|_| k == 0),
                     }
                 })
                 .collect();
@@ -237,7 +261,10 @@ pub(super) fn stability(charts: &StudyCharts, ax: &StudyAxis) -> StudyChart {
     let mut legend = method_legend(charts);
     legend.push(("band: 95 % confidence interval".into(), Swatch::Box(RGBColor(215, 215, 215))));
     legend.push((
-        "× failure point (first value with completeness below the requirement or a failed run)".into(),
+        "◆ failure point (mean completeness through the requirement, interpolated) and bar: its 95 % bootstrap \
+         interval, one row per method below the requirement line; no end tick: runs off the grid; × fails at the \
+         least stressing value"
+            .into(),
         Swatch::Line(BLACK, 2),
     ));
     StudyChart { title: format!("Stability against {} — {}", ax.name, charts.title), panels, columns: 3, legend }

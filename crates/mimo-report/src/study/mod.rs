@@ -4,7 +4,7 @@
 //! |---|---|
 //! | `energy_vs_completeness` | per scenario (one panel each), each family as a curve through its points in knob order (an unswept method is a single point): the test article's energy per scorable object (x) against mean track completeness (y), both with their 95 % confidence intervals as bars; MIMO families solid with dots, conventional ones dashed with open squares; the required completeness as a dashed line and each family's interpolated crossing as a triangle with its bootstrap interval |
 //! | `compute_vs_accuracy` | a point per method and scenario: the test article's CPU seconds per simulated second (log x) against position RMSE and against GOSPA |
-//! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; each method's failure point (the first value, from the least to the most stressing, where mean completeness falls below the requirement or a run fails) marked with a cross |
+//! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; on the completeness panel each method's failure point (where its mean completeness falls through the requirement, interpolated between grid values) as a diamond with its 95 % bootstrap interval as a bar, stacked just below the requirement line one row per method, an end without a tick running off the grid; a method that fails already at the least stressing value marked there with a cross |
 //!
 //! The charts take plain figures ([`StudyCell`]), so this crate needs nothing of the study
 //! machinery. Logarithmic axes are drawn on log10 of the value with tick labels `1.0e-6`, ….
@@ -110,6 +110,27 @@ pub struct StudyAxis {
     pub log: bool,
 }
 
+/// A method's failure point on one axis (docs/studies.md, "Where each method fails").
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StudyFailure {
+    /// Method name.
+    pub method: String,
+    /// Scenario label.
+    pub scenario: String,
+    /// Axis name.
+    pub axis: String,
+    /// `crosses`, `holds` or `fails_at_baseline`.
+    pub status: String,
+    /// The interpolated failure point (status `crosses`).
+    pub value: Option<f64>,
+    /// Numerically lower end of its 95 % interval (`None`: runs off the grid or none).
+    pub lo: Option<f64>,
+    /// Numerically upper end.
+    pub hi: Option<f64>,
+    /// `closed`, `open_below`, `open_above`, `open_both`, `below_grid`, `above_grid` or `none`.
+    pub interval: String,
+}
+
 /// What the study charts show.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StudyCharts {
@@ -125,6 +146,8 @@ pub struct StudyCharts {
     pub cells: Vec<StudyCell>,
     /// Every family on every scenario (at the baseline stress point), for the energy frontier.
     pub families: Vec<StudyFamily>,
+    /// Every method's failure point on every scenario and axis.
+    pub failures: Vec<StudyFailure>,
     /// The completeness required (0.98).
     pub completeness_required: f64,
 }
@@ -158,7 +181,7 @@ pub fn render_study(charts: &StudyCharts, dir: &Path) -> Result<Vec<PathBuf>, Re
 
 #[cfg(test)]
 mod tests {
-    use super::figure::{failure_point, sweep_cells};
+    use super::figure::{Mark, mark, sweep_cells};
     use super::*;
 
     fn cell(method: &str, v: f64, completeness: f64, failed: u32) -> StudyCell {
@@ -192,31 +215,64 @@ mod tests {
         }
     }
 
+    fn failure(
+        method: &str,
+        status: &str,
+        value: Option<f64>,
+        ci: (Option<f64>, Option<f64>),
+        interval: &str,
+    ) -> StudyFailure {
+        StudyFailure {
+            method: method.into(),
+            scenario: "7".into(),
+            axis: "rcs_offset_db".into(),
+            status: status.into(),
+            value,
+            lo: ci.0,
+            hi: ci.1,
+            interval: interval.into(),
+        }
+    }
+
     #[test]
-    fn the_failure_point_walks_from_the_least_stress() {
+    fn failure_points_are_marked_with_their_intervals() {
         let ax = StudyAxis {
             name: "rcs_offset_db".into(),
             label: "RCS offset (dB)".into(),
             values_by_stress: vec![0.0, -3.0, -6.0, -9.0],
             log: false,
         };
-        let cells =
-            [cell("a", 0.0, 0.99, 0), cell("a", -3.0, 0.985, 0), cell("a", -6.0, 0.97, 0), cell("a", -9.0, 0.99, 1)];
+        let mut cells: Vec<StudyCell> =
+            [(0.0, 0.99), (-3.0, 0.985), (-6.0, 0.97), (-9.0, 0.95)].iter().map(|&(v, c)| cell("a", v, c, 0)).collect();
+        cells.extend([(0.0, 0.97), (-3.0, 0.96), (-6.0, 0.95), (-9.0, 0.9)].iter().map(|&(v, c)| cell("b", v, c, 0)));
         let charts = StudyCharts {
             title: "t".into(),
-            methods: vec!["a".into()],
+            methods: vec!["a".into(), "b".into()],
             scenarios: vec!["7".into()],
             axes: vec![ax.clone()],
-            cells: cells.to_vec(),
+            cells,
             families: vec![family("a", true, &[(1.0, 900.0, 0.97), (2.0, 1500.0, 0.99)], Some(1200.0))],
+            failures: vec![
+                failure("a", "crosses", Some(-4.0), (None, Some(-3.2)), "open_below"),
+                failure("b", "fails_at_baseline", None, (None, None), "above_grid"),
+            ],
             completeness_required: 0.98,
         };
         let sw = sweep_cells(&charts, "rcs_offset_db", "a", "7");
         assert_eq!(sw.iter().map(|s| s.0).collect::<Vec<_>>(), vec![-9.0, -6.0, -3.0, 0.0]);
-        assert_eq!(failure_point(&ax, &sw, 0.98), Some(-6.0));
-        // A failed run counts even when the completed runs look fine.
-        let sw2: Vec<(f64, &StudyCell)> = sw.iter().copied().filter(|(v, _)| *v != -6.0).collect();
-        assert_eq!(failure_point(&ax, &sw2, 0.98), Some(-9.0));
+        // The interval's open lower end runs to the grid's edge, without a tick.
+        let m = mark(&charts.failures[0], &ax, (-9.0, 0.0));
+        assert_eq!(m, Some(Mark::At { x: -4.0, lo: Some((-9.0, false)), hi: Some((-3.2, true)) }));
+        assert_eq!(mark(&charts.failures[1], &ax, (-9.0, 0.0)), Some(Mark::AtBaseline(0.0)));
+        let holds = failure("a", "holds", None, (None, None), "below_grid");
+        assert_eq!(mark(&holds, &ax, (-9.0, 0.0)), None, "nothing to mark inside the grid");
+        // On a log axis the marks are on log10 of the value.
+        let pfa = StudyAxis { name: "pfa".into(), label: "pfa".into(), values_by_stress: vec![1e-6, 1e-4], log: true };
+        let f = failure("a", "crosses", Some(1e-5), (Some(1e-6), Some(1e-4)), "closed");
+        assert_eq!(
+            mark(&f, &pfa, (-6.0, -4.0)),
+            Some(Mark::At { x: -5.0, lo: Some((-6.0, true)), hi: Some((-4.0, true)) })
+        );
         let dir = tempfile::tempdir().expect("tmp");
         let files = render_study(&charts, dir.path()).expect("render");
         assert_eq!(files.len(), 6, "{files:?}");

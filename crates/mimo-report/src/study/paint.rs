@@ -1,7 +1,7 @@
 //! Drawing study panels with plotters: axes and grids, scatter panels with error bars and the
 //! front, band panels with failure crosses, and the chart's grid of panels with its legend.
 
-use super::figure::{BandPanel, ScatterPanel, StudyChart, StudyPanel};
+use super::figure::{Band, BandPanel, Mark, ScatterPanel, StudyChart, StudyPanel};
 use crate::draw::{
     AXIS_DESC_PX, DrawError, DrawResult, FONT, LEGEND_PX, PANEL_TITLE_PX, TICK_PX, TITLE_PX, darken, draw_legend, e,
     fmt_axis, fmt_num, legend_height, lighten,
@@ -116,6 +116,11 @@ fn draw_bands<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &BandPanel) 
     ys.extend(p.hline);
     let (xa, xb) = range(xs.iter());
     let (x0, x1) = padded(xa, xb);
+    // Room below the requirement line for one row of failure marks per method.
+    if let (Some(h), true) = (p.hline, p.bands.iter().any(|b| matches!(b.mark, Some(Mark::At { .. })))) {
+        let (ya, yb) = range(ys.iter());
+        ys.push(h - 0.035 * (p.bands.len() as f64 + 0.5) * (yb - ya).max(1.0));
+    }
     let (y0, y1) = padded(range(ys.iter()).0, range(ys.iter()).1);
     let mut chart = framed(area, p.title.as_deref(), (x0, x1), (y0, y1), (&p.x_label, &p.y_label), p.log_x)?;
     for band in &p.bands {
@@ -134,12 +139,41 @@ fn draw_bands<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &BandPanel) 
         let line: Vec<(f64, f64)> = band.points.iter().filter_map(|q| Some((q.0, q.1?))).collect();
         chart.draw_series(LineSeries::new(line.clone(), band.color.stroke_width(3))).map_err(e)?;
         chart.draw_series(line.iter().map(|&q| Circle::new(q, 5, band.color.filled()))).map_err(e)?;
-        let fail = band.fail_at.and_then(|xf| band.points.iter().find(|q| q.0 == xf));
-        if let Some(&(x, Some(y), _, _)) = fail {
-            chart
-                .draw_series(std::iter::once(Cross::new((x, y), 11, darken(band.color, 0.3).stroke_width(4))))
-                .map_err(e)?;
+    }
+    let step = 0.03 * (y1 - y0);
+    for (k, band) in p.bands.iter().enumerate() {
+        let y = p.hline.unwrap_or(y1) - step * (k as f64 + 0.6);
+        draw_mark(&mut chart, band, y, (x0, x1), step)?;
+    }
+    Ok(())
+}
+
+/// A band's failure mark: a diamond at the failure point with its interval as a bar at height
+/// `y` (an end on the grid with a tick, one off it to the panel's edge `x`), or a cross on the
+/// curve at the least stressing value.
+fn draw_mark<DB: DrawingBackend>(chart: &mut Chart2d<DB>, band: &Band, y: f64, x: (f64, f64), tick: f64) -> DrawResult {
+    let style = darken(band.color, 0.3).stroke_width(3);
+    match &band.mark {
+        Some(Mark::At { x: at, lo, hi }) => {
+            if let (Some(lo), Some(hi)) = (lo, hi) {
+                let (a, b) = (if lo.1 { lo.0 } else { x.0 }, if hi.1 { hi.0 } else { x.1 });
+                chart.draw_series(std::iter::once(PathElement::new(vec![(a, y), (b, y)], style))).map_err(e)?;
+                for end in [lo, hi].into_iter().filter(|end| end.1) {
+                    let t = vec![(end.0, y - 0.4 * tick), (end.0, y + 0.4 * tick)];
+                    chart.draw_series(std::iter::once(PathElement::new(t, style))).map_err(e)?;
+                }
+            }
+            let diamond = |cx: f64, cy: f64| {
+                EmptyElement::at((cx, cy)) + Polygon::new(vec![(0, -9), (9, 0), (0, 9), (-9, 0)], band.color.filled())
+            };
+            chart.draw_series(std::iter::once(diamond(*at, y))).map_err(e)?;
         }
+        Some(Mark::AtBaseline(xf)) => {
+            if let Some(&(cx, Some(cy), _, _)) = band.points.iter().find(|q| q.0 == *xf) {
+                chart.draw_series(std::iter::once(Cross::new((cx, cy), 11, style.stroke_width(4)))).map_err(e)?;
+            }
+        }
+        None => {}
     }
     Ok(())
 }

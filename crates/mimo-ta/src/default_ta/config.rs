@@ -13,7 +13,7 @@ pub struct ResourceConfig {
     /// is seen again (without doubling on a miss); once a tentative track has been seen again,
     /// looks are sized for `pd_target`. Default 0.9: the built-in test articles confirm on 2 of
     /// 2 looks, so a real target's one confirmation look must rarely miss (0.7 with 2-of-2 lost
-    /// the scenario-7 guard run, docs/DECISIONS.md).
+    /// the scenario-7 guard run, docs/decisions/0028-confirmation-revisit-group-looks.md).
     pub confirm_pd: f64,
     /// RCS assumed when sizing dwells (m²): the fighters' 2 m², so airliners are over-served.
     pub assumed_rcs_m2: f64,
@@ -30,7 +30,7 @@ pub struct ResourceConfig {
     /// article's dwells (track, confirmation, MIMO; transmitting or receiving) may take before
     /// the radar stops being asked for more than the looks it must transmit, so that its
     /// background search keeps running (docs/model.md §7.3). Default 1 (off); 0.9 keeps every
-    /// search stop of scenario 7 under 10 s at a cost in breaks (docs/DECISIONS.md).
+    /// search stop of scenario 7 under 10 s at a cost in breaks (docs/decisions/0026-formation-measures-as-options.md).
     pub max_ta_share: f64,
     /// Window of the timeline budget (s). Default 8.
     pub budget_window_s: f64,
@@ -41,7 +41,7 @@ pub struct ResourceConfig {
     pub unresolved_hold: bool,
     /// Range part of the resolution cell, in range cells. Default 1000, so that in effect only
     /// the angle counts: on scenario 7 the pairs R1 thrashed on share its beam but not its
-    /// range cell, and 1.5 cells left the thrashing in place (docs/DECISIONS.md).
+    /// range cell, and 1.5 cells left the thrashing in place (docs/decisions/0027-hold-beam-sharing-tracks.md).
     pub unresolved_range_cells: f64,
     /// Angular part of the resolution cell, as a fraction of the narrower beamwidth. Default 0.5.
     pub unresolved_beam_fraction: f64,
@@ -57,7 +57,8 @@ pub struct ResourceConfig {
     /// every other confirmed track due within `group_lookahead_s` whose predicted position is
     /// within `group_beam_fraction` of the narrower beamwidth of the aim point seen from the
     /// transmitter and within `group_radius_m` of it; those tracks get no dwell of their own and
-    /// the range window is widened to hold them. Default true (issue 13, third round).
+    /// the range window is widened to hold them. Default true
+    /// (docs/decisions/0028-confirmation-revisit-group-looks.md).
     pub group_looks: bool,
     /// Angular radius of a group look, as a fraction of the narrower beamwidth. Default 0.25.
     pub group_beam_fraction: f64,

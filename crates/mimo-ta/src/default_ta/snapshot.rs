@@ -137,7 +137,7 @@ mod tests {
         assert!(live.len() >= 4, "{} live tracks", live.len());
         let mut pairs = 0;
         for _ in 0..2 {
-            // The second round answers from what the first kept.
+            // The second pass answers from what the first kept.
             for &id in &live {
                 let direct = tracker.predict(id, t_s).expect("prediction").pos;
                 let kept = snap.position(id).expect("position");
