@@ -23,7 +23,7 @@ pub(crate) type Entries = Vec<(f64, FilterPrediction)>;
 /// tracks, and every channel looks each one up).
 #[derive(Debug, Default)]
 pub(crate) struct DwellPredictions {
-    by_track: std::collections::HashMap<u64, (StateStamp, Entries)>,
+    by_track: crate::track_balls::IdMap<(StateStamp, Entries)>,
 }
 
 impl DwellPredictions {

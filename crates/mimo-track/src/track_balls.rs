@@ -14,10 +14,10 @@
 //! exactly as before: the gated table, the association and the tracks are the same, bit for bit.
 
 use crate::filter::TrackFilter;
-use crate::state_stamp::StateStamp;
 use crate::tracker::Track;
 use mimo_core::DVec3;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// Length of the window of prediction intervals a ball covers (s): long enough to serve the
 /// dwells between two updates of a track, short enough that the ball stays a few km wide.
@@ -26,10 +26,13 @@ pub(crate) const WINDOW_S: f64 = 4.0;
 /// Relative slack on the radius, far above its rounding.
 const RADIUS_MARGIN: f64 = 1e-6;
 
-/// A track's ball over prediction intervals `[dt_lo_s, dt_hi_s]` from its state.
+/// A track's ball over prediction intervals `[dt_lo_s, dt_hi_s]` from its state, named by the
+/// state's time and update count (a track's state changes only in an update, which sets both:
+/// `crate::state_stamp`; the ball keeps no copy of the state, so that checking it stays cheap).
 #[derive(Debug, Clone)]
 pub(crate) struct TrackBall {
-    stamp: StateStamp,
+    t_s: f64,
+    n_updates: u32,
     dt_lo_s: f64,
     dt_hi_s: f64,
     /// Centre (tracking frame, m).
@@ -61,26 +64,44 @@ impl TrackBall {
         let far = ends.iter().map(|e| (*e - centre).length()).fold(0.0, f64::max);
         let radius_m = far * (1.0 + RADIUS_MARGIN) + RADIUS_MARGIN;
         let finite = centre.is_finite() && radius_m.is_finite() && trace_max_m2.is_finite() && trace_max_m2 >= 0.0;
-        finite.then(|| TrackBall {
-            stamp: StateStamp::of(track),
-            dt_lo_s: a,
-            dt_hi_s: b,
-            centre,
-            radius_m,
-            trace_max_m2,
-        })
+        let (t_s, n_updates) = (track.t_s, track.n_updates);
+        finite.then_some(TrackBall { t_s, n_updates, dt_lo_s: a, dt_hi_s: b, centre, radius_m, trace_max_m2 })
     }
 
     /// Whether the ball holds predictions of `track` over `dt_s`.
     pub(crate) fn covers(&self, track: &Track, dt_s: f64) -> bool {
-        dt_s >= self.dt_lo_s && dt_s <= self.dt_hi_s && self.stamp.matches(track)
+        dt_s >= self.dt_lo_s
+            && dt_s <= self.dt_hi_s
+            && self.t_s.to_bits() == track.t_s.to_bits()
+            && self.n_updates == track.n_updates
     }
 }
+
+/// A hasher for track ids (distinct integers, counted up): one multiply by the golden ratio.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct IdHasher(u64);
+
+impl Hasher for IdHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(*b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+    fn write_u64(&mut self, id: u64) {
+        self.0 = (self.0 ^ id).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+/// A map by track id.
+pub(crate) type IdMap<V> = HashMap<u64, V, BuildHasherDefault<IdHasher>>;
 
 /// The balls of the tracker's tracks.
 #[derive(Debug, Default)]
 pub(crate) struct TrackBalls {
-    by_track: HashMap<u64, TrackBall>,
+    by_track: IdMap<TrackBall>,
 }
 
 impl TrackBalls {
