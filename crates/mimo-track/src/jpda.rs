@@ -64,11 +64,12 @@ impl JpdaAssociator {
         let mut choice: Vec<usize> = Vec::new();
         for cluster in &members {
             // A track that gates nothing misses for sure (its only event, β = 1 on "none").
-            if let [t] = cluster[..] {
-                if log_miss.is_finite() && (0..m).all(|j| table.get(t, j).is_none()) {
-                    beta[t][m] = 1.0;
-                    continue;
-                }
+            if let [t] = cluster[..]
+                && log_miss.is_finite()
+                && (0..m).all(|j| table.get(t, j).is_none())
+            {
+                beta[t][m] = 1.0;
+                continue;
             }
             tracks.clear();
             tracks.extend_from_slice(cluster);
