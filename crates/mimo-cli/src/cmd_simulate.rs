@@ -53,6 +53,10 @@ pub struct Args {
     /// Pulses per background search dwell in the low (0–2.5°) search band.
     #[arg(long, default_value_t = 2, value_name = "N")]
     pub search_pulses: u32,
+    /// Add N aircraft to the scenario, drawn from --seed (docs/model.md §8.4): fighters and
+    /// airliners crossing the ships' coverage, scored like the scenario's own targets. 0 to 4096.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub raid: Option<String>,
     /// Output run directory (must not exist unless --force).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -109,6 +113,26 @@ pub fn load_scenario(arg: &str) -> Result<Scenario, CliError> {
     }
 }
 
+/// Parse `--raid N`: a whole number of aircraft from 0 to the raid limit.
+pub fn parse_raid(text: &str) -> Result<u32, CliError> {
+    let max = mimo_scenario::raid::MAX_RAID_TARGETS;
+    text.trim().parse::<u32>().ok().filter(|n| *n <= max).ok_or_else(|| {
+        CliError::input(format!("--raid: expected a whole number of aircraft from 0 to {max}, got '{text}'"))
+    })
+}
+
+/// Add `--raid` aircraft to a scenario whose duration is final (their paths depend on it).
+fn add_raid(scenario: &mut Scenario, raid: Option<&str>, seed: u64) -> Result<(), CliError> {
+    let Some(text) = raid else { return Ok(()) };
+    let targets = parse_raid(text)?;
+    if targets > 0 {
+        let stress =
+            mimo_scenario::Stress { raid: Some(mimo_scenario::stress::Raid { targets, seed }), ..Default::default() };
+        stress.apply(scenario).map_err(|e| CliError::input(format!("--raid: {e}")))?;
+    }
+    Ok(())
+}
+
 /// `--runs` within its limits.
 fn check_runs(a: &Args) -> Result<(), CliError> {
     if a.runs == 0 {
@@ -158,6 +182,7 @@ fn checked_scenario(a: &Args) -> Result<Scenario, CliError> {
         scenario.duration_s = d;
     }
     check_threads(a.threads)?;
+    add_raid(&mut scenario, a.raid.as_deref(), a.seed)?;
     if let Some(f) = &a.fidelity {
         scenario.fidelity.level = parse_fidelity_level(f)?;
     }

@@ -20,6 +20,8 @@ pub mod domain {
     pub const TRACKER: u64 = 5;
     /// Reserved for background search; unused (the search raster is deterministic).
     pub const SEARCH: u64 = 6;
+    /// The aircraft of a raid stress (docs/model.md §8.4).
+    pub const RAID: u64 = 7;
     /// Tests and benchmarks only.
     pub const TEST: u64 = 99;
 }

@@ -42,6 +42,7 @@ mod error;
 mod flight;
 mod load;
 mod model;
+pub mod raid;
 mod ship;
 pub mod ship_frames;
 pub mod stress;

@@ -1,6 +1,7 @@
 //! Stress transformations of a scenario, for studies that look for where a method fails
 //! (docs/design.md §9): every target's RCS offset in dB, every radar's false-alarm probability
-//! and peak power, and the spacing of the formation fighters.
+//! and peak power, the spacing of the formation fighters, and a raid of added aircraft
+//! ([`crate::raid`]).
 //!
 //! Each is applied to a resolved [`Scenario`] before its trajectories are built, so the result
 //! is an ordinary scenario, recorded whole in the run's manifest. Values outside a physical range
@@ -22,6 +23,18 @@ pub mod bounds {
     pub const FORMATION_SPACING_SCALE: (f64, f64) = (0.05, 10.0);
     /// Peak power offset (dB): ±30 dB is 100 W to 100 MW for the default 100-kW radar.
     pub const PEAK_POWER_OFFSET_DB: (f64, f64) = (-30.0, 30.0);
+    /// Raid aircraft added to a scenario: a whole number from 0 (none) to 4096, eight times a
+    /// dense raid of 512 on the network.
+    pub const RAID_TARGETS: (f64, f64) = (0.0, crate::raid::MAX_RAID_TARGETS as f64);
+}
+
+/// A raid: how many aircraft, and the seed they are drawn from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Raid {
+    /// Number of aircraft (at most [`crate::raid::MAX_RAID_TARGETS`]).
+    pub targets: u32,
+    /// The seed of the draw (a study's or a simulation's master seed).
+    pub seed: u64,
 }
 
 /// Stress values; `None` leaves the scenario's own value.
@@ -36,11 +49,13 @@ pub struct Stress {
     pub formation_spacing_scale: Option<f64>,
     /// Added to every radar's peak power (dB).
     pub peak_power_offset_db: Option<f64>,
+    /// Aircraft added before the other stresses are applied, so that they apply to them too.
+    pub raid: Option<Raid>,
 }
 
 /// A stress value outside its range: the axis, the value and the range.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{axis} = {value}: expected a value in [{lo}, {hi}]")]
+#[error("{axis} = {value}: expected a {} in [{lo}, {hi}]", if *axis == "raid_targets" { "whole number" } else { "value" })]
 pub struct StressError {
     /// The axis name.
     pub axis: &'static str,
@@ -50,6 +65,16 @@ pub struct StressError {
     pub lo: f64,
     /// Upper bound.
     pub hi: f64,
+}
+
+/// Check a raid size given as a number (a plan value): a whole number in [`bounds::RAID_TARGETS`].
+pub fn check_raid_targets(value: f64) -> Result<u32, StressError> {
+    let (lo, hi) = bounds::RAID_TARGETS;
+    check("raid_targets", value, (lo, hi))?;
+    if value.fract() != 0.0 {
+        return Err(StressError { axis: "raid_targets", value, lo, hi });
+    }
+    Ok(value as u32)
 }
 
 /// Check one value against its bounds.
@@ -99,12 +124,16 @@ impl Stress {
         opt("rcs_offset_db", self.rcs_offset_db, bounds::RCS_OFFSET_DB)?;
         opt("pfa", self.pfa, bounds::PFA)?;
         opt("formation_spacing_scale", self.formation_spacing_scale, bounds::FORMATION_SPACING_SCALE)?;
-        opt("peak_power_offset_db", self.peak_power_offset_db, bounds::PEAK_POWER_OFFSET_DB)
+        opt("peak_power_offset_db", self.peak_power_offset_db, bounds::PEAK_POWER_OFFSET_DB)?;
+        self.raid.map_or(Ok(()), |r| check_raid_targets(f64::from(r.targets)).map(|_| ()))
     }
 
     /// Apply to a resolved scenario (checked first).
     pub fn apply(&self, s: &mut Scenario) -> Result<(), StressError> {
         self.check()?;
+        if let Some(r) = self.raid {
+            crate::raid::add_raid(s, r.targets, r.seed);
+        }
         if let Some(db) = self.rcs_offset_db {
             let k = 10f64.powf(db / 10.0);
             s.targets.iter_mut().for_each(|t| {
@@ -145,6 +174,7 @@ mod tests {
             pfa: Some(1e-4),
             formation_spacing_scale: Some(2.0),
             peak_power_offset_db: Some(10.0),
+            raid: None,
         };
         stress.apply(&mut s).expect("apply");
         for (a, b) in s.targets.iter().zip(&base.targets) {

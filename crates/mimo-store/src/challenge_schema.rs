@@ -6,8 +6,9 @@
 use crate::schema::ColType::{Bool, F64, U32, Utf8};
 use crate::schema::{ColumnSpec, STUDY_IDS, TableSpec, col, opt};
 
-/// The stress-point columns (`swept` and the five axes) of the study tables.
-const POINT: [ColumnSpec; 6] = [STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7], STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10]];
+/// The stress-point columns (`swept` and the six axes) of the study tables.
+const POINT: [ColumnSpec; 7] =
+    [STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7], STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11]];
 
 /// `DIR/challenge.parquet`: one row per family × scenario × stress point.
 pub const STUDY_CHALLENGE: TableSpec = TableSpec {
@@ -28,6 +29,7 @@ pub const STUDY_CHALLENGE: TableSpec = TableSpec {
         POINT[3],
         POINT[4],
         POINT[5],
+        POINT[6],
         col("points", U32, "", "points of the family (knob values)"),
         col("runs", U32, "", "Monte Carlo runs per point"),
         col("completeness_required", F64, "", "the completeness the challenge requires (0.98)"),
@@ -75,6 +77,7 @@ pub const STUDY_CHALLENGE_RATIOS: TableSpec = TableSpec {
         POINT[3],
         POINT[4],
         POINT[5],
+        POINT[6],
         col("mimo_family", Utf8, "", "the MIMO family (numerator)"),
         col("conventional_family", Utf8, "", "the conventional family (denominator)"),
         opt("energy_ratio", F64, "", "energy_at_98_j of the MIMO family ÷ that of the conventional family"),

@@ -362,12 +362,13 @@ macro_rules! study_ids {
                 "added to every radar's peak power; null when the plan has no such axis",
             ),
             opt("search_pulses", F64, "", "pulses of the low search band; null when the plan has no such axis"),
+            opt("raid_targets", F64, "", "raid aircraft added to the scenario; null when the plan has no such axis"),
         ]
     };
 }
 
 /// Number of identifying columns opening every study table.
-pub const STUDY_ID_COLUMNS: usize = 11;
+pub const STUDY_ID_COLUMNS: usize = 12;
 
 macro_rules! study_tables {
     ($( ($name:literal, $unit:literal, $desc:literal) ),* $(,)?) => {
@@ -380,7 +381,7 @@ macro_rules! study_tables {
 
         const STUDY_RESULTS_COLUMNS: &[ColumnSpec] = &[
             STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
-            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10],
+            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11],
             RUN,
             col("seed", U64, "", "master seed of the run"),
             $(opt($name, F64, $unit, $desc),)*
@@ -389,7 +390,7 @@ macro_rules! study_tables {
 
         const STUDY_SUMMARY_COLUMNS: &[ColumnSpec] = &[
             STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
-            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10],
+            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11],
             col("runs", U32, "", "Monte Carlo runs of the cell"),
             col("failed", U32, "", "runs that failed"),
             opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
@@ -458,6 +459,7 @@ pub const STUDY_COSTS: TableSpec = TableSpec {
         STUDY_IDS[8],
         STUDY_IDS[9],
         STUDY_IDS[10],
+        STUDY_IDS[11],
         RUN,
         col("seed", U64, "", "master seed of the run"),
         col("duration_s", F64, "s", "simulated seconds of the run"),

@@ -27,6 +27,7 @@
 //! formation_spacing_scale = [0.5, 1.0]
 //! peak_power_offset_db = [0.0]
 //! search_pulses = [1, 2]
+//! raid_targets = [0, 32, 128]               # aircraft added, drawn from the seed
 //!
 //! [limits]                                  # optional: when a run counts as failed
 //! wall_s_per_run = 900.0
@@ -140,12 +141,20 @@ pub enum Axis {
     PeakPowerOffsetDb,
     /// Pulses of the low search band.
     SearchPulses,
+    /// Aircraft added as a raid (docs/model.md §8.4).
+    RaidTargets,
 }
 
 impl Axis {
     /// Every axis, in the order of paths and columns.
-    pub const ALL: [Axis; 5] =
-        [Axis::RcsOffsetDb, Axis::Pfa, Axis::FormationSpacingScale, Axis::PeakPowerOffsetDb, Axis::SearchPulses];
+    pub const ALL: [Axis; 6] = [
+        Axis::RcsOffsetDb,
+        Axis::Pfa,
+        Axis::FormationSpacingScale,
+        Axis::PeakPowerOffsetDb,
+        Axis::SearchPulses,
+        Axis::RaidTargets,
+    ];
 
     /// The key in plans, paths and tables.
     pub fn name(self) -> &'static str {
@@ -155,13 +164,14 @@ impl Axis {
             Axis::FormationSpacingScale => "formation_spacing_scale",
             Axis::PeakPowerOffsetDb => "peak_power_offset_db",
             Axis::SearchPulses => "search_pulses",
+            Axis::RaidTargets => "raid_targets",
         }
     }
 
     /// The value that leaves a scenario as it is (`pfa`: the standard radars' 1e-6).
     pub fn baseline(self) -> f64 {
         match self {
-            Axis::RcsOffsetDb | Axis::PeakPowerOffsetDb => 0.0,
+            Axis::RcsOffsetDb | Axis::PeakPowerOffsetDb | Axis::RaidTargets => 0.0,
             Axis::Pfa => mimo_core::params::RadarParams::default().pfa,
             Axis::FormationSpacingScale => 1.0,
             Axis::SearchPulses => f64::from(mimo_sim::SearchConfig::default().bands[0].n_pulses),
@@ -176,13 +186,14 @@ impl Axis {
             Axis::FormationSpacingScale => "formation spacing scale",
             Axis::PeakPowerOffsetDb => "peak power offset of every radar (dB)",
             Axis::SearchPulses => "pulses per low-band search dwell",
+            Axis::RaidTargets => "raid aircraft added",
         }
     }
 
-    /// Whether a larger value stresses a tracker more (more false alarms); for every other axis
-    /// a smaller value does (weaker echoes, closer targets, fewer search pulses).
+    /// Whether a larger value stresses a tracker more (more false alarms, more raid aircraft);
+    /// for every other axis a smaller value does (weaker echoes, closer targets, fewer pulses).
     pub fn harder_when_larger(self) -> bool {
-        matches!(self, Axis::Pfa)
+        matches!(self, Axis::Pfa | Axis::RaidTargets)
     }
 
     /// Whether values are compared, drawn and interpolated on log10 of the value.
@@ -207,6 +218,9 @@ impl Axis {
             Axis::Pfa => r(bounds::PFA),
             Axis::FormationSpacingScale => r(bounds::FORMATION_SPACING_SCALE),
             Axis::PeakPowerOffsetDb => r(bounds::PEAK_POWER_OFFSET_DB),
+            Axis::RaidTargets => mimo_scenario::stress::check_raid_targets(v)
+                .map(|_| ())
+                .map_err(|e| format!("expected a whole number of aircraft in [{}, {}], got {v}", e.lo, e.hi)),
             Axis::SearchPulses => {
                 if v.fract() == 0.0 && (1.0..=16.0).contains(&v) {
                     Ok(())

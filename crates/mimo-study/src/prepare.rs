@@ -6,6 +6,7 @@
 
 use crate::grid::{self, Cell};
 use crate::plan::{Axis, Plan, PlanError, ScenarioRef};
+use mimo_scenario::stress::Raid;
 use mimo_scenario::{Scenario, Stress};
 use mimo_sim::{SearchConfig, World};
 
@@ -19,12 +20,13 @@ pub struct Prepared {
     pub world_of: Vec<usize>,
 }
 
-fn stress_of(cell: &Cell) -> Stress {
+fn stress_of(cell: &Cell, seed: u64) -> Stress {
     Stress {
         rcs_offset_db: cell.applied(Axis::RcsOffsetDb),
         pfa: cell.applied(Axis::Pfa),
         formation_spacing_scale: cell.applied(Axis::FormationSpacingScale),
         peak_power_offset_db: cell.applied(Axis::PeakPowerOffsetDb),
+        raid: cell.applied(Axis::RaidTargets).map(|n| Raid { targets: n as u32, seed }),
     }
 }
 
@@ -61,13 +63,13 @@ fn load(plan: &Plan, i: usize) -> Result<Scenario, PlanError> {
 /// budget of a `mimo` command (docs/design.md §7), the rest for the runs in flight.
 pub const WORLDS_BUDGET_BYTES: u64 = 3 << 30;
 
-/// Memory a world of `s` holds, estimated from its size (s.build_trajectories): every target's
+/// Memory a world of `s` plus `raid_targets` raid aircraft holds, estimated from its size (s.build_trajectories): every target's
 /// position and velocity at every flight step of the run and its margin, and every moving ship's
 /// faces at every frame sample.
-pub fn world_bytes(s: &Scenario) -> u64 {
+pub fn world_bytes(s: &Scenario, raid_targets: u32) -> u64 {
     let duration_s = s.duration_s.max(0.0);
     let nodes = ((duration_s + mimo_scenario::MARGIN_S) / mimo_scenario::STEP_S).ceil() as u64 + 2;
-    let targets = s.targets.len() as u64 * nodes * 2 * std::mem::size_of::<glam::DVec3>() as u64;
+    let targets = (s.targets.len() as u64 + u64::from(raid_targets)) * nodes * 2 * std::mem::size_of::<glam::DVec3>() as u64;
     let face = std::mem::size_of::<mimo_core::face::FaceFrame>() as u64;
     let samples = (duration_s / mimo_scenario::ShipFrames::STEP_S).ceil() as u64 + 3;
     let ships: u64 = s
@@ -79,11 +81,11 @@ pub fn world_bytes(s: &Scenario) -> u64 {
 }
 
 /// The distinct (scenario, stress) keys of the cells, in order of first use, and each cell's key.
-fn distinct_worlds(cells: &[Cell]) -> (Vec<(usize, Stress)>, Vec<usize>) {
+fn distinct_worlds(cells: &[Cell], seed: u64) -> (Vec<(usize, Stress)>, Vec<usize>) {
     let mut keys: Vec<(usize, Stress)> = Vec::new();
     let mut world_of = Vec::with_capacity(cells.len());
     for cell in cells {
-        let key = (cell.scenario, stress_of(cell));
+        let key = (cell.scenario, stress_of(cell, seed));
         match keys.iter().position(|k| *k == key) {
             Some(k) => world_of.push(k),
             None => {
@@ -97,7 +99,7 @@ fn distinct_worlds(cells: &[Cell]) -> (Vec<(usize, Stress)>, Vec<usize>) {
 
 /// Refuse worlds that would not fit in [`WORLDS_BUDGET_BYTES`], before any is built.
 fn check_world_memory(plan: &Plan, keys: &[(usize, Stress)], scenarios: &[Scenario]) -> Result<(), PlanError> {
-    let bytes: u64 = keys.iter().map(|(i, _)| world_bytes(&scenarios[*i])).sum();
+    let bytes: u64 = keys.iter().map(|(i, st)| world_bytes(&scenarios[*i], st.raid.as_ref().map_or(0, |r| r.targets))).sum();
     if bytes <= WORLDS_BUDGET_BYTES {
         return Ok(());
     }
@@ -120,7 +122,7 @@ pub fn prepare(plan: &Plan) -> Result<Prepared, PlanError> {
     grid::check_size(plan)?;
     let cells = grid::cells(plan);
     let scenarios: Vec<Scenario> = (0..plan.scenarios.len()).map(|i| load(plan, i)).collect::<Result<_, _>>()?;
-    let (keys, world_of) = distinct_worlds(&cells);
+    let (keys, world_of) = distinct_worlds(&cells, plan.seed);
     check_world_memory(plan, &keys, &scenarios)?;
     let mut worlds = Vec::with_capacity(keys.len());
     for (scenario, stress) in &keys {

@@ -39,6 +39,15 @@ fn float(b: &RecordBatch, col: &str, i: usize) -> Result<Option<f64>, String> {
     Ok(f.is_valid(i).then(|| f.value(i)))
 }
 
+/// An axis column's value; a study made before the axis existed has no column for it, which
+/// reads as null (its plan cannot sweep the axis, so every cell's value is null too).
+fn axis_value(b: &RecordBatch, axis: Axis, i: usize) -> Result<Option<f64>, String> {
+    match b.column_by_name(axis.name()) {
+        None => Ok(None),
+        Some(_) => float(b, axis.name(), i),
+    }
+}
+
 /// A shipped study says how it was made, and its plan is still the one under `studies/` of the
 /// same name (a plan edited since is a stale study), when there is one.
 fn check_made_by(dir: &Path) -> Result<(), String> {
@@ -86,7 +95,7 @@ fn check_study(dir: &Path) -> Result<Option<String>, String> {
         let runs = b.column_by_name("run").and_then(|r| r.as_primitive_opt::<UInt32Type>().cloned());
         let runs = runs.ok_or("results.parquet: no uint32 run column")?;
         for i in 0..b.num_rows() {
-            let same_axes = Axis::ALL.iter().map(|a| float(&b, a.name(), i)).collect::<Result<Vec<_>, _>>()?
+            let same_axes = Axis::ALL.iter().map(|a| axis_value(&b, *a, i)).collect::<Result<Vec<_>, _>>()?
                 == Axis::ALL.iter().map(|a| cell.value(*a)).collect::<Vec<_>>();
             let here = text(&b, "method", i)?.as_deref() == Some(method.as_str())
                 && text(&b, "scenario", i)?.as_deref() == Some(scenario.as_str())

@@ -20,6 +20,7 @@ use std::collections::BTreeSet;
 /// dwell's earlier predictions from the same state and handed back to them at the channel's end
 /// ([`DwellPredictions`]). Every prediction of a channel is made from the track's state at the
 /// channel's start (a track is updated at most once per channel, after its predictions).
+#[derive(Default)]
 struct PredCache {
     basis: Option<StateStamp>,
     entries: Vec<(f64, FilterPrediction)>,
@@ -60,9 +61,11 @@ impl MultiTargetTracker {
     ) {
         let ids: Vec<u64> = self.tracks.keys().copied().collect();
         let n_m = list.len();
-        let mut caches: Vec<PredCache> =
-            ids.iter().map(|id| PredCache::seeded(&mut self.preds, &self.tracks[id])).collect();
+        // A track's cache is seeded from the dwell's store when one of its pairs passes the
+        // pre-gate (a far track costs no lookup).
+        let mut caches: Vec<Option<PredCache>> = ids.iter().map(|_| None).collect();
         let (table, near) = self.gate_channel(list, &ids, &mut caches);
+        let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
         let mut second = vec![false; n_m];
         let claimed = match self.c.associator.probabilities(&table) {
             Some(probs) => {
@@ -100,10 +103,10 @@ impl MultiTargetTracker {
     /// and which measurements lie inside an existing track's resolution cell or its initiation
     /// exclusion gate (such a measurement never starts a track, docs/model.md §6.4).
     fn gate_channel(
-        &self,
+        &mut self,
         list: &[PreparedMeasurement],
         ids: &[u64],
-        caches: &mut [PredCache],
+        caches: &mut [Option<PredCache>],
     ) -> (HypothesisTable, Vec<bool>) {
         let n_m = list.len();
         let filter = &*self.c.filter;
@@ -116,11 +119,18 @@ impl MultiTargetTracker {
         for (i, id) in ids.iter().enumerate() {
             let track = &self.tracks[id];
             let mut bound = BoundCache::default();
+            let ball = match list.first() {
+                Some(m) => self.balls.get(filter, track, m.t_s - track.t_s),
+                None => None,
+            };
             for (j, m) in list.iter().enumerate() {
-                if pregate.excludes(filter, track, m, &mut bound) {
+                let far = ball.is_some_and(|b| b.covers(track, m.t_s - track.t_s) && pregate.excludes_ball(b, m));
+                if far || pregate.excludes(filter, track, m, &mut bound) {
                     continue;
                 }
-                let pred = caches[i].get(filter, track, m.t_s);
+                let pred = caches[i]
+                    .get_or_insert_with(|| PredCache::seeded(&mut self.preds, track))
+                    .get(filter, track, m.t_s);
                 if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
                     continue;
                 }

@@ -19,10 +19,11 @@ use crate::tracker::Track;
 /// A track's predictions in one dwell: `(time predicted to, prediction)`.
 pub(crate) type Entries = Vec<(f64, FilterPrediction)>;
 
-/// Predictions by track, made in the current dwell (a few tracks: a list searched by id).
+/// Predictions by track, made in the current dwell (a map by id: a raid holds hundreds of
+/// tracks, and every channel looks each one up).
 #[derive(Debug, Default)]
 pub(crate) struct DwellPredictions {
-    by_track: Vec<(u64, StateStamp, Entries)>,
+    by_track: crate::track_balls::IdMap<(StateStamp, Entries)>,
 }
 
 impl DwellPredictions {
@@ -33,22 +34,18 @@ impl DwellPredictions {
 
     /// Take the predictions of `track` made from its current state (none if it changed since).
     pub(crate) fn take(&mut self, track: &Track) -> Option<(StateStamp, Entries)> {
-        let k = self.by_track.iter().position(|(id, _, _)| *id == track.id)?;
-        let (_, basis, entries) = self.by_track.swap_remove(k);
+        let (basis, entries) = self.by_track.remove(&track.id)?;
         basis.matches(track).then_some((basis, entries))
     }
 
     /// Keep the predictions of track `id` made from `basis` (replacing older ones).
     pub(crate) fn put(&mut self, id: u64, basis: StateStamp, entries: Entries) {
-        match self.by_track.iter_mut().find(|(i, _, _)| *i == id) {
-            Some(slot) => *slot = (id, basis, entries),
-            None => self.by_track.push((id, basis, entries)),
-        }
+        self.by_track.insert(id, (basis, entries));
     }
 
     /// The prediction of `track` from its current state to `to_s`, if one was made.
     pub(crate) fn find(&self, track: &Track, to_s: f64) -> Option<&FilterPrediction> {
-        let (_, basis, entries) = self.by_track.iter().find(|(id, _, _)| *id == track.id)?;
+        let (basis, entries) = self.by_track.get(&track.id)?;
         if !basis.matches(track) {
             return None;
         }

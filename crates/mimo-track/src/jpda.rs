@@ -54,7 +54,7 @@ impl JpdaAssociator {
         let (n, m) = (table.n_tracks, table.n_meas);
         let mut beta = vec![vec![0.0; m + 1]; n];
         let log_miss = -0.5 * self.cost.miss_cost();
-        let (cluster, n_clusters) = clusters(table);
+        let members = clusters(table);
         // The GNN assignment is the fallback of a cluster with too many (or no) joint events.
         let mut gnn: Option<Vec<Option<usize>>> = None;
         let mut tracks: Vec<usize> = Vec::new();
@@ -62,9 +62,17 @@ impl JpdaAssociator {
         let mut starts: Vec<usize> = Vec::new();
         let mut used = vec![false; m];
         let mut choice: Vec<usize> = Vec::new();
-        for c in 0..n_clusters {
+        for cluster in &members {
+            // A track that gates nothing misses for sure (its only event, β = 1 on "none").
+            if let [t] = cluster[..]
+                && log_miss.is_finite()
+                && (0..m).all(|j| table.get(t, j).is_none())
+            {
+                beta[t][m] = 1.0;
+                continue;
+            }
             tracks.clear();
-            tracks.extend((0..n).filter(|&t| cluster[t] == c));
+            tracks.extend_from_slice(cluster);
             // Each track's options, one after another: "none", then its gated measurements.
             options.clear();
             starts.clear();
@@ -129,32 +137,47 @@ impl JpdaAssociator {
     }
 }
 
-/// The clusters of a table: tracks connected through shared gated measurements. Returns each
-/// track's cluster index and the number of clusters.
-fn clusters(table: &HypothesisTable) -> (Vec<usize>, usize) {
+/// The clusters of a table: tracks connected through shared gated measurements, each in
+/// increasing track order, numbered in order of their first track. A sweep over the gated pairs
+/// (each track's row and each measurement's column once), so that a channel's cost follows its
+/// gated pairs rather than tracks × tracks.
+fn clusters(table: &HypothesisTable) -> Vec<Vec<usize>> {
     let (n, m) = (table.n_tracks, table.n_meas);
+    let rows: Vec<Vec<usize>> = (0..n).map(|t| (0..m).filter(|&j| table.get(t, j).is_some()).collect()).collect();
+    let mut cols: Vec<Vec<usize>> = vec![Vec::new(); m];
+    for (t, row) in rows.iter().enumerate() {
+        row.iter().for_each(|&j| cols[j].push(t));
+    }
     let mut cluster = vec![usize::MAX; n];
-    let mut n_clusters = 0;
+    let mut col_done = vec![false; m];
+    let mut members: Vec<Vec<usize>> = Vec::new();
     let mut stack = Vec::new();
     for start in 0..n {
         if cluster[start] != usize::MAX {
             continue;
         }
+        let c = members.len();
+        let mut these = vec![start];
+        cluster[start] = c;
         stack.push(start);
-        cluster[start] = n_clusters;
         while let Some(t) = stack.pop() {
-            for j in (0..m).filter(|&j| table.get(t, j).is_some()) {
-                for (u, c) in cluster.iter_mut().enumerate() {
-                    if *c == usize::MAX && table.get(u, j).is_some() {
-                        *c = n_clusters;
+            for &j in &rows[t] {
+                if std::mem::replace(&mut col_done[j], true) {
+                    continue;
+                }
+                for &u in &cols[j] {
+                    if cluster[u] == usize::MAX {
+                        cluster[u] = c;
+                        these.push(u);
                         stack.push(u);
                     }
                 }
             }
         }
-        n_clusters += 1;
+        these.sort_unstable();
+        members.push(these);
     }
-    (cluster, n_clusters)
+    members
 }
 
 /// Depth-first enumeration of the feasible joint events of one cluster: each track takes one of

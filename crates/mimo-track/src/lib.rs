@@ -126,6 +126,7 @@ mod pregate;
 mod queries;
 pub mod second_return;
 mod state_stamp;
+mod track_balls;
 pub mod tracker;
 pub mod update;
 

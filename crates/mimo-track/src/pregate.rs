@@ -13,7 +13,7 @@
 //! left to the channel's cache, which computes it only when a pair or an update needs it.
 
 use crate::config::InitiationExclusion;
-use crate::filter::{FilterPrediction, PredictionBound, TrackFilter};
+use crate::filter::{FilterPrediction, TrackFilter};
 use crate::gating::Gater;
 use crate::measurement::PreparedMeasurement;
 use crate::tracker::Track;
@@ -34,10 +34,37 @@ pub(crate) struct PreGate {
     cell_rb_m: f64,
 }
 
+/// What the pre-gate knows of a track's prediction before making it: the combined predicted
+/// mean, an upper bound of every mode's (and the combination's) position trace, and a radius
+/// that holds every mode's predicted position around the combined one (0 for one mode).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GateBound {
+    mean: [f64; 6],
+    position_trace: f64,
+    mode_radius_m: f64,
+}
+
+impl GateBound {
+    /// The filter's own bound ([`TrackFilter::prediction_bound`], one mode), or for an IMM with
+    /// constant-velocity modes its convex trace bound `T = C + 2S`
+    /// ([`TrackFilter::position_trace_upper_convex`]): every mixed prior is a convex combination
+    /// of the modes, so every predicted mode mean and the combined mean lie in the hull of the
+    /// modes' predicted means, whose diameter is `√S ≤ √(T/2)`; every mode's trace is at most
+    /// `C + S ≤ T`.
+    fn of(filter: &dyn TrackFilter, track: &Track, dt: f64) -> Option<GateBound> {
+        if let Some(b) = filter.prediction_bound(&track.state, dt) {
+            return Some(GateBound { mean: b.mean, position_trace: b.position_trace, mode_radius_m: 0.0 });
+        }
+        let t = filter.position_trace_upper_convex(&track.state, dt)?;
+        let mode_radius_m = (0.5 * t).sqrt() * (1.0 + CELL_MARGIN);
+        Some(GateBound { mean: filter.predict_mean(&track.state, dt), position_trace: t, mode_radius_m })
+    }
+}
+
 /// A track's bound at one time (the channel's measurements usually share one time).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct BoundCache {
-    entry: Option<(f64, Option<PredictionBound>)>,
+    entry: Option<(f64, Option<GateBound>)>,
 }
 
 impl PreGate {
@@ -62,7 +89,7 @@ impl PreGate {
         let bound = match cache.entry {
             Some((t_s, b)) if t_s == m.t_s => b,
             _ => {
-                let b = filter.prediction_bound(&track.state, m.t_s - track.t_s);
+                let b = GateBound::of(filter, track, m.t_s - track.t_s);
                 cache.entry = Some((m.t_s, b));
                 b
             }
@@ -75,8 +102,27 @@ impl PreGate {
         if !(tr.is_finite() && tr >= 0.0 && s_rr_max > 0.0 && s_rr_max.is_finite() && nu_rb.is_finite()) {
             return false;
         }
+        // Every mode's range-sum residual is at least this (`R_B` is 2-Lipschitz in position).
+        let nu_lo = nu_rb.abs() - 2.0 * b.mode_radius_m;
         let outside_cell = nu_rb.abs() > self.cell_rb_m;
-        outside_cell && nu_rb * nu_rb > NIS_MARGIN * nis_max * s_rr_max
+        outside_cell && nu_lo > 0.0 && nu_lo * nu_lo > NIS_MARGIN * nis_max * s_rr_max
+    }
+}
+
+impl PreGate {
+    /// Whether every pair of a track whose predictions lie in `ball` with `m` is sure to fail
+    /// the gate, the exclusion NIS and the exclusion cell ([`crate::track_balls`]): the
+    /// range-sum residual of any point of the ball is at least the centre's less twice the
+    /// radius (`R_B` is 2-Lipschitz), and every mode's trace is at most the ball's bound.
+    pub(crate) fn excludes_ball(&self, ball: &crate::track_balls::TrackBall, m: &PreparedMeasurement) -> bool {
+        let Some(nis_max) = self.nis_max else { return false };
+        let nu_lo = (m.z[0] - m.model.h_pos(ball.centre)[0]).abs() - 2.0 * ball.radius_m;
+        let s_rr_max = 4.0 * ball.trace_max_m2 + m.r[0][0];
+        nu_lo.is_finite()
+            && s_rr_max.is_finite()
+            && s_rr_max > 0.0
+            && nu_lo > self.cell_rb_m
+            && nu_lo * nu_lo > NIS_MARGIN * nis_max * s_rr_max
     }
 }
 
@@ -192,16 +238,28 @@ mod tests {
         assert_both_kinds(&pairs);
     }
 
-    /// A filter without a bound (the IMM) and a gater without an NIS limit are never pre-gated.
+    /// The IMM's bound before its prediction (the mode hull): every pair it skips has a
+    /// smallest-mode NIS above the gate, a measurement 200 km beyond the track is skipped, and
+    /// the sweep through the gate's edge skips and keeps pairs.
     #[test]
-    fn without_a_bound_nothing_is_skipped() {
+    fn the_imm_bound_skips_only_pairs_whose_nis_is_above_the_gate() {
+        let (gate_nis, pairs) =
+            sweep(crate::config::TrackerKind::Imm, &|g, f, t, _, m| g.excludes(f, t, m, &mut BoundCache::default()));
+        for &(nis, skipped) in &pairs {
+            if skipped {
+                assert!(nis > NIS_MARGIN * gate_nis, "skipped a pair with NIS {nis}");
+            }
+            if nis <= gate_nis {
+                assert!(!skipped);
+            }
+        }
+        assert_both_kinds(&pairs);
         let config = TrackerConfig::for_kind(crate::config::TrackerKind::Imm);
         let c = Components::from_config(&config);
         let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);
         let model = BistaticRuv::monostatic(DVec3::ZERO, identity());
         let t = track(&*c.filter, [0.0, 0.0, 50_000.0, 0.0, 0.0, 0.0], 400.0);
-        let m = meas(model, 300_000.0, 1.0);
-        assert!(!gate.excludes(&*c.filter, &t, &m, &mut BoundCache::default()));
+        assert!(gate.excludes(&*c.filter, &t, &meas(model, 300_000.0, 1.0), &mut BoundCache::default()));
     }
 
     /// The IMM's pre-gate from its prediction: every pair it skips has a smallest-mode NIS above

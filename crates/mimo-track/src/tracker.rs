@@ -87,6 +87,8 @@ pub struct MultiTargetTracker {
     /// Observed power (linear SNR) of each live track's initiating detection: the score by which
     /// the tentative-track budget sheds (docs/model.md §6.4).
     pub(crate) initiation_power: BTreeMap<u64, f64>,
+    /// Where each track can be over the next seconds (the channels' spatial pre-selection).
+    pub(crate) balls: crate::track_balls::TrackBalls,
 }
 
 impl fmt::Debug for MultiTargetTracker {
@@ -125,6 +127,7 @@ impl MultiTargetTracker {
             quiet: Default::default(),
             preds: Default::default(),
             initiation_power: BTreeMap::new(),
+            balls: Default::default(),
         }
     }
 
@@ -417,6 +420,7 @@ impl MultiTargetTracker {
             self.tracks.remove(&id);
             self.initiation_power.remove(&id);
             self.quiet.forget(id);
+            self.balls.forget(id);
             *self.stats.deleted.entry(r).or_insert(0) += 1;
         }
         rows
