@@ -63,13 +63,14 @@ fn load(plan: &Plan, i: usize) -> Result<Scenario, PlanError> {
 /// budget of a `mimo` command (docs/design.md §7), the rest for the runs in flight.
 pub const WORLDS_BUDGET_BYTES: u64 = 3 << 30;
 
-/// Memory a world of `s` plus `raid_targets` raid aircraft holds, estimated from its size (s.build_trajectories): every target's
-/// position and velocity at every flight step of the run and its margin, and every moving ship's
-/// faces at every frame sample.
+/// Memory a world of `s` plus `raid_targets` raid aircraft holds, estimated from its size
+/// (s.build_trajectories): every target's position and velocity at every flight step of the run
+/// and its margin, and every moving ship's faces at every frame sample.
 pub fn world_bytes(s: &Scenario, raid_targets: u32) -> u64 {
     let duration_s = s.duration_s.max(0.0);
     let nodes = ((duration_s + mimo_scenario::MARGIN_S) / mimo_scenario::STEP_S).ceil() as u64 + 2;
-    let targets = (s.targets.len() as u64 + u64::from(raid_targets)) * nodes * 2 * std::mem::size_of::<glam::DVec3>() as u64;
+    let targets =
+        (s.targets.len() as u64 + u64::from(raid_targets)) * nodes * 2 * std::mem::size_of::<glam::DVec3>() as u64;
     let face = std::mem::size_of::<mimo_core::face::FaceFrame>() as u64;
     let samples = (duration_s / mimo_scenario::ShipFrames::STEP_S).ceil() as u64 + 3;
     let ships: u64 = s
@@ -99,7 +100,8 @@ fn distinct_worlds(cells: &[Cell], seed: u64) -> (Vec<(usize, Stress)>, Vec<usiz
 
 /// Refuse worlds that would not fit in [`WORLDS_BUDGET_BYTES`], before any is built.
 fn check_world_memory(plan: &Plan, keys: &[(usize, Stress)], scenarios: &[Scenario]) -> Result<(), PlanError> {
-    let bytes: u64 = keys.iter().map(|(i, st)| world_bytes(&scenarios[*i], st.raid.as_ref().map_or(0, |r| r.targets))).sum();
+    let bytes: u64 =
+        keys.iter().map(|(i, st)| world_bytes(&scenarios[*i], st.raid.as_ref().map_or(0, |r| r.targets))).sum();
     if bytes <= WORLDS_BUDGET_BYTES {
         return Ok(());
     }
