@@ -9,7 +9,7 @@ use mimo_store::layout::RunDir;
 use mimo_store::manifest::{Manifest, TableFile, TrackerInfo};
 use mimo_store::run_sink::ParquetRunSink;
 use mimo_store::rundir::RunDirWriter;
-use mimo_ta::replay::{DwellKey, ReplayError, ReplayFrom, replay_selected};
+use mimo_ta::replay::{DwellKey, Recording, ReplayError, ReplayFrom, replay_selected};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -114,14 +114,21 @@ impl Rerun<'_> {
         };
         let mut tester = self.ta.build(self.world)?;
         let mut sink = ParquetRunSink::for_rerun(self.writer, k, self.from == ReplayFrom::Primitives)?;
-        let (world, cfg, from) = (self.world, &self.cfg, self.from);
-        let stats = replay_selected(world, cfg, tester.as_mut(), k, &keys, &mut load, &prims, &meas, from, &mut sink)
-            .map_err(|e| match e {
-            ReplayError::UnknownDwell { .. } | ReplayError::UnknownFace { .. } => {
-                CliError::input(format!("{}: {e}", self.input.root().display()))
-            }
-            other => CliError::from(other),
-        })?;
+        let recording = Recording {
+            run: k,
+            keys: &keys,
+            load: &mut load,
+            primitives: &prims,
+            measurements: &meas,
+            from: self.from,
+        };
+        let stats =
+            replay_selected(self.world, &self.cfg, tester.as_mut(), recording, &mut sink).map_err(|e| match e {
+                ReplayError::UnknownDwell { .. } | ReplayError::UnknownFace { .. } => {
+                    CliError::input(format!("{}: {e}", self.input.root().display()))
+                }
+                other => CliError::from(other),
+            })?;
         let files = sink.finish()?;
         let info = mimo_sim::TaInfo { name: tester.name().to_string(), config: tester.config() };
         Ok((files, stats.measurements, info))

@@ -13,10 +13,10 @@ use crate::frame::{FrameJson, PlotFrame};
 use crate::framing::{Framing, framing};
 use crate::globe::{Polylines, coastlines, globe_graticule, graticule};
 use crate::linked::{self, RunScore};
-use crate::objects::{self, BeamCols, MeasCols, RadarView, TrackCols, TruthPath};
-use crate::source::RunSource;
+use crate::objects::{self, BeamCols, MeasCols, MeasDropped, RadarView, TrackCols, TruthPath};
+use crate::source::{RunSource, RunTables};
 use mimo_core::geo::ecef_to_geodetic;
-use mimo_core::records::DwellKind;
+use mimo_core::records::{DwellKind, DwellRow, TrackRow};
 use serde::Serialize;
 use std::collections::HashMap;
 
@@ -191,12 +191,7 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
     let duration_s = src.manifest.duration_s;
     let (t0, t1) = window(opts, duration_s)?;
     let tables = src.read(opts.run)?;
-    let score_dir = mimo_store::layout::RunDir::new(&src.run_dir).score();
-    let score: RunScore = if score_dir.summary().is_file() {
-        linked::from_score_dir(score_dir.root(), opts.run)?
-    } else {
-        linked::computed(src, &tables)?
-    };
+    let score = run_score(src, &tables, opts.run)?;
 
     let frame = PlotFrame::at(src.scenario.centre());
     let ships = &src.scenario.ships;
@@ -208,64 +203,13 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         objects::thin_tracks(objects::track_cols(&frame, &tables.tracks, &score, &targets, t0, t1), opts.tolerance_m);
 
     let kinds: HashMap<u64, DwellKind> = tables.dwells.iter().map(|d| (d.dwell_id, d.kind)).collect();
-    let mut used_by: HashMap<u64, u64> = HashMap::new();
-    for r in &tables.tracks {
-        if let Some(m) = r.last_meas_id {
-            let e = used_by.entry(m).or_insert(r.track_id);
-            *e = (*e).min(r.track_id);
-        }
-    }
+    let used_by = used_by(&tables.tracks);
     let (meas, meas_dropped) =
         objects::meas_cols(&frame, ships, &tables.measurements, &kinds, &used_by, &targets, (t0, t1));
     let beams = objects::beam_cols(&frame, ships, &tables.dwells, t0, t1);
 
-    let n = score.t_s.len();
-    let (energy, ta_energy) = linked::energy_per_interval(&tables.dwells, score.interval_s, n);
-    let keep: Vec<usize> = (0..n).filter(|&i| score.t_s[i] >= t0 && score.t_s[i] <= t1).collect();
-    let metrics = MetricsCols {
-        source: score.source.clone(),
-        interval_s: score.interval_s,
-        t: keep.iter().map(|&i| score.t_s[i]).collect(),
-        completeness: keep.iter().map(|&i| score.completeness[i]).collect(),
-        n_scorable: keep.iter().map(|&i| score.n_scorable[i]).collect(),
-        energy_j: keep.iter().map(|&i| energy[i]).collect(),
-        ta_energy_j: keep.iter().map(|&i| ta_energy[i]).collect(),
-    };
-
-    let in_window = |t: f64| t >= t0 && t <= t1;
-    let truth_rows = tables.truth.iter().filter(|r| in_window(r.t_s)).count();
-    let truth_kept: usize = truth.iter().map(|p| p.t.len()).sum();
-    let search_parts = tables.dwells.iter().filter(|d| d.kind == DwellKind::Search && in_window(d.t_s)).count();
-    let step =
-        if opts.truth_step_s > 0.0 { format!(" sampled every {} s, then", opts.truth_step_s) } else { String::new() };
-    let tol = opts.tolerance_m;
-    let mut dropped = vec![
-        format!(
-            "truth thinned from {truth_rows} samples (10 Hz) to {truth_kept},{step} within {tol} m: every sample left out is within {tol} m of the drawn path (chords between kept samples) at its own time"
-        ),
-        format!(
-            "{tracks_thinned} of {} track states left out (not drawn, not clickable), within {tol} m: each left-out state is within {tol} m of the chord between the kept states of its track at its time; every track's first and last state, every status change and every deletion are kept",
-            tracks_thinned + tracks.t.len()
-        ),
-        format!(
-            "the region view frames the ships and targets of the current time (boxes every {} s, kept while what is in view stays inside), not the whole run; zoom out or use the globe view for the rest",
-            opts.framing_step_s
-        ),
-        format!(
-            "{search_parts} background-search dwell parts are not drawn as beams (the radars' own raster); their detections are drawn as measurements"
-        ),
-        "primitives are not drawn (each measurement is its strongest primitive, docs/model.md §4.5)".to_string(),
-        "the earth is drawn as parallels and meridians (every 0.5° in the region view, 15° in the globe view) over a sea-coloured floor, not as a filled surface, so the page opens quickly".to_string(),
-        "the 3-D axes (box, ticks, titles in ENU metres) are not drawn: tick text is slow to draw and says little on a globe; the click panel gives positions".to_string(),
-    ];
-    if meas_dropped.unplaceable + meas_dropped.unknown_radar > 0 {
-        dropped.push(format!(
-            "{} measurements could not be placed in space (docs/model.md §5.4 conversion refused: {}, unknown radar or face: {})",
-            meas_dropped.unplaceable + meas_dropped.unknown_radar,
-            meas_dropped.unplaceable,
-            meas_dropped.unknown_radar
-        ));
-    }
+    let metrics = metrics_cols(&score, &tables.dwells, t0, t1);
+    let dropped = dropped_notes(opts, &tables, &truth, (t0, t1), (tracks_thinned, tracks.t.len()), meas_dropped);
     let region = region(&frame, &truth, &radars);
     let framing = framing(&frame, &radars, &truth, t0, t1, opts.framing_step_s.max(1.0));
     Ok(View {
@@ -294,4 +238,89 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
         region,
         framing,
     })
+}
+
+/// The run's metrics: from its score directory when scored, else computed here.
+fn run_score(src: &RunSource, tables: &RunTables, run: u32) -> Result<RunScore, PlotError> {
+    let score_dir = mimo_store::layout::RunDir::new(&src.run_dir).score();
+    if score_dir.summary().is_file() {
+        linked::from_score_dir(score_dir.root(), run)
+    } else {
+        linked::computed(src, tables)
+    }
+}
+
+/// For each measurement a track state last used, the lowest id of the tracks that used it.
+fn used_by(tracks: &[TrackRow]) -> HashMap<u64, u64> {
+    let mut used_by: HashMap<u64, u64> = HashMap::new();
+    for r in tracks {
+        if let Some(m) = r.last_meas_id {
+            let e = used_by.entry(m).or_insert(r.track_id);
+            *e = (*e).min(r.track_id);
+        }
+    }
+    used_by
+}
+
+/// The linked metrics panel's columns within the window [t0, t1].
+fn metrics_cols(score: &RunScore, dwells: &[DwellRow], t0: f64, t1: f64) -> MetricsCols {
+    let n = score.t_s.len();
+    let (energy, ta_energy) = linked::energy_per_interval(dwells, score.interval_s, n);
+    let keep: Vec<usize> = (0..n).filter(|&i| score.t_s[i] >= t0 && score.t_s[i] <= t1).collect();
+    MetricsCols {
+        source: score.source.clone(),
+        interval_s: score.interval_s,
+        t: keep.iter().map(|&i| score.t_s[i]).collect(),
+        completeness: keep.iter().map(|&i| score.completeness[i]).collect(),
+        n_scorable: keep.iter().map(|&i| score.n_scorable[i]).collect(),
+        energy_j: keep.iter().map(|&i| energy[i]).collect(),
+        ta_energy_j: keep.iter().map(|&i| ta_energy[i]).collect(),
+    }
+}
+
+/// What the page leaves out or thins, one sentence each; `(tracks_thinned, tracks_kept)` are
+/// the track states left out and drawn.
+fn dropped_notes(
+    opts: &ViewOptions,
+    tables: &RunTables,
+    truth: &[TruthPath],
+    (t0, t1): (f64, f64),
+    (tracks_thinned, tracks_kept): (usize, usize),
+    meas_dropped: MeasDropped,
+) -> Vec<String> {
+    let in_window = |t: f64| t >= t0 && t <= t1;
+    let truth_rows = tables.truth.iter().filter(|r| in_window(r.t_s)).count();
+    let truth_kept: usize = truth.iter().map(|p| p.t.len()).sum();
+    let search_parts = tables.dwells.iter().filter(|d| d.kind == DwellKind::Search && in_window(d.t_s)).count();
+    let step =
+        if opts.truth_step_s > 0.0 { format!(" sampled every {} s, then", opts.truth_step_s) } else { String::new() };
+    let tol = opts.tolerance_m;
+    let mut dropped = vec![
+        format!(
+            "truth thinned from {truth_rows} samples (10 Hz) to {truth_kept},{step} within {tol} m: every sample left out is within {tol} m of the drawn path (chords between kept samples) at its own time"
+        ),
+        format!(
+            "{tracks_thinned} of {} track states left out (not drawn, not clickable), within {tol} m: each left-out state is within {tol} m of the chord between the kept states of its track at its time; every track's first and last state, every status change and every deletion are kept",
+            tracks_thinned + tracks_kept
+        ),
+        format!(
+            "the region view frames the ships and targets of the current time (boxes every {} s, kept while what is in view stays inside), not the whole run; zoom out or use the globe view for the rest",
+            opts.framing_step_s
+        ),
+        format!(
+            "{search_parts} background-search dwell parts are not drawn as beams (the radars' own raster); their detections are drawn as measurements"
+        ),
+        "primitives are not drawn (each measurement is its strongest primitive, docs/model.md §4.5)".to_string(),
+        "the earth is drawn as parallels and meridians (every 0.5° in the region view, 15° in the globe view) over a sea-coloured floor, not as a filled surface, so the page opens quickly".to_string(),
+        "the 3-D axes (box, ticks, titles in ENU metres) are not drawn: tick text is slow to draw and says little on a globe; the click panel gives positions".to_string(),
+    ];
+    if meas_dropped.unplaceable + meas_dropped.unknown_radar > 0 {
+        dropped.push(format!(
+            "{} measurements could not be placed in space (docs/model.md §5.4 conversion refused: {}, unknown radar or face: {})",
+            meas_dropped.unplaceable + meas_dropped.unknown_radar,
+            meas_dropped.unplaceable,
+            meas_dropped.unknown_radar
+        ));
+    }
+    dropped
 }

@@ -360,31 +360,74 @@ fn parse_radar(loader: &Loader, t: &Spanned<toml::Table>, file: &str, path: &str
     Err(ScenarioError::Schema { file: file.to_string(), line, column, message })
 }
 
+/// The scenario the collected definitions describe, every value checked.
 fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Result<Scenario, ScenarioError> {
-    let top_ctx = Ctx::new(top, "");
-    // Settings.
-    let duration_s = match &acc.duration_s {
+    let duration_s = resolve_duration(acc.duration_s.as_ref())?;
+    let fidelity = resolve_fidelity(acc.fidelity)?;
+    let ships = resolve_ships(loader, &acc.ships, acc.radar.as_ref(), top)?;
+    for (name, (t, file)) in &acc.types {
+        validate_type(t, &Ctx::new(file, format!("aircraft_types.{name}")))?;
+    }
+    let (defs, formations, aircraft) = resolve_flights(acc.formations, acc.aircraft, &acc.types)?;
+    check_unique_ids(&defs)?;
+    // Target selection.
+    let (selected, sel_file): (Vec<String>, String) = match acc.targets {
+        Some((t, file)) => (t, file),
+        None => (defs.iter().map(|d| d.id.clone()).collect(), top.to_string()),
+    };
+    let (targets, keep) = resolve_targets(&selected, &sel_file, &defs, &acc.types)?;
+    let formations = formations.iter().filter_map(|f| prune_formation(f, &keep)).collect();
+    let aircraft = aircraft.into_iter().filter(|a| keep.contains(a.id.as_str())).collect();
+    let scenario = Scenario {
+        name: acc.name.unwrap_or_else(|| default_name.to_string()),
+        description: acc.description.unwrap_or_default(),
+        duration_s,
+        fidelity,
+        ships,
+        targets,
+        formations,
+        aircraft,
+    };
+    scenario.validate()?;
+    Ok(scenario)
+}
+
+/// The run duration set (checked), or the default.
+fn resolve_duration(set: Option<&(f64, String)>) -> Result<f64, ScenarioError> {
+    match set {
         Some((d, file)) => {
             validate_duration(*d, &Ctx::new(file, ""))?;
-            *d
+            Ok(*d)
         }
-        None => DEFAULT_DURATION_S,
-    };
-    let fidelity = match acc.fidelity {
+        None => Ok(DEFAULT_DURATION_S),
+    }
+}
+
+/// The fidelity set (checked), or the default.
+fn resolve_fidelity(set: Option<(Fidelity, String)>) -> Result<Fidelity, ScenarioError> {
+    match set {
         Some((f, file)) => {
             validate_fidelity(&f, &Ctx::new(&file, "fidelity"))?;
-            f
+            Ok(f)
         }
-        None => Fidelity::default(),
-    };
-    // Ships.
-    let mut ships = Vec::with_capacity(acc.ships.len());
-    for (n, s) in acc.ships.iter().enumerate() {
+        None => Ok(Fidelity::default()),
+    }
+}
+
+/// The ships, each with its radar (the fleet's, overridden by its own), checked; at least one.
+fn resolve_ships(
+    loader: &Loader,
+    raw: &[From<RawShip>],
+    fleet_radar: Option<&(Spanned<toml::Table>, String)>,
+    top: &str,
+) -> Result<Vec<Ship>, ScenarioError> {
+    let mut ships = Vec::with_capacity(raw.len());
+    for (n, s) in raw.iter().enumerate() {
         let ctx = Ctx::new(&s.file, format!("ships[{}]", s.index));
         let Some(id) = RadarId::parse(&s.item.id) else {
             return Err(ctx.err("id", format!("a radar id R1, R2, …, got `{}`", s.item.id)));
         };
-        let radar = radar_params(loader, acc.radar.as_ref(), s.item.radar.as_ref(), &s.file, &ctx.path)?;
+        let radar = radar_params(loader, fleet_radar, s.item.radar.as_ref(), &s.file, &ctx.path)?;
         let ship = Ship {
             id,
             lat_deg: s.item.lat_deg,
@@ -398,32 +441,53 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
         ships.push(ship);
     }
     if ships.is_empty() {
-        return Err(top_ctx.err("ships", "at least one ship (define `[[ships]]` or include a file that does)"));
+        return Err(
+            Ctx::new(top, "").err("ships", "at least one ship (define `[[ships]]` or include a file that does)")
+        );
     }
-    // Aircraft types.
-    for (name, (t, file)) in &acc.types {
-        validate_type(t, &Ctx::new(file, format!("aircraft_types.{name}")))?;
-    }
-    let type_of = |kind: &str, ctx: &Ctx| -> Result<AircraftType, ScenarioError> {
-        acc.types.get(kind).map(|(t, _)| *t).ok_or_else(|| {
-            let names: Vec<&str> = acc.types.keys().map(String::as_str).collect();
-            ctx.err("type", format!("one of the aircraft types defined ({}), got `{kind}`", names.join(", ")))
-        })
-    };
-    // Flights, and every target they define, in definition order.
-    struct Def {
-        id: String,
-        kind: String,
-        rcs_override: Option<f64>,
-        file: String,
-        path: String,
-    }
+    Ok(ships)
+}
+
+/// Aircraft types by name, each with the file that defines it.
+type Types = BTreeMap<String, (AircraftType, String)>;
+
+/// The aircraft type named `kind`, or an error listing the types defined.
+fn type_of(types: &Types, kind: &str, ctx: &Ctx) -> Result<AircraftType, ScenarioError> {
+    types.get(kind).map(|(t, _)| *t).ok_or_else(|| {
+        let names: Vec<&str> = types.keys().map(String::as_str).collect();
+        ctx.err("type", format!("one of the aircraft types defined ({}), got `{kind}`", names.join(", ")))
+    })
+}
+
+/// A target as a flight defines it.
+struct Def {
+    /// Its id.
+    id: String,
+    /// Its aircraft type.
+    kind: String,
+    /// Its own mean RCS, if set.
+    rcs_override: Option<f64>,
+    /// The file that defines it.
+    file: String,
+    /// The key path of its id.
+    path: String,
+}
+
+/// Every target the flights define (in definition order), the formations and the aircraft.
+type Flights = (Vec<Def>, Vec<Formation>, Vec<Aircraft>);
+
+/// Formations and aircraft checked, and every target they define, in definition order.
+fn resolve_flights(
+    formations: Vec<From<Formation>>,
+    aircraft: Vec<From<Aircraft>>,
+    types: &Types,
+) -> Result<Flights, ScenarioError> {
     let mut defs: Vec<Def> = Vec::new();
-    let mut formations = Vec::with_capacity(acc.formations.len());
-    for f in acc.formations {
+    let mut checked_formations = Vec::with_capacity(formations.len());
+    for f in formations {
         let ctx = Ctx::new(&f.file, format!("formations[{}]", f.index));
         validate_formation(&f.item, &ctx)?;
-        type_of(&f.item.kind, &ctx)?;
+        type_of(types, &f.item.kind, &ctx)?;
         for (i, m) in f.item.members.iter().enumerate() {
             defs.push(Def {
                 id: m.id.clone(),
@@ -435,13 +499,13 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
         }
         let mut item = f.item;
         fix_references(&mut item);
-        formations.push(item);
+        checked_formations.push(item);
     }
-    let mut aircraft = Vec::with_capacity(acc.aircraft.len());
-    for a in acc.aircraft {
+    let mut checked_aircraft = Vec::with_capacity(aircraft.len());
+    for a in aircraft {
         let ctx = Ctx::new(&a.file, format!("aircraft[{}]", a.index));
         validate_aircraft(&a.item, &ctx)?;
-        type_of(&a.item.kind, &ctx)?;
+        type_of(types, &a.item.kind, &ctx)?;
         defs.push(Def {
             id: a.item.id.clone(),
             kind: a.item.kind.clone(),
@@ -449,10 +513,15 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
             file: a.file.clone(),
             path: format!("{}.id", ctx.path),
         });
-        aircraft.push(a.item);
+        checked_aircraft.push(a.item);
     }
+    Ok((defs, checked_formations, checked_aircraft))
+}
+
+/// Every target id is defined once.
+fn check_unique_ids(defs: &[Def]) -> Result<(), ScenarioError> {
     let mut seen: HashMap<&str, &str> = HashMap::new();
-    for d in &defs {
+    for d in defs {
         if let Some(prev) = seen.insert(&d.id, &d.file) {
             return Err(ScenarioError::invalid(
                 &d.file,
@@ -461,12 +530,17 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
             ));
         }
     }
-    // Target selection.
-    let (selected, sel_file): (Vec<String>, String) = match acc.targets {
-        Some((t, file)) => (t, file),
-        None => (defs.iter().map(|d| d.id.clone()).collect(), top.to_string()),
-    };
-    let sel_ctx = Ctx::new(&sel_file, "");
+    Ok(())
+}
+
+/// The selected targets (at least one, each defined and selected once), and their ids.
+fn resolve_targets<'s>(
+    selected: &'s [String],
+    sel_file: &str,
+    defs: &[Def],
+    types: &Types,
+) -> Result<(Vec<Target>, HashSet<&'s str>), ScenarioError> {
+    let sel_ctx = Ctx::new(sel_file, "");
     if selected.is_empty() {
         return Err(sel_ctx.err("targets", "at least one target"));
     }
@@ -482,7 +556,7 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
         if !keep.insert(id) {
             return Err(sel_ctx.err(&format!("targets[{i}]"), format!("each target once, `{id}` repeats")));
         }
-        let ty = type_of(&d.kind, &sel_ctx)?;
+        let ty = type_of(types, &d.kind, &sel_ctx)?;
         let rcs_m2 = d.rcs_override.unwrap_or(ty.rcs_m2);
         targets.push(Target {
             id: id.clone(),
@@ -493,18 +567,5 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
             polarimetry: ty.polarimetry.map(|p| p.scaled(rcs_m2 / ty.rcs_m2)),
         });
     }
-    let formations = formations.iter().filter_map(|f| prune_formation(f, &keep)).collect();
-    let aircraft = aircraft.into_iter().filter(|a| keep.contains(a.id.as_str())).collect();
-    let scenario = Scenario {
-        name: acc.name.unwrap_or_else(|| default_name.to_string()),
-        description: acc.description.unwrap_or_default(),
-        duration_s,
-        fidelity,
-        ships,
-        targets,
-        formations,
-        aircraft,
-    };
-    scenario.validate()?;
-    Ok(scenario)
+    Ok((targets, keep))
 }

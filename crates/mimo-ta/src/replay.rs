@@ -18,7 +18,7 @@ use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Requester, Role
 use mimo_core::sink::{RunSink, SinkError};
 use mimo_core::time::SimTime;
 use mimo_sim::engine::{Engine, first_meas_id};
-use mimo_sim::messages::{DwellReport, PartReport, Reply};
+use mimo_sim::messages::{DwellReport, PartReport, Reply, Subscription};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
 use std::collections::{BTreeMap, HashMap};
@@ -160,125 +160,56 @@ pub fn replay(
     let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
         Ok(at.iter().map(|&i| dwells[i].clone()).collect())
     };
-    replay_selected(world, cfg, ta, run, &keys, &mut load, primitives, measurements, from, sink)
+    let recording = Recording { run, keys: &keys, load: &mut load, primitives, measurements, from };
+    replay_selected(world, cfg, ta, recording, sink)
 }
 
-/// [`replay`] from the dwells table's keys (`keys`, every row) and a loader of whole rows, asked
-/// once for the rows of the groups delivered: a reader can skip decoding the rest of the table
-/// (`mimo_store::dwell_keys`). The result is [`replay`]'s.
-#[allow(clippy::too_many_arguments)] // the recording's tables, the test article and the sink
+/// One run's recording as [`replay_selected`] reads it.
+pub struct Recording<'r, 'l> {
+    /// The run re-run.
+    pub run: u32,
+    /// The dwells table's keys, every row.
+    pub keys: &'r [DwellKey],
+    /// The loader of whole dwells rows, asked once for the rows of the groups delivered.
+    pub load: &'r mut DwellLoader<'l>,
+    /// The primitives table's rows.
+    pub primitives: &'r [PrimitiveRow],
+    /// The measurements table's rows.
+    pub measurements: &'r [MeasurementRow],
+    /// What the re-run starts from.
+    pub from: ReplayFrom,
+}
+
+/// [`replay`] from the dwells table's keys (`rec.keys`, every row) and a loader of whole rows,
+/// asked once for the rows of the groups delivered: a reader can skip decoding the rest of the
+/// table (`mimo_store::dwell_keys`). The result is [`replay`]'s.
 pub fn replay_selected(
     world: &World,
     cfg: &EngineConfig,
     ta: &mut dyn TestArticle,
-    run: u32,
-    keys: &[DwellKey],
-    load: &mut DwellLoader<'_>,
-    primitives: &[PrimitiveRow],
-    measurements: &[MeasurementRow],
-    from: ReplayFrom,
+    rec: Recording<'_, '_>,
     sink: &mut dyn RunSink,
 ) -> Result<ReplayStats, ReplayError> {
-    let fault = |ta: &dyn TestArticle, fault: TaFault| ReplayError::Ta { name: ta.name().to_string(), fault };
-    // The run's dwell parts in dwell_id order (positions in `keys`; equal ids keep file order):
-    // dwell_id → group_id by binary search. Every part must name a face its ship has (checked
-    // here, cheaply, for every part; frames are computed only for the groups delivered).
-    let mut by_id: Vec<(u64, usize)> =
-        (0..keys.len()).filter(|&i| keys[i].run == run).map(|i| (keys[i].dwell_id, i)).collect();
-    mimo_core::nearly_sorted::sort_nearly_sorted(&mut by_id);
-    let rows: Vec<usize> = by_id.into_iter().map(|(_, i)| i).collect();
-    for &i in &rows {
-        let d = &keys[i];
-        let n_faces = world.scenario.ships.get(d.radar.index()).map_or(0, |s| s.radar.face_azimuths_deg.len());
-        if usize::from(d.face) >= n_faces {
-            return Err(ReplayError::UnknownFace { dwell_id: d.dwell_id, radar: d.radar.to_string(), face: d.face });
-        }
-    }
-    let group_of = |dwell_id: u64| {
-        rows.binary_search_by_key(&dwell_id, |&i| keys[i].dwell_id).ok().map(|k| keys[rows[k]].group_id)
-    };
-
-    // Measurements (and, when subscribed, primitives) per group.
-    let mut meas_by_group: HashMap<u64, Vec<MeasurementRow>> = HashMap::new();
-    let mut prims_by_group: BTreeMap<u64, Vec<PrimitiveRow>> = BTreeMap::new();
-    for p in primitives.iter().filter(|p| p.run == run) {
-        let gid =
-            group_of(p.dwell_id).ok_or(ReplayError::UnknownDwell { table: "primitives", dwell_id: p.dwell_id })?;
-        prims_by_group.entry(gid).or_default().push(p.clone());
-    }
-    match from {
-        ReplayFrom::Measurements => {
-            for m in measurements.iter().filter(|m| m.run == run) {
-                let gid = group_of(m.dwell_id)
-                    .ok_or(ReplayError::UnknownDwell { table: "measurements", dwell_id: m.dwell_id })?;
-                meas_by_group.entry(gid).or_default().push(m.clone());
-            }
-        }
-        ReplayFrom::Primitives => {
-            let mut all = Vec::new();
-            for (gid, ps) in &prims_by_group {
-                let ms = mimo_radar::measurements_from_primitives(ps, first_meas_id(*gid));
-                all.extend(ms.iter().cloned());
-                meas_by_group.insert(*gid, ms);
-            }
-            all.sort_by_key(|m| m.meas_id);
-            if !all.is_empty() {
-                sink.measurements(all)?;
-            }
-        }
-    }
+    let Recording { run, keys, load, primitives, measurements, from } = rec;
+    let parts = Parts::of_run(world, keys, run)?;
+    let (mut meas_by_group, mut prims_by_group) = by_group(&parts, run, primitives, measurements, from, sink)?;
 
     let start = Engine::start_info(world, run, cfg, false);
     let mut stats = ReplayStats::default();
-    let mut track_check = mimo_sim::track_check::TrackRowCheck::default();
-    let ta_name = ta.name().to_string();
-    let mut take = |reply: Reply, stats: &mut ReplayStats, sink: &mut dyn RunSink| -> Result<(), ReplayError> {
-        stats.ignored_requests += reply.requests.len() as u64;
-        track_check.check(&reply.tracks).map_err(|fault| ReplayError::Ta { name: ta_name.clone(), fault })?;
-        let mut rows: Vec<TrackRow> = reply.tracks;
-        rows.iter_mut().for_each(|r| r.run = run);
-        if !rows.is_empty() {
-            sink.tracks(rows)?;
-        }
-        Ok(())
-    };
-    let reply = ta.on_start(&start).map_err(|f| fault(ta, f))?;
-    take(reply, &mut stats, sink)?;
+    let mut taker = Taker { run, ta_name: ta.name().to_string(), track_check: Default::default() };
+    let reply = ta.on_start(&start).map_err(|f| ta_fault(ta, f))?;
+    taker.take(reply, &mut stats, sink)?;
     let sub = ta.subscription();
 
-    // Groups as runs of parts: part indices ordered by (group_id, dwell_id), so each group's parts
-    // are contiguous and in dwell_id order. A group's kind, requester, start, duration and aim are
-    // its first part's. Only the groups the subscription wants are kept.
-    // Groups are usually numbered in dwell_id order already: then no sort is needed.
-    let mut by_group: Vec<u32> = (0..rows.len() as u32).collect();
-    if !rows.windows(2).all(|w| keys[w[0]].group_id <= keys[w[1]].group_id) {
-        by_group.sort_by_key(|&k| (keys[rows[k as usize]].group_id, keys[rows[k as usize]].dwell_id));
-    }
-    let mut wanted_parts: Vec<(u64, std::ops::Range<usize>)> = Vec::new();
-    let mut k = 0;
-    while k < by_group.len() {
-        let first = &keys[rows[by_group[k] as usize]];
-        let mut end = k + 1;
-        while end < by_group.len() && keys[rows[by_group[end] as usize]].group_id == first.group_id {
-            end += 1;
-        }
-        let n_meas = meas_by_group.get(&first.group_id).map_or(0, Vec::len);
-        if sub.wants(first.requested_by, n_meas) {
-            wanted_parts.push((first.group_id, k..end));
-        }
-        k = end;
-    }
+    let by_group = parts.group_order();
+    let wanted_parts = parts.wanted_groups(&by_group, &meas_by_group, &sub);
+    let rows = parts.rows;
     // Whole rows of the wanted groups' parts only, by position in `keys`.
     let mut needed: Vec<usize> =
         wanted_parts.iter().flat_map(|(_, parts)| by_group[parts.clone()].iter().map(|&k| rows[k as usize])).collect();
     needed.sort_unstable();
     needed.dedup();
-    let full = load(&needed).map_err(ReplayError::DwellRows)?;
-    if full.len() != needed.len() {
-        return Err(ReplayError::DwellRows(
-            format!("{} dwells rows loaded for {} asked for", full.len(), needed.len()).into(),
-        ));
-    }
+    let full = load_rows(load, &needed)?;
     let row_at = |i: usize| needed.binary_search(&i).ok().map(|p| &full[p]);
     let mut wanted: Vec<(SimTime, u64, std::ops::Range<usize>)> = Vec::with_capacity(wanted_parts.len());
     for (gid, parts) in wanted_parts {
@@ -291,28 +222,8 @@ pub fn replay_selected(
     for (end, gid, parts) in wanted {
         let Some(g) = row_at(rows[by_group[parts.start] as usize]) else { continue };
         let t_mid = g.t_s + 0.5 * g.duration_s;
-        let mut reports = Vec::with_capacity(parts.len());
-        for &i in &by_group[parts] {
-            let Some(d) = row_at(rows[i as usize]) else { continue };
-            // The engine's own (interpolated) face frames, so reports match the closed loop's.
-            let frame = world.face_at(d.radar, d.face, t_mid).ok_or_else(|| ReplayError::UnknownFace {
-                dwell_id: d.dwell_id,
-                radar: d.radar.to_string(),
-                face: d.face,
-            })?;
-            reports.push(PartReport {
-                radar: d.radar,
-                dwell_id: d.dwell_id,
-                transmits: d.role.transmits(),
-                receives: matches!(d.role, Role::Rx | Role::Txrx),
-                face: d.face,
-                beam_u: d.beam_u,
-                beam_v: d.beam_v,
-                n_pulses: d.n_pulses,
-                site_ecef: frame.origin_ecef,
-                face_from_ecef: PartReport::rows_of(&frame),
-            });
-        }
+        let group_rows = by_group[parts].iter().filter_map(|&i| row_at(rows[i as usize]));
+        let reports = part_reports(world, group_rows, t_mid)?;
         let mut ms = meas_by_group.remove(&gid).unwrap_or_default();
         ms.iter_mut().for_each(|m| m.target_hint = None);
         let mut ps = if sub.primitives { prims_by_group.remove(&gid).unwrap_or_default() } else { Vec::new() };
@@ -333,12 +244,202 @@ pub fn replay_selected(
             measurements: ms,
             primitives: ps,
         };
-        let reply = ta.on_dwell(&report).map_err(|f| fault(ta, f))?;
-        take(reply, &mut stats, sink)?;
+        let reply = ta.on_dwell(&report).map_err(|f| ta_fault(ta, f))?;
+        taker.take(reply, &mut stats, sink)?;
     }
-    let reply = ta.on_finish(cfg.duration_s).map_err(|f| fault(ta, f))?;
-    take(reply, &mut stats, sink)?;
+    let reply = ta.on_finish(cfg.duration_s).map_err(|f| ta_fault(ta, f))?;
+    taker.take(reply, &mut stats, sink)?;
     Ok(stats)
+}
+
+/// The replay error of a test article's fault.
+fn ta_fault(ta: &dyn TestArticle, fault: TaFault) -> ReplayError {
+    ReplayError::Ta { name: ta.name().to_string(), fault }
+}
+
+/// Takes the test article's replies: counts the ignored requests, checks the tracks and sends them on.
+struct Taker {
+    /// The run re-run (stamped on every track row).
+    run: u32,
+    /// The test article's name, for its faults.
+    ta_name: String,
+    /// The track rows' check across the run.
+    track_check: mimo_sim::track_check::TrackRowCheck,
+}
+
+impl Taker {
+    /// Take one reply.
+    fn take(&mut self, reply: Reply, stats: &mut ReplayStats, sink: &mut dyn RunSink) -> Result<(), ReplayError> {
+        stats.ignored_requests += reply.requests.len() as u64;
+        self.track_check.check(&reply.tracks).map_err(|fault| ReplayError::Ta { name: self.ta_name.clone(), fault })?;
+        let mut rows: Vec<TrackRow> = reply.tracks;
+        rows.iter_mut().for_each(|r| r.run = self.run);
+        if !rows.is_empty() {
+            sink.tracks(rows)?;
+        }
+        Ok(())
+    }
+}
+
+/// The run's dwell parts in dwell_id order, as positions in the keys.
+struct Parts<'k> {
+    /// The dwells table's keys, every row.
+    keys: &'k [DwellKey],
+    /// Positions in `keys` of the run's parts, in dwell_id order (equal ids keep file order).
+    rows: Vec<usize>,
+}
+
+impl<'k> Parts<'k> {
+    /// The run's parts, each checked to name a face its ship has (cheaply, for every part; frames
+    /// are computed only for the groups delivered).
+    fn of_run(world: &World, keys: &'k [DwellKey], run: u32) -> Result<Parts<'k>, ReplayError> {
+        let mut by_id: Vec<(u64, usize)> =
+            (0..keys.len()).filter(|&i| keys[i].run == run).map(|i| (keys[i].dwell_id, i)).collect();
+        mimo_core::nearly_sorted::sort_nearly_sorted(&mut by_id);
+        let rows: Vec<usize> = by_id.into_iter().map(|(_, i)| i).collect();
+        for &i in &rows {
+            let d = &keys[i];
+            let n_faces = world.scenario.ships.get(d.radar.index()).map_or(0, |s| s.radar.face_azimuths_deg.len());
+            if usize::from(d.face) >= n_faces {
+                return Err(ReplayError::UnknownFace {
+                    dwell_id: d.dwell_id,
+                    radar: d.radar.to_string(),
+                    face: d.face,
+                });
+            }
+        }
+        Ok(Parts { keys, rows })
+    }
+
+    /// The group of a dwell id (binary search), if the run has that dwell.
+    fn group_of(&self, dwell_id: u64) -> Option<u64> {
+        let keys = self.keys;
+        self.rows.binary_search_by_key(&dwell_id, |&i| keys[i].dwell_id).ok().map(|k| keys[self.rows[k]].group_id)
+    }
+
+    /// Part indices ordered by (group_id, dwell_id), so each group's parts are contiguous and in
+    /// dwell_id order. Groups are usually numbered in dwell_id order already: then no sort is needed.
+    fn group_order(&self) -> Vec<u32> {
+        let (keys, rows) = (self.keys, &self.rows);
+        let mut by_group: Vec<u32> = (0..rows.len() as u32).collect();
+        if !rows.windows(2).all(|w| keys[w[0]].group_id <= keys[w[1]].group_id) {
+            by_group.sort_by_key(|&k| (keys[rows[k as usize]].group_id, keys[rows[k as usize]].dwell_id));
+        }
+        by_group
+    }
+
+    /// The groups the subscription wants, as runs of `by_group`. A group's kind, requester,
+    /// start, duration and aim are its first part's.
+    fn wanted_groups(
+        &self,
+        by_group: &[u32],
+        meas_by_group: &HashMap<u64, Vec<MeasurementRow>>,
+        sub: &Subscription,
+    ) -> Vec<(u64, std::ops::Range<usize>)> {
+        let (keys, rows) = (self.keys, &self.rows);
+        let mut wanted_parts = Vec::new();
+        let mut k = 0;
+        while k < by_group.len() {
+            let first = &keys[rows[by_group[k] as usize]];
+            let mut end = k + 1;
+            while end < by_group.len() && keys[rows[by_group[end] as usize]].group_id == first.group_id {
+                end += 1;
+            }
+            let n_meas = meas_by_group.get(&first.group_id).map_or(0, Vec::len);
+            if sub.wants(first.requested_by, n_meas) {
+                wanted_parts.push((first.group_id, k..end));
+            }
+            k = end;
+        }
+        wanted_parts
+    }
+}
+
+/// Measurements by group, and primitives by group.
+type ByGroup = (HashMap<u64, Vec<MeasurementRow>>, BTreeMap<u64, Vec<PrimitiveRow>>);
+
+/// The run's measurements (recorded, or re-formed from primitives and sent to `sink`) and
+/// primitives, per group.
+fn by_group(
+    parts: &Parts<'_>,
+    run: u32,
+    primitives: &[PrimitiveRow],
+    measurements: &[MeasurementRow],
+    from: ReplayFrom,
+    sink: &mut dyn RunSink,
+) -> Result<ByGroup, ReplayError> {
+    let mut meas_by_group: HashMap<u64, Vec<MeasurementRow>> = HashMap::new();
+    let mut prims_by_group: BTreeMap<u64, Vec<PrimitiveRow>> = BTreeMap::new();
+    for p in primitives.iter().filter(|p| p.run == run) {
+        let gid = parts
+            .group_of(p.dwell_id)
+            .ok_or(ReplayError::UnknownDwell { table: "primitives", dwell_id: p.dwell_id })?;
+        prims_by_group.entry(gid).or_default().push(p.clone());
+    }
+    match from {
+        ReplayFrom::Measurements => {
+            for m in measurements.iter().filter(|m| m.run == run) {
+                let gid = parts
+                    .group_of(m.dwell_id)
+                    .ok_or(ReplayError::UnknownDwell { table: "measurements", dwell_id: m.dwell_id })?;
+                meas_by_group.entry(gid).or_default().push(m.clone());
+            }
+        }
+        ReplayFrom::Primitives => {
+            let mut all = Vec::new();
+            for (gid, ps) in &prims_by_group {
+                let ms = mimo_radar::measurements_from_primitives(ps, first_meas_id(*gid));
+                all.extend(ms.iter().cloned());
+                meas_by_group.insert(*gid, ms);
+            }
+            all.sort_by_key(|m| m.meas_id);
+            if !all.is_empty() {
+                sink.measurements(all)?;
+            }
+        }
+    }
+    Ok((meas_by_group, prims_by_group))
+}
+
+/// Whole dwells rows at the positions `needed`, checked to be one per position.
+fn load_rows(load: &mut DwellLoader<'_>, needed: &[usize]) -> Result<Vec<DwellRow>, ReplayError> {
+    let full = load(needed).map_err(ReplayError::DwellRows)?;
+    if full.len() != needed.len() {
+        return Err(ReplayError::DwellRows(
+            format!("{} dwells rows loaded for {} asked for", full.len(), needed.len()).into(),
+        ));
+    }
+    Ok(full)
+}
+
+/// A group's part reports at mid-dwell `t_mid`, with the engine's own (interpolated) face
+/// frames, so reports match the closed loop's.
+fn part_reports<'a>(
+    world: &World,
+    group_rows: impl Iterator<Item = &'a DwellRow>,
+    t_mid: f64,
+) -> Result<Vec<PartReport>, ReplayError> {
+    let mut reports = Vec::new();
+    for d in group_rows {
+        let frame = world.face_at(d.radar, d.face, t_mid).ok_or_else(|| ReplayError::UnknownFace {
+            dwell_id: d.dwell_id,
+            radar: d.radar.to_string(),
+            face: d.face,
+        })?;
+        reports.push(PartReport {
+            radar: d.radar,
+            dwell_id: d.dwell_id,
+            transmits: d.role.transmits(),
+            receives: matches!(d.role, Role::Rx | Role::Txrx),
+            face: d.face,
+            beam_u: d.beam_u,
+            beam_v: d.beam_v,
+            n_pulses: d.n_pulses,
+            site_ecef: frame.origin_ecef,
+            face_from_ecef: PartReport::rows_of(&frame),
+        });
+    }
+    Ok(reports)
 }
 
 #[cfg(test)]

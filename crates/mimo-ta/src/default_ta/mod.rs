@@ -29,9 +29,9 @@ use budget::RadarBudget;
 use mimo_core::ids::RadarId;
 use mimo_core::records::Requester;
 use mimo_core::records::{DwellKind, TrackStatus};
-use mimo_sim::messages::{DwellReport, PartReport, Reply, Request, StartInfo};
+use mimo_sim::messages::{DwellReport, DwellRequest, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
-use mimo_track::{DwellContext, Look, MultiTargetTracker};
+use mimo_track::{DwellContext, Look, MultiTargetTracker, TrackDue};
 use snapshot::Snapshot;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -127,24 +127,8 @@ impl DefaultTa {
         let rm = &self.cfg.resource_manager;
         // Faces, heights and predicted positions at `now`, kept for every plan of this pass.
         let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now);
-        let over_budget: Vec<_> = if rm.max_ta_share < 1.0 {
-            snap.ids()
-                .iter()
-                .copied()
-                .filter(|&r| self.budget.share(r, now, rm.budget_window_s) >= rm.max_ta_share)
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let busy_rx: Vec<_> = if rm.rx_busy_share < 1.0 {
-            snap.ids()
-                .iter()
-                .copied()
-                .filter(|&r| self.budget.share(r, now, rm.rx_busy_window_s) >= rm.rx_busy_share)
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let over_budget = radars_at_share(&mut self.budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s);
+        let busy_rx = radars_at_share(&mut self.budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s);
         let mut dues: Vec<_> = st.tracker.track_dues().collect();
         if let Some(a) = &mut self.afford {
             a.begin_pass(now);
@@ -155,12 +139,9 @@ impl DefaultTa {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
-            let due = info.next_due_s.max(self.hold_until.get(&info.id).copied().unwrap_or(f64::NEG_INFINITY));
+            let due = held_due(&self.hold_until, info.id, info.next_due_s);
             if due <= now + 1e-9 {
-                // A look missed, returned a merged measurement, or left the track so vague that
-                // the tracker wants it again at its shortest revisit.
-                let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
-                let trouble = info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min;
+                let trouble = self.in_trouble(&info);
                 let planned = match &mut self.afford {
                     None => planner::plan(rm, &snap, &info, &over_budget, &[], &busy_rx, trouble),
                     Some(a) => a.plan(rm, &snap, &info, &over_budget, &busy_rx, trouble),
@@ -175,26 +156,10 @@ impl DefaultTa {
                     self.pending.insert(info.id, now);
                     if rm.group_looks && info.status == TrackStatus::Confirmed {
                         // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
-                        let soon: Vec<u64> = st
-                            .tracker
-                            .track_dues()
-                            .filter(|o| {
-                                o.id != info.id
-                                    && o.status == TrackStatus::Confirmed
-                                    && !self.pending.contains_key(&o.id)
-                                    && o.next_due_s
-                                        .max(self.hold_until.get(&o.id).copied().unwrap_or(f64::NEG_INFINITY))
-                                        <= now + rm.group_lookahead_s
-                            })
-                            .map(|o| o.id)
-                            .collect();
-                        if let Some(tx) = req.transmitters.first().map(|t| t.radar) {
-                            let half = req.window_half_m;
-                            for (id, dist) in group::members(rm, &snap, req.aim_ecef, tx, &soon) {
-                                req.tag.push(id);
-                                req.window_half_m = req.window_half_m.max(half + dist);
-                                self.pending.insert(id, now);
-                            }
+                        let horizon_s = now + rm.group_lookahead_s;
+                        let soon = confirmed_due_by(&st.tracker, &self.pending, &self.hold_until, info.id, horizon_s);
+                        for id in ride_along(rm, &snap, &mut req, &soon) {
+                            self.pending.insert(id, now);
                         }
                     }
                     out.push(Request::Dwell(req));
@@ -203,6 +168,21 @@ impl DefaultTa {
                 next = next.min(due);
             }
         }
+        self.finish_pass(&mut out, waiting, next, now);
+        out
+    }
+
+    /// Whether a look at the due track `info` is in trouble: the last look missed, returned a
+    /// merged measurement, or left the track so vague that the tracker wants it again at its
+    /// shortest revisit.
+    fn in_trouble(&self, info: &TrackDue) -> bool {
+        let at_t_min = info.next_due_s - info.t_last_update_s <= self.cfg.tracker.revisit.t_min_s + 1e-6;
+        info.consecutive_misses > 0 || self.merged_last.contains(&info.id) || at_t_min
+    }
+
+    /// End a scheduling pass: requests in the tracker's order under a power budget, and a
+    /// wake-up at `next` (or when the budget frees energy for a `waiting` look) if not asked yet.
+    fn finish_pass(&mut self, out: &mut Vec<Request>, waiting: bool, mut next: f64, now: f64) {
         if self.afford.is_some() {
             // Requests go out in the tracker's order, whatever order the budget planned them in,
             // so that a budget that never binds places exactly the same dwells.
@@ -219,8 +199,55 @@ impl DefaultTa {
             self.next_wake_s = next;
             out.push(Request::WakeAt(next));
         }
-        out
     }
+}
+
+/// The radars whose test-article share of the last `window_s` is at least `limit` (none when
+/// `limit` ≥ 1).
+fn radars_at_share(budget: &mut RadarBudget, ids: &[RadarId], now: f64, limit: f64, window_s: f64) -> Vec<RadarId> {
+    if limit < 1.0 {
+        ids.iter().copied().filter(|&r| budget.share(r, now, window_s) >= limit).collect()
+    } else {
+        Vec::new()
+    }
+}
+
+/// When track `id`, due at `next_due_s`, may be looked at: not before its hold ends.
+fn held_due(hold_until: &BTreeMap<u64, f64>, id: u64, next_due_s: f64) -> f64 {
+    next_due_s.max(hold_until.get(&id).copied().unwrap_or(f64::NEG_INFINITY))
+}
+
+/// The confirmed tracks other than `id`, not pending, that may be looked at by `horizon_s`.
+fn confirmed_due_by(
+    tracker: &MultiTargetTracker,
+    pending: &BTreeMap<u64, f64>,
+    hold_until: &BTreeMap<u64, f64>,
+    id: u64,
+    horizon_s: f64,
+) -> Vec<u64> {
+    tracker
+        .track_dues()
+        .filter(|o| {
+            o.id != id
+                && o.status == TrackStatus::Confirmed
+                && !pending.contains_key(&o.id)
+                && held_due(hold_until, o.id, o.next_due_s) <= horizon_s
+        })
+        .map(|o| o.id)
+        .collect()
+}
+
+/// Add the tracks of `soon` in the beam of `req` to its tag, widening its range window to take
+/// them; returns the tracks added.
+fn ride_along(rm: &ResourceConfig, snap: &Snapshot, req: &mut DwellRequest, soon: &[u64]) -> Vec<u64> {
+    let Some(tx) = req.transmitters.first().map(|t| t.radar) else { return Vec::new() };
+    let half = req.window_half_m;
+    let members = group::members(rm, snap, req.aim_ecef, tx, soon);
+    for &(id, dist) in &members {
+        req.tag.push(id);
+        req.window_half_m = req.window_half_m.max(half + dist);
+    }
+    members.into_iter().map(|(id, _)| id).collect()
 }
 
 impl TestArticle for DefaultTa {

@@ -52,18 +52,7 @@ pub fn plan(
     // prediction's mean in ECEF).
     let pred = tracker.predict_local(id, t_s)?;
     let aim = tracker.frame().to_ecef(pred.pos());
-    let ids = snap.ids();
-    // Candidate transmitters: monostatic predictions.
-    let mut candidates: Vec<(RadarId, f64, u8)> = ids
-        .iter()
-        .filter_map(|&r| snap.pair(r, r, aim, cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face)))
-        .collect();
-    // Best predicted SNR first (ties by radar id, so the choice is deterministic).
-    // Radars within their budget come first.
-    let last = |r: &RadarId| over_budget.contains(r) || tx_starved.contains(r);
-    candidates.sort_by(|a, b| {
-        (last(&a.0), b.1, a.0).partial_cmp(&(last(&b.0), a.1, b.0)).unwrap_or(std::cmp::Ordering::Equal)
-    });
+    let candidates = transmitter_candidates(cfg, snap, aim, over_budget, tx_starved);
     if candidates.is_empty() {
         return None;
     }
@@ -94,15 +83,7 @@ pub fn plan(
     let half = (cfg.window_sigmas * sigma_rho).max(cfg.min_window_half_m);
     let mut receivers = vec![tx];
     if cfg.mimo && status == TrackStatus::Confirmed {
-        for &r in ids {
-            if r != tx
-                && !over_budget.contains(&r)
-                && !busy_rx.contains(&r)
-                && snap.pair(tx, r, aim, cfg.assumed_rcs_m2).is_some()
-            {
-                receivers.push(r);
-            }
-        }
+        receivers.extend(other_receivers(cfg, snap, tx, aim, over_budget, busy_rx));
     }
     let kind = match (status, receivers.len() > 1) {
         (TrackStatus::Tentative, _) => DwellKind::Confirm,
@@ -120,6 +101,50 @@ pub fn plan(
         tag: vec![id],
     };
     Some((req, unresolved))
+}
+
+/// Candidate transmitters of a look at `aim` with their monostatic SNR and face: radars within
+/// their budget first (not in `over_budget` nor `tx_starved`), then best predicted SNR first,
+/// ties by radar id so the choice is deterministic.
+fn transmitter_candidates(
+    cfg: &ResourceConfig,
+    snap: &Snapshot,
+    aim: mimo_core::DVec3,
+    over_budget: &[RadarId],
+    tx_starved: &[RadarId],
+) -> Vec<(RadarId, f64, u8)> {
+    let mut candidates: Vec<(RadarId, f64, u8)> = snap
+        .ids()
+        .iter()
+        .filter_map(|&r| snap.pair(r, r, aim, cfg.assumed_rcs_m2).map(|pp| (r, pp.snr1, pp.rx_face)))
+        .collect();
+    let last = |r: &RadarId| over_budget.contains(r) || tx_starved.contains(r);
+    candidates.sort_by(|a, b| {
+        (last(&a.0), b.1, a.0).partial_cmp(&(last(&b.0), a.1, b.0)).unwrap_or(std::cmp::Ordering::Equal)
+    });
+    candidates
+}
+
+/// The radars other than `tx` that receive a MIMO look at `aim`: those that can see it, except
+/// radars in `over_budget` or `busy_rx`, in radar order.
+fn other_receivers(
+    cfg: &ResourceConfig,
+    snap: &Snapshot,
+    tx: RadarId,
+    aim: mimo_core::DVec3,
+    over_budget: &[RadarId],
+    busy_rx: &[RadarId],
+) -> Vec<RadarId> {
+    snap.ids()
+        .iter()
+        .copied()
+        .filter(|&r| {
+            r != tx
+                && !over_budget.contains(&r)
+                && !busy_rx.contains(&r)
+                && snap.pair(tx, r, aim, cfg.assumed_rcs_m2).is_some()
+        })
+        .collect()
 }
 
 /// Whether another live track's predicted position at the pass's instant lies in the same
