@@ -147,12 +147,14 @@ done
 [ "$state" = idle ] || fail "the node did not come up (sinfo says '$state')"
 say "one-node cluster up: $node"
 
-# The plan: scenario 1, two methods, three runs of 60 s.
+# The plan: scenario 1, two methods, three runs of 60 s; the runs' tables are kept (a study
+# deletes them once scored by default) so that every cell's tables can be compared too.
 cat >"$work/plan.toml" <<'PLAN'
 title = "slurm route"
 scenarios = [1]
 runs = 3
 duration_s = 60
+keep_runs = true
 [[methods]]
 name = "mimo"
 ta = "default"
