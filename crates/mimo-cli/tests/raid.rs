@@ -3,35 +3,13 @@
 //! bad `--raid` or plan `raid_targets` is one `error:` line naming the flag or key, exit 2,
 //! nothing written.
 
+mod common;
+
+use common::SMALL;
 use std::path::Path;
 use std::process::{Command, Output};
 
 const MIMO: &str = env!("CARGO_BIN_EXE_mimo");
-
-/// One ship and one jet, 60 s.
-const SMALL: &str = r#"
-name = "small"
-duration_s = 60.0
-
-[aircraft_types.jet]
-rcs_m2 = 5.0
-min_speed_mps = 100.0
-max_speed_mps = 300.0
-max_accel_g = 3.0
-
-[[ships]]
-id = "R1"
-lat_deg = 36.0
-lon_deg = -70.0
-heading_deg = 0.0
-
-[[aircraft]]
-id = "X"
-type = "jet"
-start = { lat_deg = 36.5, lon_deg = -70.0, alt_m = 5000.0 }
-heading_deg = 180.0
-speed_mps = 200.0
-"#;
 
 const PLAN: &str = r#"
 scenarios = ["small.toml"]

@@ -11,30 +11,11 @@ use std::sync::OnceLock;
 
 pub const MIMO: &str = env!("CARGO_BIN_EXE_mimo");
 
+#[path = "../common/mod.rs"]
+mod common;
+
 /// A scenario small enough to simulate in a moment (one ship, one jet, 60 s).
-pub const SMALL: &str = r#"
-name = "small"
-duration_s = 60.0
-
-[aircraft_types.jet]
-rcs_m2 = 5.0
-min_speed_mps = 100.0
-max_speed_mps = 300.0
-max_accel_g = 3.0
-
-[[ships]]
-id = "R1"
-lat_deg = 36.0
-lon_deg = -70.0
-heading_deg = 0.0
-
-[[aircraft]]
-id = "X"
-type = "jet"
-start = { lat_deg = 36.5, lon_deg = -70.0, alt_m = 5000.0 }
-heading_deg = 180.0
-speed_mps = 200.0
-"#;
+pub use common::SMALL;
 
 pub fn mimo(dir: &Path, args: &[&str]) -> Output {
     Command::new(MIMO).args(args).current_dir(dir).output().expect("mimo runs")
