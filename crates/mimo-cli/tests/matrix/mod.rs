@@ -34,17 +34,8 @@ pub fn template() -> &'static Path {
     .path()
 }
 
-pub fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).expect("mkdir");
-    for e in std::fs::read_dir(from).expect("read_dir").flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            copy_dir(&p, &to.join(e.file_name()));
-        } else {
-            std::fs::copy(&p, to.join(e.file_name())).expect("copy");
-        }
-    }
-}
+/// Copy the directory tree `from` to `to`.
+pub use common::copy_dir;
 
 /// Every path under `dir` (relative), with each file's length.
 pub fn listing(dir: &Path) -> BTreeSet<(PathBuf, u64)> {
