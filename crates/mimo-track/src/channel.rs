@@ -134,7 +134,7 @@ impl MultiTargetTracker {
                 if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
                     continue;
                 }
-                if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r) {
+                if let Ok(h) = filter.hypothesis(pred, m.observation()) {
                     if self.c.gater.accepts(&h) {
                         table.set(i, j, Some(h));
                     }
@@ -158,7 +158,7 @@ impl MultiTargetTracker {
             let dup = new_ids.iter().any(|nid| {
                 self.tracks.get(nid).is_some_and(|t| {
                     let pred = filter.predict(&t.state, m.t_s - t.t_s);
-                    filter.hypothesis(&pred, &m.model, &m.z, &m.r).is_ok_and(|h| self.c.gater.accepts(&h))
+                    filter.hypothesis(&pred, m.observation()).is_ok_and(|h| self.c.gater.accepts(&h))
                 })
             });
             if dup {
@@ -235,7 +235,7 @@ impl MultiTargetTracker {
             let iterations =
                 if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
             let pred = caches[i].get(filter, track, m.t_s).clone();
-            let outcome = filter.update(&pred, &m.model, &m.z, &m.r, iterations).map(|mut u| {
+            let outcome = filter.update(&pred, m.observation(), iterations).map(|mut u| {
                 if partnered[i] {
                     if let Some(dx) = correction[j] {
                         crate::group::shift_modes(&mut u.state, &pred, &dx);
@@ -365,7 +365,7 @@ impl MultiTargetTracker {
             let mut jitter = false;
             for j in (0..n_m).filter(|&j| row[j] > 0.0 && list[j].t_s == t_s) {
                 let m = &list[j];
-                if let Ok(u) = filter.update(&pred, &m.model, &m.z, &m.r, iterations)
+                if let Ok(u) = filter.update(&pred, m.observation(), iterations)
                     && u.state.is_finite()
                 {
                     jitter |= u.jitter;
