@@ -49,6 +49,15 @@ impl PredCache {
     }
 }
 
+/// A gated channel: its measurements, the live tracks' ids (in the table's row order) and the
+/// hypotheses that gate.
+#[derive(Clone, Copy)]
+struct Gated<'a> {
+    list: &'a [PreparedMeasurement],
+    ids: &'a [u64],
+    table: &'a HypothesisTable,
+}
+
 impl MultiTargetTracker {
     pub(crate) fn process_channel(
         &mut self,
@@ -67,16 +76,17 @@ impl MultiTargetTracker {
         let (table, near) = self.gate_channel(list, &ids, &mut caches);
         let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
         let mut second = vec![false; n_m];
+        let gated = Gated { list, ids: &ids, table: &table };
         let claimed = match self.c.associator.probabilities(&table) {
             Some(probs) => {
                 if self.config.second_return_max_beta > 0.0 {
                     second =
                         crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
                 }
-                self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
+                self.soft_updates(ctx, gated, &mut caches, &probs, updated);
                 vec![false; n_m]
             }
-            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated, excused),
+            None => self.hard_updates(ctx, gated, &mut caches, updated, excused),
         };
         // The channel's predictions, for the dwell's other channels and its deletion pass.
         for (id, cache) in ids.iter().zip(caches) {
@@ -191,17 +201,15 @@ impl MultiTargetTracker {
 
     /// GNN: each track is updated with its assigned measurement (plus, with `share_merged`, a
     /// gated `merged` measurement left to it). Returns which measurements were claimed.
-    #[allow(clippy::too_many_arguments)]
     fn hard_updates(
         &mut self,
         ctx: &DwellContext,
-        list: &[PreparedMeasurement],
-        ids: &[u64],
+        gated: Gated,
         caches: &mut [PredCache],
-        table: &HypothesisTable,
         updated: &mut BTreeSet<u64>,
         excused: &mut BTreeSet<u64>,
     ) -> Vec<bool> {
+        let Gated { list, ids, table } = gated;
         let n_m = list.len();
         let mut assign = self.c.associator.associate(table);
         assign.resize(ids.len(), None);
@@ -334,17 +342,15 @@ impl MultiTargetTracker {
 
     /// JPDA (docs/model.md §6.8): each track with gated measurements is updated with every one
     /// of them and the posteriors are mixed with the association probabilities.
-    #[allow(clippy::too_many_arguments)]
     fn soft_updates(
         &mut self,
         ctx: &DwellContext,
-        list: &[PreparedMeasurement],
-        ids: &[u64],
+        gated: Gated,
         caches: &mut [PredCache],
-        table: &HypothesisTable,
         probs: &AssociationProbabilities,
         updated: &mut BTreeSet<u64>,
     ) {
+        let Gated { list, ids, table } = gated;
         let n_m = list.len();
         let filter = &*self.c.filter;
         for (i, id) in ids.iter().enumerate() {
