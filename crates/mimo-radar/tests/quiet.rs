@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{SEED, Ship, rcs_for_snr};
+use common::{SEED, Ship, rcs_for_snr, test_dwell};
 use mimo_core::params::{Fidelity, PatternModel, RadarParams};
 use mimo_core::rng::{Stream, domain};
 use mimo_radar::dwell::{Dwell, Target, evaluate};
@@ -21,17 +21,7 @@ fn dwell<'a>(
     fid: &'a Fidelity,
     record_voltages: bool,
 ) -> Dwell<'a> {
-    Dwell {
-        run: 5,
-        t_s: 1.0,
-        seed: SEED,
-        keys,
-        transmitters: txs,
-        receivers: rxs,
-        fidelity: fid,
-        record_voltages,
-        simulate_all_cells: false,
-    }
+    Dwell { run: 5, t_s: 1.0, record_voltages, ..test_dwell(keys, txs, rxs, fid) }
 }
 
 #[test]

@@ -98,20 +98,6 @@ impl MultiTargetTracker {
         self.tracks.values().map(due_of)
     }
 
-    /// The predicted measurement of a track on channel `tx → rx` (face `rx_face`) at `t_s`.
-    pub fn predict_measurement(
-        &self,
-        id: u64,
-        t_s: f64,
-        tx: RadarId,
-        rx: RadarId,
-        rx_face: u8,
-        geom: &dyn SensorGeometry,
-    ) -> Option<PredictedMeasurement> {
-        let g = self.predict_local(id, t_s)?;
-        self.predict_measurement_of(&g, t_s, tx, rx, rx_face, geom)
-    }
-
     /// The predicted measurement of a prediction `g` at `t_s` (tracking frame, from
     /// [`Self::predict_local`]) on channel `tx → rx` (face `rx_face`): for a caller that already
     /// holds the prediction.
