@@ -49,10 +49,10 @@ impl PredCache {
     }
 }
 
-/// A gated channel: its measurements, the live tracks' ids (in the table's row order) and the
-/// hypotheses that gate.
+/// A channel's association hypotheses: its measurements (the table's columns), the live tracks'
+/// ids (its rows) and the table of the pairs that gate.
 #[derive(Clone, Copy)]
-struct Gated<'a> {
+struct Hypotheses<'a> {
     list: &'a [PreparedMeasurement],
     ids: &'a [u64],
     table: &'a HypothesisTable,
@@ -76,17 +76,18 @@ impl MultiTargetTracker {
         let (table, near) = self.gate_channel(list, &ids, &mut caches);
         let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
         let mut second = vec![false; n_m];
-        let gated = Gated { list, ids: &ids, table: &table };
         let claimed = match self.c.associator.probabilities(&table) {
             Some(probs) => {
                 if self.config.second_return_max_beta > 0.0 {
                     second =
                         crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
                 }
-                self.soft_updates(ctx, gated, &mut caches, &probs, updated);
+                self.soft_updates(ctx, Hypotheses { list, ids: &ids, table: &table }, &mut caches, &probs, updated);
                 vec![false; n_m]
             }
-            None => self.hard_updates(ctx, gated, &mut caches, updated, excused),
+            None => {
+                self.hard_updates(ctx, Hypotheses { list, ids: &ids, table: &table }, &mut caches, updated, excused)
+            }
         };
         // The channel's predictions, for the dwell's other channels and its deletion pass.
         for (id, cache) in ids.iter().zip(caches) {
@@ -204,12 +205,12 @@ impl MultiTargetTracker {
     fn hard_updates(
         &mut self,
         ctx: &DwellContext,
-        gated: Gated,
+        hyps: Hypotheses,
         caches: &mut [PredCache],
         updated: &mut BTreeSet<u64>,
         excused: &mut BTreeSet<u64>,
     ) -> Vec<bool> {
-        let Gated { list, ids, table } = gated;
+        let Hypotheses { list, ids, table } = hyps;
         let n_m = list.len();
         let mut assign = self.c.associator.associate(table);
         assign.resize(ids.len(), None);
@@ -345,12 +346,12 @@ impl MultiTargetTracker {
     fn soft_updates(
         &mut self,
         ctx: &DwellContext,
-        gated: Gated,
+        hyps: Hypotheses,
         caches: &mut [PredCache],
         probs: &AssociationProbabilities,
         updated: &mut BTreeSet<u64>,
     ) {
-        let Gated { list, ids, table } = gated;
+        let Hypotheses { list, ids, table } = hyps;
         let n_m = list.len();
         let filter = &*self.c.filter;
         for (i, id) in ids.iter().enumerate() {
