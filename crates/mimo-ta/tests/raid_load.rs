@@ -13,11 +13,12 @@ use std::collections::BTreeMap;
 /// The stability study's master seed (studies/stability.toml), which also draws the raid.
 const SEED: u64 = 20261122;
 
-/// Scenario 7 with `n` raid aircraft, cut to `duration_s`.
+/// Scenario 7 with the raid of `n` aircraft drawn for its full 1000 s (as `mimo simulate --raid`
+/// draws it), cut to `duration_s`.
 fn raided(n: u32, duration_s: f64) -> World {
     let mut s = mimo_scenario::load_standard(7).expect("scenario 7");
-    s.duration_s = duration_s;
     mimo_scenario::raid::add_raid(&mut s, n, SEED);
+    s.duration_s = duration_s;
     World::new(s).expect("world")
 }
 
