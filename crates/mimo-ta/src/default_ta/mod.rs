@@ -16,6 +16,8 @@
 mod afford;
 mod budget;
 mod config;
+#[cfg(test)]
+mod fixture;
 pub mod group;
 pub mod planner;
 pub mod power;

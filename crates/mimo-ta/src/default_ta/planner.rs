@@ -175,11 +175,8 @@ pub fn unresolved_from(cfg: &ResourceConfig, snap: &Snapshot, id: u64, aim: mimo
 mod tests {
     use super::*;
     use crate::default_ta::budget::RadarBudget;
-    use crate::default_ta::{DefaultTa, DefaultTaConfig, radars_at_share};
-    use crate::geometry::ShipGeometry;
-    use mimo_core::records::RunTables;
-    use mimo_sim::engine::Engine;
-    use mimo_sim::{EngineConfig, SearchConfig, World};
+    use crate::default_ta::fixture::minute_of_scenario_7;
+    use crate::default_ta::radars_at_share;
 
     /// Search protection (docs/model.md §7.3) on a hand-made load: a radar that spent 4.5 of the
     /// last 8 s on test-article dwells is busy at the default 0.5, one that spent 3.5 s is not,
@@ -187,20 +184,8 @@ mod tests {
     /// keeps its look; with every other radar busy the look is a monostatic track dwell.
     #[test]
     fn a_busy_radar_is_not_asked_to_receive_and_its_look_stays() {
-        let mut s = mimo_scenario::load_standard(7).expect("scenario 7");
-        s.duration_s = 60.0;
-        let world = World::new(s).expect("world");
-        let cfg = EngineConfig {
-            seed: 3,
-            duration_s: 60.0,
-            record_voltages: false,
-            search: SearchConfig::default(),
-            ta_config: serde_json::Value::Null,
-        };
-        let mut ta = DefaultTa::new("default", DefaultTaConfig::default());
-        mimo_sim::run_one(&world, &cfg, 0, &mut ta, &mut RunTables::default()).expect("run");
+        let (ta, geom) = minute_of_scenario_7();
         let tracker = ta.tracker().expect("started");
-        let geom = ShipGeometry::from_start(&Engine::start_info(&world, 0, &cfg, true));
         let (t_s, ids) = (60.4, geom.ids());
         let snap = Snapshot::new(tracker, &geom, &ids, t_s);
         let rm = ResourceConfig::default();
