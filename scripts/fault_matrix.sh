@@ -498,12 +498,8 @@ group_disk() {
         local room=$(( $(df -k --output=avail "$full" | tail -1) - 4 ))
         dd if=/dev/zero of="$full/fill" bs=1k count="$room" 2>/dev/null
         D=$full
-        local before code err
-        before=$(snapshot "$D")
-        (cd "$S" && ln -sfn "$F" fix && eval "${CMDS[$c]}") >/dev/null 2>"$S/err"
-        code=$?
-        err=$(cat "$S/err")
-        judge "disk/$c" 1 "" "$code" "$err" "$before" 0
+        (cd "$S" && ln -sfn "$F" fix)
+        system_case "disk/$c" "$S" "${CMDS[$c]}"
     done
     umount "$full"
 }
@@ -529,13 +525,18 @@ group_unwritable() {
         D=$S/case
         rm -rf "$D" && cp -a "$F" "$D"
         chmod -R a+rX "$D" && chmod -R go-w "$D"
-        local before code err
-        before=$(snapshot "$D")
-        (cd "$D" && setpriv --reuid=65534 --regid=65534 --clear-groups sh -c "exec \"$MIMO\" ${CMDS[$c]}") >/dev/null 2>"$S/err"
-        code=$?
-        err=$(cat "$S/err")
-        judge "unwritable/$c" 1 "" "$code" "$err" "$before" 0
+        system_case "unwritable/$c" "$D" "setpriv --reuid=65534 --regid=65534 --clear-groups \"$MIMO\" ${CMDS[$c]}"
     done
+}
+
+# A system fault: run the shell command CMD in DIR; exit 1 expected, nothing changed in $D.
+system_case() {
+    local before code err
+    before=$(snapshot "$D")
+    (cd "$2" && eval "$3") >/dev/null 2>"$S/err"
+    code=$?
+    err=$(cat "$S/err")
+    judge "$1" 1 "" "$code" "$err" "$before" 0
 }
 
 setup

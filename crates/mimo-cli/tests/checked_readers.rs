@@ -242,7 +242,7 @@ fn times_outside_the_run_are_refused_by_every_reader() {
     edit_rows::<TrackRow>(&file(&d.path().join("r"), "tracks", 1), |rows| rows[0].t_s = -1.0);
     let before = "column 't_s' is -1 at row 0 (expected a finite number >= 0)";
     score_refuses(d.path(), &["tracks/run-0001.parquet", before]);
-    plot_refuses(d.path(), &["tracks/run-0001.parquet", before]);
+    refused(d.path(), &["plot", "r", "--run", "1", "--out", "p.html"], &["tracks/run-0001.parquet", before], "p.html");
     let d = fresh();
     edit_rows::<PrimitiveRow>(&file(&d.path().join("r"), "primitives", 0), |rows| rows[0].t_s = -1.0);
     refused(d.path(), &["track", "r", "--out", "t"], &["primitives/run-0000.parquet", before], "t");
