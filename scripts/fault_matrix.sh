@@ -499,7 +499,8 @@ group_disk() {
         dd if=/dev/zero of="$full/fill" bs=1k count="$room" 2>/dev/null
         D=$full
         (cd "$S" && ln -sfn "$F" fix)
-        system_case "disk/$c" "$S" "${CMDS[$c]}"
+        # Note 6: a study stopped by a full disk keeps its mark and finished cells (--resume).
+        system_case "disk/$c" "$S" "${CMDS[$c]}" "$([ "$c" = study ] && echo resumable)"
     done
     umount "$full"
 }
@@ -529,13 +530,15 @@ group_unwritable() {
     done
 }
 
-# A system fault: run the shell command CMD in DIR; exit 1 expected, nothing changed in $D.
+# A system fault: run the shell command CMD in DIR; exit 1 expected, nothing changed in $D
+# (unless RESUMABLE: what is left is continued by the next writer), nothing temporary left.
 system_case() {
     local before code err
     before=$(snapshot "$D")
     (cd "$2" && eval "$3") >/dev/null 2>"$S/err"
     code=$?
     err=$(cat "$S/err")
+    [ "${4:-}" = resumable ] && before=$(snapshot "$D")
     judge "$1" 1 "" "$code" "$err" "$before" 0
 }
 
@@ -552,5 +555,5 @@ for f in "${FAILS[@]}"; do echo "FAIL $f"; done
 for w in "${WARNS[@]}"; do echo "WARN $w"; done
 [ "$FAIL" = 0 ]
 
-# Notes: the cases judged correct behaviour (notes 1-5 above) are explained, with the reasons,
+# Notes: the cases judged correct behaviour (notes 1-6 above) are explained, with the reasons,
 # in docs/decisions/0283-fault-matrix-judgements.md.
