@@ -191,7 +191,7 @@ pub const TRUTH: TableSpec = TableSpec {
     description: "One row per target per truth sample (default 10 Hz).",
     columns: &[
         RUN,
-        col("t_s", F64, "s", "time since scenario start"),
+        col("t_s", F64, "s", "time since scenario start").with(Rule::NonNegative),
         col("target", Utf8, "", "target id (F-1…F-4, A, B, C in the standard scenarios)"),
         col("x_m", F64, "m", "ECEF x position"),
         col("y_m", F64, "m", "ECEF y position"),
@@ -264,7 +264,7 @@ pub const PRIMITIVES: TableSpec = TableSpec {
     columns: &[
         RUN,
         col("dwell_id", U64, "", "receiver's dwell part"),
-        col("t_s", F64, "s", "dwell time"),
+        col("t_s", F64, "s", "dwell time").with(Rule::NonNegative),
         col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
         col("tx", Utf8, "", "transmitting radar").with(Rule::RadarId),
         col("rx_face", U8, "", "receiver face the (u, v) refer to"),
@@ -292,7 +292,7 @@ pub const MEASUREMENTS: TableSpec = TableSpec {
         RUN,
         col("meas_id", U64, "", "measurement id, unique within a run"),
         col("dwell_id", U64, "", "receiver's dwell part"),
-        col("t_s", F64, "s", "dwell time"),
+        col("t_s", F64, "s", "dwell time").with(Rule::NonNegative),
         col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
         col("tx", Utf8, "", "transmitting radar").with(Rule::RadarId),
         col("rx_face", U8, "", "receiver face the (u, v) refer to"),
@@ -315,7 +315,7 @@ pub const TRACKS: TableSpec = TableSpec {
     description: "Track state at each update, plus one row when the track ends (status deleted).",
     columns: &[
         RUN,
-        col("t_s", F64, "s", "time of the state"),
+        col("t_s", F64, "s", "time of the state").with(Rule::NonNegative),
         col("track_id", U64, "", "track id, unique within a run"),
         col("status", Utf8, "", "tentative, confirmed or deleted").with(Rule::OneOf(&TrackStatus::LABELS)),
         col("x_m", F64, "m", "ECEF x position"),
