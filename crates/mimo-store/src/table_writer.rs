@@ -4,7 +4,8 @@
 //! rows at most) — flat in the run's length.
 //!
 //! The file is written under a temporary name (`.NAME.tmp`) in a directory that must exist (a
-//! staging directory removed on interrupt is never re-created) and renamed by [`TableWriter::finish`].
+//! staging directory removed on interrupt is never re-created) and renamed by [`TableWriter::finish`];
+//! a writer dropped unfinished (its run stopped by a fault) removes its temporary file.
 //! Chunks are a whole number of the Parquet writer's mini-batches (1024 rows), so the bytes are the
 //! ones a single write of all the rows gives.
 
@@ -25,6 +26,7 @@ pub struct TableWriter<R: TableRow> {
     writer: ArrowWriter<File>,
     held: Vec<R>,
     rows: u64,
+    named: bool,
 }
 
 impl<R: TableRow> TableWriter<R> {
@@ -37,7 +39,7 @@ impl<R: TableRow> TableWriter<R> {
         let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
         let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema)))
             .map_err(|e| write_err(e.to_string()))?;
-        Ok(TableWriter { path: path.to_path_buf(), tmp, writer, held: Vec::with_capacity(CHUNK_ROWS), rows: 0 })
+        Ok(TableWriter { path: path.to_path_buf(), tmp, writer, held: Vec::with_capacity(CHUNK_ROWS), rows: 0, named: false })
     }
 
     fn write_err(&self, why: String) -> StoreError {
@@ -90,6 +92,15 @@ impl<R: TableRow> TableWriter<R> {
         }
         self.writer.finish().map_err(|e| self.write_err(e.to_string()))?;
         std::fs::rename(&self.tmp, &self.path).map_err(|e| self.write_err(e.to_string()))?;
+        self.named = true;
         Ok(self.rows)
+    }
+}
+
+impl<R: TableRow> Drop for TableWriter<R> {
+    fn drop(&mut self) {
+        if !self.named {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
     }
 }

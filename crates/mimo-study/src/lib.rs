@@ -35,6 +35,7 @@ mod plan_toml;
 pub mod prepare;
 pub mod record;
 pub mod report;
+pub mod run_usage;
 pub mod runner;
 pub mod shard_log;
 pub mod status;
