@@ -6,12 +6,12 @@
 //! staging area ([`RunDirWriter`], published only after every run) or a study cell's directory
 //! ([`RunDir`], each file named as its run finishes).
 
-use crate::manifest::TableFile;
 use crate::layout::RunDir;
-use crate::{StoreError, io_err};
+use crate::manifest::TableFile;
 use crate::rows::TableRow;
 use crate::rundir::RunDirWriter;
 use crate::table_writer::TableWriter;
+use crate::{StoreError, io_err};
 use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow};
 use mimo_core::sink::{RunSink, SinkError};
 

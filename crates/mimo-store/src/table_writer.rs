@@ -39,7 +39,14 @@ impl<R: TableRow> TableWriter<R> {
         let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
         let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema)))
             .map_err(|e| write_err(e.to_string()))?;
-        Ok(TableWriter { path: path.to_path_buf(), tmp, writer, held: Vec::with_capacity(CHUNK_ROWS), rows: 0, named: false })
+        Ok(TableWriter {
+            path: path.to_path_buf(),
+            tmp,
+            writer,
+            held: Vec::with_capacity(CHUNK_ROWS),
+            rows: 0,
+            named: false,
+        })
     }
 
     fn write_err(&self, why: String) -> StoreError {

@@ -24,6 +24,7 @@ pub mod failure_report;
 pub mod failure_table;
 pub mod grid;
 pub mod guard;
+pub mod inflight;
 pub mod item;
 pub mod kfu;
 pub mod merge;
