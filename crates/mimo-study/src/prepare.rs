@@ -212,6 +212,24 @@ mod tests {
         assert_eq!(search_of(&prep.cells[1]).bands[0].n_pulses, 2);
     }
 
+    /// A run too large to fit beside its worlds in the budget is refused before any world is
+    /// built, naming the key; the same raid over a shorter run is accepted.
+    #[test]
+    fn a_run_too_large_for_the_budget_is_refused() {
+        let text = |duration_s: f64| {
+            format!(
+                "scenarios = [7]\nruns = 1\nduration_s = {duration_s}\n[[methods]]\nname = \"a\"\nta = \"default\"\n\
+                 [axes]\nraid_targets = [512]"
+            )
+        };
+        let p = Plan::parse(&text(3600.0), Path::new("p.toml")).expect("plan");
+        let e = prepare(&p).err().expect("too large");
+        assert_eq!(e.key, "axes", "{e}");
+        assert!(e.expected.contains("largest run"), "{e}");
+        let p = Plan::parse(&text(60.0), Path::new("p.toml")).expect("plan");
+        assert_eq!(prepare(&p).expect("fits").worlds[0].scenario.targets.len(), 7 + 512);
+    }
+
     #[test]
     fn a_stress_that_breaks_the_scenario_names_the_point() {
         // Ten times the spacing: the crossover's lateral acceleration (0.88 g at 600 m) exceeds the
