@@ -223,8 +223,14 @@ mod tests {
             let rg = f.row_group(g)?;
             rg.u32s(0, &mut u)?;
             all.0.extend(&u);
-            rg.strs(1, |b| Some(all.1.push(String::from_utf8(b.to_vec()).ok()?)))?;
-            rg.strs(2, |b| Some(all.2.push(String::from_utf8(b.to_vec()).ok()?)))?;
+            rg.strs(1, |b| {
+                all.1.push(String::from_utf8(b.to_vec()).ok()?);
+                Some(())
+            })?;
+            rg.strs(2, |b| {
+                all.2.push(String::from_utf8(b.to_vec()).ok()?);
+                Some(())
+            })?;
             for (col, out) in [(3, &mut all.3), (4, &mut all.4), (5, &mut all.5)] {
                 rg.f64s(col, &mut x)?;
                 out.extend(&x);
