@@ -15,8 +15,8 @@
 //!   path (`--force`, the lock, stale staging, clean-up on interrupt), with [`recognise`] telling
 //!   what mimo wrote by content; [`lineage`]: `parent` links of `mimo track` outputs.
 //! * [`table_writer`]: a table file written as its rows come; [`run_sink::ParquetRunSink`]: a
-//!   run's tables written that way, the engine's sink for `mimo simulate` (memory flat in the
-//!   run's length).
+//!   run's tables written that way, the sink of `mimo simulate`, `mimo track` and a study's runs
+//!   (memory flat in the run's length).
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
 //! * [`dwell_keys`]: the dwells table read in two passes for re-runs: every row's keys, then
 //!   whole rows only where asked.
