@@ -420,6 +420,36 @@ mod tests {
         assert_eq!(fast.radars(), whole.radars());
     }
 
+    /// A dwells file written with other settings than the store's (dictionary pages, the
+    /// Parquet writer's defaults) is not taken by the page decoder, and the Arrow reader gives
+    /// its sums: the same, to the bit, as those of the store's own file of the same rows.
+    #[test]
+    fn other_writer_settings_are_read_by_the_slow_path() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let (ours, other) = (dir.path().join("a"), dir.path().join("b"));
+        let n = mimo_store::ROW_GROUP_ROWS + 100;
+        let rows = dwell_rows(&(0..n).map(|i| 0.013 * i as f64).collect::<Vec<_>>());
+        std::fs::create_dir_all(&ours).expect("dir");
+        std::fs::create_dir_all(&other).expect("dir");
+        let (ours, other) = (ours.join("run-0000.parquet"), other.join("run-0000.parquet"));
+        mimo_store::write_table(&ours, &rows).expect("write");
+        let batch = mimo_store::rows::to_batch(&rows).expect("batch");
+        let props = parquet::file::properties::WriterProperties::builder().set_dictionary_enabled(true).build();
+        let file = std::fs::File::create(&other).expect("create");
+        let mut w = parquet::arrow::ArrowWriter::try_new(file, batch.schema(), Some(props)).expect("writer");
+        w.write(&batch).expect("write");
+        w.close().expect("close");
+        let runs = BTreeSet::from([0u32]);
+        let slice = crate::dwell_sums::DWELL_SLICE_ROWS;
+        assert!(crate::dwell_pages::file_sums(&other, &runs, 1.0, slice).is_none(), "not the store's layout");
+        assert!(crate::dwell_pages::file_sums(&ours, &runs, 1.0, slice).is_some(), "the store's layout");
+        let bits = |s: &DwellSums| -> Vec<[u64; 4]> { s.sums.iter().map(|x| x.value().map(f64::to_bits)).collect() };
+        let a = dwell_file_sums(&ours, &runs, 1.0).expect("ours");
+        let b = dwell_file_sums(&other, &runs, 1.0).expect("other");
+        assert!(a.groups.len() > 100, "{} groups", a.groups.len());
+        assert_eq!((&a.groups, a.radars(), bits(&a)), (&b.groups, b.radars(), bits(&b)));
+    }
+
     /// A time that runs backwards across a slice boundary is caught by the sliced pass, and the
     /// whole read then names it.
     #[test]

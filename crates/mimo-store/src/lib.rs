@@ -15,11 +15,13 @@
 //!   path (`--force`, the lock, stale staging, clean-up on interrupt), with [`recognise`] telling
 //!   what mimo wrote by content; [`lineage`]: `parent` links of `mimo track` outputs.
 //! * [`table_writer`]: a table file written as its rows come; [`run_sink::ParquetRunSink`]: a
-//!   run's tables written that way, the engine's sink for `mimo simulate` (memory flat in the
-//!   run's length).
+//!   run's tables written that way, the sink of `mimo simulate`, `mimo track` and a study's runs
+//!   (memory flat in the run's length).
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
 //! * [`dwell_keys`]: the dwells table read in two passes for re-runs: every row's keys, then
 //!   whole rows only where asked.
+//! * [`page_columns`]: columns decoded straight from the Parquet pages of the layout
+//!   the writer settings give (checked against them by its tests), for one-pass readers.
 
 #![warn(missing_docs)]
 
@@ -33,6 +35,7 @@ pub mod layout;
 pub mod lineage;
 pub mod manifest;
 pub mod output;
+pub mod page_columns;
 pub mod recognise;
 pub mod rows;
 pub mod run_sink;

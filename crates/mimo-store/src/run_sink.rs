@@ -1,16 +1,42 @@
 //! A run's tables written as the engine makes their rows (docs/design.md §2, §8): the
-//! [`RunSink`] of `mimo simulate` and of `mimo track`'s re-runs. Each table of the run is a [`TableWriter`] into the run
-//! directory's staging area, so a run in progress holds a chunk of rows per table and the encoded
-//! pages of one row group, whatever its duration; the files get their names when the run
-//! finishes ([`ParquetRunSink::finish`]) and the run directory is published only after every run.
+//! [`RunSink`] of `mimo simulate`, of `mimo track`'s re-runs and of a study's items. Each table of
+//! the run is a [`TableWriter`], so a run in progress holds a chunk of rows per table and the
+//! encoded pages of one row group, whatever its duration; the files get their names when the run
+//! finishes ([`ParquetRunSink::finish`]). Where they go is a [`RunFiles`]: a run directory's
+//! staging area ([`RunDirWriter`], published only after every run) or a study cell's directory
+//! ([`RunDir`], each file named as its run finishes).
 
-use crate::StoreError;
+use crate::layout::RunDir;
 use crate::manifest::TableFile;
 use crate::rows::TableRow;
 use crate::rundir::RunDirWriter;
 use crate::table_writer::TableWriter;
+use crate::{StoreError, io_err};
 use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow};
 use mimo_core::sink::{RunSink, SinkError};
+
+/// Where the table files of a run are written.
+pub trait RunFiles {
+    /// Start run `run`'s file of `table`: its path relative to the run directory (as the
+    /// manifest lists it) and its writer.
+    fn open_run_table<R: TableRow>(&self, table: &str, run: u32) -> Result<(String, TableWriter<R>), StoreError>;
+}
+
+impl RunFiles for RunDirWriter {
+    fn open_run_table<R: TableRow>(&self, table: &str, run: u32) -> Result<(String, TableWriter<R>), StoreError> {
+        RunDirWriter::open_run_table(self, table, run)
+    }
+}
+
+/// A run directory written in place (a study cell): the table's directory is created if need
+/// be, and each file appears under its name when its writer finishes.
+impl RunFiles for RunDir {
+    fn open_run_table<R: TableRow>(&self, table: &str, run: u32) -> Result<(String, TableWriter<R>), StoreError> {
+        let dir = self.table_dir(table);
+        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        Ok((RunDir::table_file_rel(table, run), TableWriter::create(&self.table_file(table, run))?))
+    }
+}
 
 /// One table of a run being written, with its path in the run directory.
 struct Open<R: TableRow> {
@@ -20,7 +46,7 @@ struct Open<R: TableRow> {
 }
 
 impl<R: TableRow> Open<R> {
-    fn new(dir: &RunDirWriter, table: &'static str, run: u32) -> Result<Open<R>, StoreError> {
+    fn new(dir: &impl RunFiles, table: &'static str, run: u32) -> Result<Open<R>, StoreError> {
         let (rel, writer) = dir.open_run_table(table, run)?;
         Ok(Open { table, rel, writer })
     }
@@ -36,51 +62,56 @@ fn sink_err(e: StoreError) -> SinkError {
 }
 
 /// The tables of one Monte Carlo run, written as they come. A table the sink does not write
-/// (voltages unless recorded; a re-run's truth, dwells and primitives) drops its rows.
+/// (voltages unless recorded; a re-run's truth, dwells and primitives; a table a study plan does
+/// not record) drops its rows.
 pub struct ParquetRunSink {
     truth: Option<Open<TruthRow>>,
     dwells: Option<Open<DwellRow>>,
     primitives: Option<Open<PrimitiveRow>>,
     measurements: Option<Open<MeasurementRow>>,
-    tracks: Open<TrackRow>,
+    tracks: Option<Open<TrackRow>>,
     voltages: Option<Open<VoltageRow>>,
 }
 
-/// Open a table's file if `on`.
+/// Open a table's file if `wanted` says so.
 fn open_if<R: TableRow>(
-    on: bool,
-    dir: &RunDirWriter,
+    wanted: &dyn Fn(&str) -> bool,
+    dir: &impl RunFiles,
     table: &'static str,
     run: u32,
 ) -> Result<Option<Open<R>>, StoreError> {
-    if on { Ok(Some(Open::new(dir, table, run)?)) } else { Ok(None) }
+    if wanted(table) { Ok(Some(Open::new(dir, table, run)?)) } else { Ok(None) }
 }
 
 impl ParquetRunSink {
-    /// Open run `run`'s files in `dir` (the voltages table only with `record_voltages`).
-    pub fn create(dir: &RunDirWriter, run: u32, record_voltages: bool) -> Result<ParquetRunSink, StoreError> {
+    /// Open run `run`'s files in `dir` of the tables `wanted` names (`truth`, `dwells`,
+    /// `primitives`, `measurements`, `tracks`, `voltages`), in that order; the others' rows are
+    /// dropped.
+    pub fn with_tables(
+        dir: &impl RunFiles,
+        run: u32,
+        wanted: &dyn Fn(&str) -> bool,
+    ) -> Result<ParquetRunSink, StoreError> {
         Ok(ParquetRunSink {
-            truth: open_if(true, dir, "truth", run)?,
-            dwells: open_if(true, dir, "dwells", run)?,
-            primitives: open_if(true, dir, "primitives", run)?,
-            measurements: open_if(true, dir, "measurements", run)?,
-            tracks: Open::new(dir, "tracks", run)?,
-            voltages: open_if(record_voltages, dir, "voltages", run)?,
+            truth: open_if(wanted, dir, "truth", run)?,
+            dwells: open_if(wanted, dir, "dwells", run)?,
+            primitives: open_if(wanted, dir, "primitives", run)?,
+            measurements: open_if(wanted, dir, "measurements", run)?,
+            tracks: open_if(wanted, dir, "tracks", run)?,
+            voltages: open_if(wanted, dir, "voltages", run)?,
         })
+    }
+
+    /// Open run `run`'s files in `dir`: every table, the voltages only with `record_voltages`.
+    pub fn create(dir: &RunDirWriter, run: u32, record_voltages: bool) -> Result<ParquetRunSink, StoreError> {
+        ParquetRunSink::with_tables(dir, run, &|t| t != "voltages" || record_voltages)
     }
 
     /// Open the files of a re-run of a recording (`mimo track`): tracks, and measurements when
     /// the re-run forms them again (`with_measurements`); the recording's other tables are its
     /// parent's and are not written again.
     pub fn for_rerun(dir: &RunDirWriter, run: u32, with_measurements: bool) -> Result<ParquetRunSink, StoreError> {
-        Ok(ParquetRunSink {
-            truth: None,
-            dwells: None,
-            primitives: None,
-            measurements: open_if(with_measurements, dir, "measurements", run)?,
-            tracks: Open::new(dir, "tracks", run)?,
-            voltages: None,
-        })
+        ParquetRunSink::with_tables(dir, run, &|t| t == "tracks" || (with_measurements && t == "measurements"))
     }
 
     /// Close every file of the run; returns the manifest entries by table name.
@@ -89,9 +120,9 @@ impl ParquetRunSink {
         for t in [self.truth.map(Open::finish), self.dwells.map(Open::finish), self.primitives.map(Open::finish)] {
             out.extend(t.transpose()?);
         }
-        out.extend(self.measurements.map(Open::finish).transpose()?);
-        out.push(self.tracks.finish()?);
-        out.extend(self.voltages.map(Open::finish).transpose()?);
+        for t in [self.measurements.map(Open::finish), self.tracks.map(Open::finish), self.voltages.map(Open::finish)] {
+            out.extend(t.transpose()?);
+        }
         Ok(out)
     }
 }
@@ -124,6 +155,6 @@ impl RunSink for ParquetRunSink {
         put(&mut self.measurements, rows)
     }
     fn tracks(&mut self, rows: Vec<TrackRow>) -> Result<(), SinkError> {
-        self.tracks.writer.extend(rows).map_err(sink_err)
+        put(&mut self.tracks, rows)
     }
 }

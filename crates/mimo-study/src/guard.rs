@@ -1,10 +1,11 @@
-//! The sink a study run writes through: it keeps the run's rows and stops the run when the
-//! method has failed in a way the engine does not see — a covariance that is not positive
-//! definite, more tracks than the plan allows, or a run past its wall-time limit.
+//! The sink a study run writes through: it hands the run's rows on to the sink that writes them
+//! (the cell's table files, as they come), sums the run's transmit usage as its dwells pass, and
+//! stops the run when the method has failed in a way the engine does not see — a covariance that
+//! is not positive definite, more tracks than the plan allows, or a run past its wall-time limit.
+//! Rows that break a check are not handed on.
 
-use mimo_core::records::{
-    DwellRow, MeasurementRow, PrimitiveRow, RunTables, TrackRow, TruthRow, VoltageRow, unpack_cov,
-};
+use crate::run_usage::RunUsage;
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow, unpack_cov};
 use mimo_core::sink::{RunSink, SinkError};
 use std::collections::BTreeSet;
 use std::time::Instant;
@@ -35,47 +36,75 @@ pub fn positive_definite(m: &[[f64; 6]; 6]) -> bool {
     true
 }
 
-/// Keeps a run's rows and checks them.
-pub struct Guarded {
-    /// The rows so far.
-    pub tables: RunTables,
+/// Checks a run's rows and hands them on to `inner`.
+pub struct Guarded<'s> {
+    inner: &'s mut dyn RunSink,
+    /// The run's transmit usage, summed over the dwells handed on.
+    pub usage: RunUsage,
+    interval_s: f64,
     tracks: BTreeSet<u64>,
     max_tracks: u64,
     deadline: Instant,
-    /// The reason the run was stopped, if it was.
+    /// The reason the method failed and the run was stopped, if it was.
     pub failure: Option<String>,
+    /// Why `inner` could not take rows (a fault of the system, not the method), if it could not.
+    pub fault: Option<String>,
 }
 
-impl Guarded {
-    /// A sink allowing `max_tracks` tracks and running until `deadline`.
-    pub fn new(max_tracks: u64, deadline: Instant) -> Guarded {
-        Guarded { tables: RunTables::default(), tracks: BTreeSet::new(), max_tracks, deadline, failure: None }
+impl<'s> Guarded<'s> {
+    /// A sink handing rows on to `inner`, allowing `max_tracks` tracks, running until
+    /// `deadline` and summing usage per scoring interval of `interval_s`.
+    pub fn new(inner: &'s mut dyn RunSink, max_tracks: u64, deadline: Instant, interval_s: f64) -> Guarded<'s> {
+        Guarded {
+            inner,
+            usage: RunUsage::default(),
+            interval_s,
+            tracks: BTreeSet::new(),
+            max_tracks,
+            deadline,
+            failure: None,
+            fault: None,
+        }
     }
 
     fn fail(&mut self, why: String) -> SinkError {
         self.failure = Some(why.clone());
         SinkError(why)
     }
+
+    /// The inner sink's answer, its error noted as a fault.
+    fn pass(&mut self, r: Result<(), SinkError>) -> Result<(), SinkError> {
+        if let Err(e) = &r {
+            self.fault.get_or_insert_with(|| e.0.clone());
+        }
+        r
+    }
 }
 
-impl RunSink for Guarded {
+impl RunSink for Guarded<'_> {
     fn truth(&mut self, rows: Vec<TruthRow>) -> Result<(), SinkError> {
-        self.tables.truth(rows)
+        let r = self.inner.truth(rows);
+        self.pass(r)
     }
     fn dwell(&mut self, row: DwellRow) -> Result<(), SinkError> {
         if Instant::now() > self.deadline {
             return Err(self.fail(format!("{FAIL_TIME} (at t = {:.1} s of the run)", row.t_s)));
         }
-        self.tables.dwell(row)
+        self.usage.add(&row, self.interval_s);
+        let r = self.inner.dwell(row);
+        self.pass(r)
     }
     fn voltages(&mut self, rows: Vec<VoltageRow>) -> Result<(), SinkError> {
-        self.tables.voltages(rows)
+        let r = self.inner.voltages(rows);
+        self.pass(r)
     }
     fn primitives(&mut self, rows: Vec<PrimitiveRow>) -> Result<(), SinkError> {
-        self.tables.primitives(rows)
+        let r = self.inner.primitives(rows);
+        self.pass(r)
     }
     fn measurements(&mut self, rows: Vec<MeasurementRow>) -> Result<(), SinkError> {
-        self.tables.measurements(rows)
+        let r = self.inner.measurements(rows);
+        self.pass(r)
     }
     fn tracks(&mut self, rows: Vec<TrackRow>) -> Result<(), SinkError> {
         for r in &rows {
@@ -88,7 +117,8 @@ impl RunSink for Guarded {
             let n = self.max_tracks;
             return Err(self.fail(format!("{FAIL_TRACKS} (more than {n} tracks)")));
         }
-        self.tables.tracks(rows)
+        let r = self.inner.tracks(rows);
+        self.pass(r)
     }
 }
 

@@ -1,19 +1,22 @@
 //! One (cell, run) item from start to record: the closed-loop run ([`crate::execute`]), its
-//! tables written into the cell's run directory, the run scored on its own (completed runs only),
-//! its tables deleted once scored unless the plan keeps them (`keep_runs`; a failed run's stay
-//! for a post-mortem), and the [`ItemRecord`] written last.
+//! tables streamed into the cell's run directory as their rows come (the run sink of
+//! `mimo simulate`: a run in flight holds a chunk of rows per table, not the run), the run scored
+//! from those files on its own (completed runs only), its tables deleted once scored unless the
+//! plan keeps them (`keep_runs`; a failed run's stay for a post-mortem), and the [`ItemRecord`]
+//! written last.
 
 use crate::execute::run_item;
 use crate::grid::Cell;
 use crate::plan::Plan;
 use crate::record::{ItemCosts, ItemRecord, RecordError, record_path};
-use mimo_core::records::{DwellRow, Requester, Role, RunTables};
+use crate::run_usage::RunUsage;
 use mimo_metrics::{MetricsError, Score, ScoreInput, ScoreOptions};
 use mimo_sim::World;
+use mimo_store::StoreError;
 use mimo_store::layout::RunDir;
 use mimo_store::manifest::TableFile;
+use mimo_store::run_sink::ParquetRunSink;
 use mimo_store::schema::STUDY_METRICS;
-use mimo_store::{StoreError, write_table};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -26,6 +29,9 @@ pub enum ItemError {
     /// Writing the record failed.
     #[error(transparent)]
     Record(#[from] RecordError),
+    /// Writing a run's rows as they came failed (the sink's message names the file).
+    #[error("{0}")]
+    Sink(String),
     /// Scoring a completed run failed (its own tables could not be read back).
     #[error("scoring {}: {source}", dir.display())]
     Score {
@@ -34,30 +40,6 @@ pub enum ItemError {
         /// The cause.
         source: Box<MetricsError>,
     },
-}
-
-fn write_tables(
-    plan: &Plan,
-    cell_dir: &Path,
-    run: u32,
-    t: &RunTables,
-) -> Result<BTreeMap<String, TableFile>, StoreError> {
-    let mut out = BTreeMap::new();
-    for name in &plan.tables {
-        let rel = RunDir::table_file_rel(name, run);
-        let path = RunDir::new(cell_dir).table_file(name, run);
-        let rows = match name.as_str() {
-            "truth" => write_table(&path, &t.truth)?,
-            "dwells" => write_table(&path, &t.dwells)?,
-            "primitives" => write_table(&path, &t.primitives)?,
-            "measurements" => write_table(&path, &t.measurements)?,
-            "tracks" => write_table(&path, &t.tracks)?,
-            "voltages" => write_table(&path, &t.voltages)?,
-            _ => continue,
-        };
-        out.insert(name.clone(), TableFile { file: rel, rows });
-    }
-    Ok(out)
 }
 
 /// Delete a scored run's table files (a file already gone is no error: an item redone after an
@@ -99,50 +81,6 @@ pub fn score_run(world: &World, cell_dir: &Path, run: u32) -> Result<Score, Metr
         ..ScoreOptions::default()
     };
     mimo_metrics::score(&input, &opts)
-}
-
-/// A run's transmit usage, summed in dwell order (so the sums never depend on how a dataframe
-/// engine splits its work): totals and, per scoring interval, the sums the per-object figures
-/// divide (docs/design.md §6: only transmitting participations cost; interval
-/// `j = floor(t_s / interval_s) + 1`).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct RunUsage {
-    /// Dwell time, energy, TA dwell time, TA energy over the run.
-    pub totals: [f64; 4],
-    /// The same per interval.
-    pub per_interval: BTreeMap<u32, [f64; 4]>,
-}
-
-impl RunUsage {
-    /// Sum a run's dwell rows.
-    pub fn of(dwells: &[DwellRow], interval_s: f64) -> RunUsage {
-        let mut u = RunUsage::default();
-        for d in dwells.iter().filter(|d| d.role != Role::Rx) {
-            let ta = d.requested_by == Requester::Ta;
-            let add =
-                [d.duration_s, d.energy_j, if ta { d.duration_s } else { 0.0 }, if ta { d.energy_j } else { 0.0 }];
-            let j = (d.t_s / interval_s).floor() as u32 + 1;
-            let slot = u.per_interval.entry(j).or_default();
-            for i in 0..4 {
-                u.totals[i] += add[i];
-                slot[i] += add[i];
-            }
-        }
-        u
-    }
-
-    /// Σ over intervals `j` with `N[j] > 0` of `sum[j][i] / N[j]`, `N[j]` the objects scorable
-    /// at the end of interval `j` (`n_scorable[j − 1]`); `None` if no interval has one.
-    pub fn per_object(&self, i: usize, n_scorable: &[u32]) -> Option<f64> {
-        let mut total = None;
-        for (j, n) in n_scorable.iter().enumerate() {
-            if *n > 0 {
-                let s = self.per_interval.get(&(j as u32 + 1)).map_or(0.0, |v| v[i]);
-                *total.get_or_insert(0.0) += s / f64::from(*n);
-            }
-        }
-        total
-    }
 }
 
 /// The study metrics of a one-run score and the run's usage, by name.
@@ -202,10 +140,15 @@ pub fn do_item(
     kf_cycle_s: Option<f64>,
 ) -> Result<ItemRecord, ItemError> {
     let (c0, w0) = (crate::cpu::thread_cpu(), std::time::Instant::now());
-    let r = run_item(plan, cell, world, run);
-    let mut tables = write_tables(plan, cell_dir, run, &r.tables)?;
-    let usage = RunUsage::of(&r.tables.dwells, ScoreOptions::default().interval_s);
-    drop(r.tables);
+    let recorded = |t: &str| plan.tables.iter().any(|x| x == t);
+    let mut sink = ParquetRunSink::with_tables(&RunDir::new(cell_dir), run, &recorded)?;
+    let r = run_item(plan, cell, world, run, &mut sink, ScoreOptions::default().interval_s);
+    if let Some(fault) = r.fault {
+        return Err(ItemError::Sink(fault));
+    }
+    let mut tables: BTreeMap<String, TableFile> =
+        sink.finish()?.into_iter().map(|(name, file)| (name.to_string(), file)).collect();
+    let usage = r.usage;
     let metrics = match &r.failure {
         Some(_) => STUDY_METRICS.iter().map(|(n, _, _)| (n.to_string(), None)).collect(),
         None => {
@@ -237,53 +180,4 @@ pub fn do_item(
     };
     record.write(&record_path(cell_dir, run))?;
     Ok(record)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use mimo_core::ids::RadarId;
-
-    fn dwell(t_s: f64, role: Role, by: Requester, duration_s: f64, energy_j: f64) -> DwellRow {
-        DwellRow {
-            run: 0,
-            dwell_id: 0,
-            group_id: 0,
-            radar: RadarId(1),
-            role,
-            kind: mimo_core::records::DwellKind::Track,
-            requested_by: by,
-            t_s,
-            duration_s,
-            pulse_width_s: 1e-6,
-            n_pulses: 1,
-            peak_power_w: 1.0,
-            energy_j,
-            waveform: 0,
-            face: 0,
-            beam_u: 0.0,
-            beam_v: 0.0,
-            aim_x_m: 0.0,
-            aim_y_m: 0.0,
-            aim_z_m: 0.0,
-        }
-    }
-
-    #[test]
-    fn usage_counts_transmitters_per_interval() {
-        let d = [
-            dwell(0.2, Role::Txrx, Requester::Radar, 0.01, 100.0),
-            dwell(0.7, Role::Tx, Requester::Ta, 0.02, 300.0),
-            dwell(0.7, Role::Rx, Requester::Ta, 0.02, 999.0), // receiving costs nothing
-            dwell(1.5, Role::Txrx, Requester::Ta, 0.04, 500.0),
-            dwell(2.5, Role::Txrx, Requester::Ta, 0.04, 700.0),
-        ];
-        let u = RunUsage::of(&d, 1.0);
-        let want = [0.11, 1600.0, 0.1, 1500.0];
-        assert!(u.totals.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", u.totals);
-        // Two objects scorable at 1 s, none at 2 s, four at 3 s.
-        let per = u.per_object(1, &[2, 0, 4]).expect("defined");
-        assert!((per - (400.0 / 2.0 + 700.0 / 4.0)).abs() < 1e-12, "{per}");
-        assert_eq!(u.per_object(1, &[0, 0]), None);
-    }
 }

@@ -103,7 +103,7 @@ fn check_world_memory(plan: &Plan, keys: &[(usize, Stress)], scenarios: &[Scenar
     let bytes: u64 =
         keys.iter().map(|(i, st)| world_bytes(&scenarios[*i], st.raid.as_ref().map_or(0, |r| r.targets))).sum();
     if bytes <= WORLDS_BUDGET_BYTES {
-        return Ok(());
+        return check_item_memory(plan, keys, scenarios, bytes);
     }
     Err(PlanError {
         file: plan.file.display().to_string(),
@@ -114,6 +114,41 @@ fn check_world_memory(plan: &Plan, keys: &[(usize, Stress)], scenarios: &[Scenar
             WORLDS_BUDGET_BYTES >> 20,
             keys.len(),
             bytes >> 20
+        ),
+        at: None,
+    })
+}
+
+/// Refuse a plan one of whose items would not fit, alone, beside its worlds (`worlds_bytes`) in
+/// the budget of a command ([`crate::inflight`]).
+fn check_item_memory(
+    plan: &Plan,
+    keys: &[(usize, Stress)],
+    scenarios: &[Scenario],
+    worlds_bytes: u64,
+) -> Result<(), PlanError> {
+    let budget = mimo_metrics::memory::MEMORY_BUDGET_BYTES;
+    let item = keys
+        .iter()
+        .map(|(i, st)| {
+            let s = &scenarios[*i];
+            let targets = s.targets.len() + st.raid.as_ref().map_or(0, |r| r.targets as usize);
+            crate::inflight::item_bytes_of(targets, s.duration_s)
+        })
+        .max()
+        .unwrap_or(0);
+    if worlds_bytes.saturating_add(item) <= budget {
+        return Ok(());
+    }
+    Err(PlanError {
+        file: plan.file.display().to_string(),
+        key: "axes".into(),
+        expected: format!(
+            "at most {} MiB in memory: the worlds take about {} MiB and the largest run (targets × duration_s) \
+             about {} MiB (fewer raid_targets or a shorter duration_s)",
+            budget >> 20,
+            worlds_bytes >> 20,
+            item >> 20
         ),
         at: None,
     })
@@ -175,6 +210,24 @@ mod tests {
         assert_eq!(wv.scenario.fidelity.level, mimo_core::params::FidelityLevel::Voltage, "the plan's override");
         assert_eq!(search_of(&prep.cells[0]).bands[0].n_pulses, 1);
         assert_eq!(search_of(&prep.cells[1]).bands[0].n_pulses, 2);
+    }
+
+    /// A run too large to fit beside its worlds in the budget is refused before any world is
+    /// built, naming the key; the same raid over a shorter run is accepted.
+    #[test]
+    fn a_run_too_large_for_the_budget_is_refused() {
+        let text = |duration_s: f64| {
+            format!(
+                "scenarios = [7]\nruns = 1\nduration_s = {duration_s}\n[[methods]]\nname = \"a\"\nta = \"default\"\n\
+                 [axes]\nraid_targets = [512]"
+            )
+        };
+        let p = Plan::parse(&text(3600.0), Path::new("p.toml")).expect("plan");
+        let e = prepare(&p).err().expect("too large");
+        assert_eq!(e.key, "axes", "{e}");
+        assert!(e.expected.contains("largest run"), "{e}");
+        let p = Plan::parse(&text(60.0), Path::new("p.toml")).expect("plan");
+        assert_eq!(prepare(&p).expect("fits").worlds[0].scenario.targets.len(), 7 + 512);
     }
 
     #[test]

@@ -112,8 +112,10 @@ pub fn cell_dirs(plan: &Plan, cells: &[Cell], out: &Path) -> Vec<PathBuf> {
     cells.iter().map(|c| study.cell(&c.rel_dir(plan)).root().to_path_buf()).collect()
 }
 
-/// Run `todo` on `threads` worker threads; the number of items whose method failed, or the
-/// first system fault (which stops the others after their current item).
+/// Run `todo` on `threads` worker threads, each item starting only when its estimated memory fits
+/// beside the worlds' and the other items' in flight (`crate::inflight`); the number of items
+/// whose method failed, or the first system fault (which stops the others after their current
+/// item).
 fn run_items(
     plan: &Plan,
     prep: &Prepared,
@@ -127,6 +129,8 @@ fn run_items(
     // The reference Kalman-filter cycle of this machine, measured before any item competes for
     // the cores (docs/studies.md: compute in machine-independent units).
     let kf_cycle_s = (!todo.is_empty()).then(crate::kfu::measure_kf_cycle_s);
+    let worlds: u64 = prep.worlds.iter().map(|w| crate::prepare::world_bytes(&w.scenario, 0)).sum();
+    let gate = crate::inflight::InFlight::new(mimo_metrics::memory::MEMORY_BUDGET_BYTES.saturating_sub(worlds));
     let stop = std::sync::atomic::AtomicBool::new(false);
     let first_error: std::sync::Mutex<Option<StudyError>> = std::sync::Mutex::new(None);
     // Plain worker threads pulling items in order, not a rayon pool: a waiting rayon worker
@@ -138,9 +142,11 @@ fn run_items(
                 while !stop.load(Ordering::Relaxed) {
                     let i = next.fetch_add(1, Ordering::Relaxed) as usize;
                     let Some(it) = todo.get(i) else { break };
-                    let cell = &prep.cells[it.cell];
-                    match do_item(plan, cell, &prep.worlds[prep.world_of[it.cell]], &dirs[it.cell], it.run, kf_cycle_s)
-                    {
+                    let (cell, world) = (&prep.cells[it.cell], &prep.worlds[prep.world_of[it.cell]]);
+                    let share = gate.enter(crate::inflight::item_bytes(world));
+                    let done_item = do_item(plan, cell, world, &dirs[it.cell], it.run, kf_cycle_s);
+                    drop(share);
+                    match done_item {
                         Ok(rec) => {
                             if rec.failure.is_some() {
                                 failed.fetch_add(1, Ordering::Relaxed);

@@ -1,9 +1,11 @@
 //! One study item end to end: a method that works, and methods that fail in the ways a study
 //! must record rather than stop on.
 
-use mimo_study::execute::run_item;
+use mimo_core::records::RunTables;
+use mimo_study::execute::{ItemRun, run_item};
 use mimo_study::plan::Plan;
-use mimo_study::prepare::prepare;
+use mimo_study::prepare::{Prepared, prepare};
+use mimo_study::run_usage::RunUsage;
 use std::path::Path;
 
 fn plan(methods: &str) -> Plan {
@@ -11,14 +13,24 @@ fn plan(methods: &str) -> Plan {
     Plan::parse(&text, Path::new("t.toml")).expect("plan")
 }
 
+/// Item 0 of cell `i`, its rows kept in memory.
+fn item(p: &Plan, prep: &Prepared, i: usize) -> (ItemRun, RunTables) {
+    let mut tables = RunTables::default();
+    let r = run_item(p, &prep.cells[i], &prep.worlds[prep.world_of[i]], 0, &mut tables, 1.0);
+    (r, tables)
+}
+
 #[test]
 fn a_working_method_completes_and_its_costs_add_up() {
     let p = plan("[[methods]]\nname = \"ekf\"\nta = \"default\"\n");
     let prep = prepare(&p).expect("prepare");
-    let r = run_item(&p, &prep.cells[0], &prep.worlds[prep.world_of[0]], 0);
-    assert_eq!(r.failure, None);
-    assert!(!r.tables.tracks.is_empty() && r.stats.ta_dwells > 0);
-    assert!(r.tables.tracks.iter().all(|t| t.run == 0));
+    let (r, tables) = item(&p, &prep, 0);
+    assert_eq!((r.failure, r.fault), (None, None));
+    assert!(!tables.tracks.is_empty() && r.stats.ta_dwells > 0);
+    assert!(tables.tracks.iter().all(|t| t.run == 0));
+    // The usage summed as the dwells passed is the usage of the dwells the sink took.
+    assert_eq!(r.usage, RunUsage::of(&tables.dwells, 1.0));
+    assert!(r.usage.totals[1] > 0.0);
     assert!(r.ta_cpu > std::time::Duration::ZERO && r.ta_cpu < r.cpu, "{:?} of {:?}", r.ta_cpu, r.cpu);
     assert_eq!(r.ta.map(|t| t.name), Some("default".to_string()));
 }
@@ -34,15 +46,15 @@ fn failing_methods_are_recorded_not_fatal() {
          [[methods]]\nname = \"ekf\"\nta = \"default\"\n",
     );
     let prep = prepare(&p).expect("prepare");
-    let item = |i: usize| run_item(&p, &prep.cells[i], &prep.worlds[prep.world_of[i]], 0);
-    let why = item(0).failure.expect("the crash is recorded");
+    let why = item(&p, &prep, 0).0.failure.expect("the crash is recorded");
     assert!(why.starts_with("test article fault: crashed"), "{why}");
-    let why = item(1).failure.expect("the garbage is recorded");
+    let why = item(&p, &prep, 1).0.failure.expect("the garbage is recorded");
     assert!(why.starts_with("test article fault: bad reply"), "{why}");
-    let runaway = item(2);
+    let (runaway, tables) = item(&p, &prep, 2);
     let why = runaway.failure.expect("the runaway is recorded");
     assert!(why.starts_with("track count ran away"), "{why}");
-    assert!(!runaway.tables.dwells.is_empty(), "the partial run is kept");
+    assert_eq!(runaway.fault, None, "a failure of the method, not of the sink");
+    assert!(!tables.dwells.is_empty(), "the partial run is kept");
 }
 
 #[test]

@@ -1,0 +1,321 @@
+//! Columns of a table file decoded straight from its Parquet pages, for a reader that needs a few
+//! columns of every row and no Arrow arrays (mimo-metrics' one-pass usage sums of the dwells).
+//!
+//! The decoder reads the layout the store's writer gives (`crate::writer_props`): required,
+//! flat columns without dictionaries, `uint32` and `utf8` values in plain pages, `float64` values
+//! plain or byte-stream split, pages compressed or not. It lives beside the writer settings
+//! because it depends on them: [`DECODED_ENCODINGS`] names what it decodes, and the tests
+//! check that the writer's settings for every column it can be asked for stay within it and that
+//! the writer's own files decode to the values written. Anything else — an optional column, a
+//! dictionary page, another encoding or type, a short page — gives `None`, and the caller reads
+//! the file with the Arrow reader instead (which takes any layout).
+
+use parquet::basic::{ConvertedType, Encoding, Type as PhysicalType};
+use parquet::column::page::Page;
+use parquet::file::reader::{FileReader, RowGroupReader};
+use parquet::file::serialized_reader::SerializedFileReader;
+use std::fs::File;
+use std::path::Path;
+
+/// The value encodings the decoder takes: plain values (every column) and the byte-stream split
+/// (`float64` columns).
+pub const DECODED_ENCODINGS: [Encoding; 2] = [Encoding::PLAIN, Encoding::BYTE_STREAM_SPLIT];
+
+/// Whether the decoder takes values of `physical` type written with `encoding`.
+pub fn decodes(physical: PhysicalType, encoding: Encoding) -> bool {
+    match physical {
+        PhysicalType::DOUBLE => DECODED_ENCODINGS.contains(&encoding),
+        PhysicalType::INT32 | PhysicalType::BYTE_ARRAY => encoding == Encoding::PLAIN,
+        _ => false,
+    }
+}
+
+/// A table file opened for page decoding, with the columns asked for found.
+pub struct PageFile {
+    reader: SerializedFileReader<File>,
+    /// Leaf index in the file of each column asked for, and its physical and converted type.
+    columns: Vec<(usize, PhysicalType, ConvertedType)>,
+}
+
+impl PageFile {
+    /// Open `path` for decoding the columns `names`, each a required top-level column; `None`
+    /// if the file cannot be opened or a column is missing, nested or optional.
+    pub fn open(path: &Path, names: &[&str]) -> Option<PageFile> {
+        let reader = SerializedFileReader::new(File::open(path).ok()?).ok()?;
+        let schema = reader.metadata().file_metadata().schema_descr();
+        let mut columns = Vec::with_capacity(names.len());
+        for name in names {
+            let i = (0..schema.num_columns()).find(|&i| {
+                let c = schema.column(i);
+                c.path().parts().len() == 1 && c.name() == *name
+            })?;
+            let c = schema.column(i);
+            if c.max_def_level() != 0 || c.max_rep_level() != 0 {
+                return None;
+            }
+            columns.push((i, c.physical_type(), c.converted_type()));
+        }
+        Some(PageFile { reader, columns })
+    }
+
+    /// Row groups in the file.
+    pub fn num_row_groups(&self) -> usize {
+        self.reader.num_row_groups()
+    }
+
+    /// Row group `g`.
+    pub fn row_group(&self, g: usize) -> Option<PageRowGroup<'_>> {
+        Some(PageRowGroup { reader: self.reader.get_row_group(g).ok()?, columns: &self.columns })
+    }
+}
+
+/// One row group of a [`PageFile`]; columns are named by their position in the names asked for.
+pub struct PageRowGroup<'f> {
+    reader: Box<dyn RowGroupReader + 'f>,
+    columns: &'f [(usize, PhysicalType, ConvertedType)],
+}
+
+impl PageRowGroup<'_> {
+    /// Rows in the row group.
+    pub fn num_rows(&self) -> Option<usize> {
+        usize::try_from(self.reader.metadata().num_rows()).ok()
+    }
+
+    /// Column `col`'s leaf index if it has the physical and converted type given.
+    fn leaf(&self, col: usize, physical: PhysicalType, converted: ConvertedType) -> Option<usize> {
+        let &(i, p, c) = self.columns.get(col)?;
+        (p == physical && c == converted).then_some(i)
+    }
+
+    /// Every data page of leaf `leaf`, in order, handed to `each` with its values' bytes, count
+    /// and encoding.
+    fn for_pages(&self, leaf: usize, mut each: impl FnMut(&[u8], usize, Encoding) -> Option<()>) -> Option<()> {
+        for page in self.reader.get_column_page_reader(leaf).ok()? {
+            let page = page.ok()?;
+            let (values, n, encoding) = page_values(&page)?;
+            each(values, n, encoding)?;
+        }
+        Some(())
+    }
+
+    /// A `uint32` column's values into `out` (cleared first).
+    pub fn u32s(&self, col: usize, out: &mut Vec<u32>) -> Option<()> {
+        let leaf = self.leaf(col, PhysicalType::INT32, ConvertedType::UINT_32)?;
+        out.clear();
+        self.for_pages(leaf, |values, n, encoding| {
+            if encoding != Encoding::PLAIN || values.len() < 4 * n {
+                return None;
+            }
+            out.extend(values[..4 * n].chunks_exact(4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])));
+            Some(())
+        })
+    }
+
+    /// A `float64` column's values into `out` (cleared first), plain or byte-stream split.
+    pub fn f64s(&self, col: usize, out: &mut Vec<f64>) -> Option<()> {
+        let leaf = self.leaf(col, PhysicalType::DOUBLE, ConvertedType::NONE)?;
+        out.clear();
+        self.for_pages(leaf, |values, n, encoding| {
+            let values = values.get(..8 * n)?;
+            match encoding {
+                Encoding::PLAIN => {
+                    out.extend(values.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0xff; 8]))))
+                }
+                // Byte k of value i at k·n + i, written stream by stream into the values' bytes.
+                Encoding::BYTE_STREAM_SPLIT => {
+                    let mut bytes = vec![[0u8; 8]; n];
+                    for (k, stream) in values.chunks_exact(n.max(1)).take(8).enumerate() {
+                        let k = k & 7;
+                        for (b, byte) in bytes.iter_mut().zip(stream) {
+                            b[k] = *byte;
+                        }
+                    }
+                    out.extend(bytes.into_iter().map(f64::from_le_bytes));
+                }
+                _ => return None,
+            }
+            Some(())
+        })
+    }
+
+    /// A `utf8` column's values, each value's bytes handed to `each` in row order (no string is
+    /// built; `each` may refuse one with `None`). The bytes are not checked to be UTF-8.
+    pub fn strs(&self, col: usize, mut each: impl FnMut(&[u8]) -> Option<()>) -> Option<()> {
+        let leaf = self.leaf(col, PhysicalType::BYTE_ARRAY, ConvertedType::UTF8)?;
+        self.for_pages(leaf, |values, n, encoding| {
+            if encoding != Encoding::PLAIN {
+                return None;
+            }
+            let mut pos = 0;
+            for _ in 0..n {
+                let len = values.get(pos..pos + 4)?;
+                let len = u32::from_le_bytes([len[0], len[1], len[2], len[3]]) as usize;
+                each(values.get(pos + 4..pos + 4 + len)?)?;
+                pos += 4 + len;
+            }
+            Some(())
+        })
+    }
+}
+
+/// The values of one data page (levels skipped: the columns are required and flat), or `None`
+/// for a page this decoder does not take (a dictionary page, a page with nulls).
+fn page_values(page: &Page) -> Option<(&[u8], usize, Encoding)> {
+    match page {
+        Page::DataPage { buf, num_values, encoding, .. } => Some((buf, *num_values as usize, *encoding)),
+        Page::DataPageV2 {
+            buf, num_values, encoding, num_nulls: 0, def_levels_byte_len, rep_levels_byte_len, ..
+        } => {
+            let levels = *def_levels_byte_len as usize + *rep_levels_byte_len as usize;
+            Some((buf.get(levels..)?, *num_values as usize, *encoding))
+        }
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mimo_core::ids::RadarId;
+    use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
+    use parquet::file::properties::WriterProperties;
+
+    /// Dwell rows whose every decoded column varies: ids, radars, roles, kinds, requesters, times
+    /// and values.
+    fn dwells(n: usize) -> Vec<DwellRow> {
+        let roles = [Role::Tx, Role::Rx, Role::Txrx];
+        let kinds = [DwellKind::Search, DwellKind::Confirm, DwellKind::Track, DwellKind::Mimo];
+        (0..n)
+            .map(|i| DwellRow {
+                run: 3,
+                dwell_id: i as u64,
+                group_id: (i / 2) as u64,
+                radar: RadarId((i % 4) as u8),
+                role: roles[i % 3],
+                kind: kinds[i % 4],
+                requested_by: if i % 5 == 0 { Requester::Ta } else { Requester::Radar },
+                t_s: 0.0137 * i as f64,
+                duration_s: 1e-3 * (1 + i % 7) as f64,
+                pulse_width_s: 1e-6,
+                n_pulses: 1 + (i % 3) as u32,
+                peak_power_w: 1e5,
+                energy_j: 0.25 * (i % 11) as f64 + 1e-9 * i as f64,
+                waveform: 0,
+                face: (i % 3) as u8,
+                beam_u: 0.0,
+                beam_v: 0.0,
+                aim_x_m: 1.0,
+                aim_y_m: 2.0,
+                aim_z_m: 3.0,
+            })
+            .collect()
+    }
+
+    const NAMES: [&str; 6] = ["run", "radar", "role", "t_s", "duration_s", "energy_j"];
+
+    /// The decoded columns of every row group, concatenated; `None` where the decoder gives up.
+    #[allow(clippy::type_complexity)]
+    fn decode(path: &Path) -> Option<(Vec<u32>, Vec<String>, Vec<String>, Vec<f64>, Vec<f64>, Vec<f64>)> {
+        let f = PageFile::open(path, &NAMES)?;
+        let mut all = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut u, mut x) = (Vec::new(), Vec::new());
+        for g in 0..f.num_row_groups() {
+            let rg = f.row_group(g)?;
+            rg.u32s(0, &mut u)?;
+            all.0.extend(&u);
+            rg.strs(1, |b| {
+                all.1.push(String::from_utf8(b.to_vec()).ok()?);
+                Some(())
+            })?;
+            rg.strs(2, |b| {
+                all.2.push(String::from_utf8(b.to_vec()).ok()?);
+                Some(())
+            })?;
+            for (col, out) in [(3, &mut all.3), (4, &mut all.4), (5, &mut all.5)] {
+                rg.f64s(col, &mut x)?;
+                out.extend(&x);
+            }
+        }
+        Some(all)
+    }
+
+    /// The writer's output, across pages and row groups, decodes to the values written, and as
+    /// the writer streams it (the run sink's [`crate::table_writer::TableWriter`]) too.
+    #[test]
+    fn the_store_writer_output_decodes_to_the_rows_written() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let rows = dwells(crate::ROW_GROUP_ROWS + crate::PAGE_ROWS + 100);
+        let once = dir.path().join("run-0003.parquet");
+        crate::write_table(&once, &rows).expect("write");
+        let streamed = dir.path().join("streamed.parquet");
+        let mut w = crate::table_writer::TableWriter::create(&streamed).expect("create");
+        rows.chunks(977).try_for_each(|c| w.extend(c.to_vec())).expect("extend");
+        w.finish().expect("finish");
+        for path in [&once, &streamed] {
+            let got = decode(path).expect("the store's own file takes the page decoder");
+            assert_eq!(got.0, rows.iter().map(|r| r.run).collect::<Vec<_>>());
+            assert_eq!(got.1, rows.iter().map(|r| r.radar.to_string()).collect::<Vec<_>>());
+            assert_eq!(got.2, rows.iter().map(|r| r.role.as_str().to_string()).collect::<Vec<_>>());
+            assert_eq!(got.3, rows.iter().map(|r| r.t_s).collect::<Vec<_>>());
+            assert_eq!(got.4, rows.iter().map(|r| r.duration_s).collect::<Vec<_>>());
+            assert_eq!(got.5, rows.iter().map(|r| r.energy_j).collect::<Vec<_>>());
+        }
+    }
+
+    /// The writer's settings for every column of every run table of a type the decoder reads
+    /// (`uint32`, `float64`, `utf8`) are settings it decodes: no dictionary, and an encoding of
+    /// [`decodes`]. A change of the settings that would turn the fast path off fails here.
+    #[test]
+    fn the_writer_settings_stay_within_what_the_decoder_takes() {
+        use arrow::datatypes::DataType;
+        let mut checked = 0;
+        for spec in &crate::schema::ALL_TABLES {
+            let schema = spec.arrow_schema();
+            let props = crate::writer_props(&schema);
+            for field in schema.fields() {
+                let physical = match field.data_type() {
+                    DataType::UInt32 => PhysicalType::INT32,
+                    DataType::Float64 => PhysicalType::DOUBLE,
+                    DataType::Utf8 => PhysicalType::BYTE_ARRAY,
+                    _ => continue,
+                };
+                let path = parquet::schema::types::ColumnPath::from(field.name().as_str());
+                let what = format!("{}.{}", spec.name, field.name());
+                assert!(!props.dictionary_enabled(&path), "{what}: dictionary pages");
+                let encoding = props.encoding(&path).unwrap_or(Encoding::PLAIN);
+                // Delta-encoded ids are not asked of the decoder; every other column must decode.
+                if encoding != Encoding::DELTA_BINARY_PACKED {
+                    assert!(decodes(physical, encoding), "{what}: {encoding:?} pages");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 40, "{checked} columns checked");
+    }
+
+    /// A file written with other settings (dictionary pages, the Parquet writer's defaults) is
+    /// not decoded: the decoder gives `None` rather than wrong values.
+    #[test]
+    fn other_writer_settings_are_refused() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let rows = dwells(5000);
+        let batch = crate::rows::to_batch(&rows).expect("batch");
+        let path = dir.path().join("run-0003.parquet");
+        for props in [
+            WriterProperties::builder().build(),
+            WriterProperties::builder().set_dictionary_enabled(true).build(),
+            WriterProperties::builder()
+                .set_dictionary_enabled(false)
+                .set_column_encoding("run".into(), Encoding::DELTA_BINARY_PACKED)
+                .build(),
+        ] {
+            let file = File::create(&path).expect("create");
+            let mut w = parquet::arrow::ArrowWriter::try_new(file, batch.schema(), Some(props)).expect("writer");
+            w.write(&batch).expect("write");
+            w.close().expect("close");
+            assert!(decode(&path).is_none(), "a file of other settings is left to the Arrow reader");
+            // Yet it is a well-formed dwells file: the store's checked read takes it.
+            assert_eq!(crate::read_table::<DwellRow>(&path).expect("read"), rows);
+        }
+    }
+}
