@@ -60,7 +60,7 @@ fn the_targets_a_dwell_may_reach_give_the_dwell_of_all_targets() {
         };
         let reach = DwellReach::new(&d).expect("the Gaussian pattern without leakage or refraction is pre-selected");
         let near: Vec<bool> = balls.iter().map(|b| reach.may_reach(*b)).collect();
-        let subset: Vec<Target> = targets.iter().zip(&near).filter(|(_, n)| **n).map(|(t, _)| t.clone()).collect();
+        let subset: Vec<Target> = targets.iter().zip(&near).filter(|(_, n)| **n).map(|(t, _)| *t).collect();
         let all = evaluate(&d, &targets);
         let some = evaluate(&d, &subset);
         // No target beyond reach returns in any channel.
