@@ -5,11 +5,11 @@
 
 mod common;
 
-use common::{SEED, Ship, rcs_for_snr};
+use common::{SEED, Ship, dwell_of, rcs_for_snr};
 use mimo_core::DVec3;
 use mimo_core::params::{Fidelity, PatternModel, RadarParams};
 use mimo_core::rng::{Stream, domain};
-use mimo_radar::dwell::{Dwell, Target, evaluate};
+use mimo_radar::dwell::{Target, evaluate};
 use mimo_radar::quiet::TargetBall;
 use mimo_radar::reach::DwellReach;
 
@@ -47,17 +47,7 @@ fn the_targets_a_dwell_may_reach_give_the_dwell_of_all_targets() {
             })
             .collect();
         let keys = [5, case];
-        let d = Dwell {
-            run: 5,
-            t_s: 1.0,
-            seed: SEED,
-            keys: &keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: &fid,
-            record_voltages: true,
-            simulate_all_cells: false,
-        };
+        let d = dwell_of(&keys, &txs, &rxs, &fid, true);
         let reach = DwellReach::new(&d).expect("the Gaussian pattern without leakage or refraction is pre-selected");
         let near: Vec<bool> = balls.iter().map(|b| reach.may_reach(*b)).collect();
         let subset: Vec<Target> = targets.iter().zip(&near).filter(|(_, n)| **n).map(|(t, _)| *t).collect();
@@ -99,17 +89,7 @@ fn the_pre_selection_stands_aside_where_a_target_s_place_or_path_matters() {
         (Fidelity { waveform_isolation_db: Some(30.0), ..base.clone() }, false),
     ];
     for (fid, applies) in cases {
-        let d = Dwell {
-            run: 5,
-            t_s: 1.0,
-            seed: SEED,
-            keys: &keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: &fid,
-            record_voltages: false,
-            simulate_all_cells: false,
-        };
+        let d = dwell_of(&keys, &txs, &rxs, &fid, false);
         assert_eq!(DwellReach::new(&d).is_some(), applies, "{fid:?}");
     }
 }
