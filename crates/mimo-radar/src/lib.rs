@@ -81,6 +81,7 @@ pub mod pattern;
 pub mod polarization;
 pub mod quiet;
 pub mod range;
+pub mod reach;
 mod returns;
 pub mod statistical;
 pub mod two_target;

@@ -16,8 +16,7 @@ fn at(level: FidelityLevel, base: &Fidelity) -> Fidelity {
 }
 
 fn run(keys: &[u64], txs: &[Transmitter], rxs: &[Receiver], fid: &Fidelity, tg: &[Target]) -> DwellOutput {
-    let d = test_dwell(keys, txs, rxs, fid);
-    evaluate(&d, tg)
+    evaluate(&test_dwell(keys, txs, rxs, fid), tg)
 }
 
 /// Band half-width for the difference of two proportions near `p` from `n` trials each, at `z`.

@@ -109,6 +109,38 @@ impl World {
         }
     }
 
+    /// The targets a dwell may reach at `t_s` (every target whose epoch ball some transmit beam
+    /// may reach, [`mimo_radar::reach::DwellReach`]), in scenario order, into `out`; every target
+    /// when `reach` is `None` or no balls cover `t_s`. The radar model gives the same dwell with
+    /// these as with every target (docs/model.md §4.7), and a dwell's cost then follows the
+    /// targets near its beams.
+    pub fn radar_targets_reached_into<'w>(
+        &'w self,
+        t_s: f64,
+        reach: Option<&mimo_radar::reach::DwellReach>,
+        out: &mut Vec<mimo_radar::Target<'w>>,
+    ) {
+        let balls = self.target_balls_at(t_s).filter(|b| b.len() == self.scenario.targets.len());
+        let (Some(reach), Some(balls)) = (reach, balls) else {
+            return self.radar_targets_into(t_s, out);
+        };
+        out.clear();
+        let trajectories = self.trajectories();
+        for (i, (t, b)) in self.scenario.targets.iter().zip(balls).enumerate() {
+            let ball = mimo_radar::quiet::TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m };
+            if !reach.may_reach(ball) {
+                continue;
+            }
+            out.push(mimo_radar::Target {
+                id: t.id.as_str(),
+                index: i as u32,
+                pos_ecef: trajectories.position_at(i, t_s),
+                rcs_m2: trajectories.rcs_m2(i),
+                pol: t.polarimetry,
+            });
+        }
+    }
+
     /// For every target, a ball that holds it at `t_s` (and the rest of its one-second epoch:
     /// [`mimo_scenario::epoch_balls`]); `None` when `t_s` lies outside the sampled trajectories.
     pub fn target_balls_at(&self, t_s: f64) -> Option<&[mimo_scenario::epoch_balls::Ball]> {

@@ -11,6 +11,7 @@ use crate::jpda::{AssociationProbabilities, combine};
 use crate::measurement::{MeasurementModel, PreparedMeasurement};
 use crate::partner::PartnerMode;
 use crate::pregate::{BoundCache, PreGate};
+use crate::reached;
 use crate::state_stamp::StateStamp;
 use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::records::TrackStatus;
@@ -68,25 +69,32 @@ impl MultiTargetTracker {
         excused: &mut BTreeSet<u64>,
         new_ids: &mut Vec<u64>,
     ) {
-        let ids: Vec<u64> = self.tracks.keys().copied().collect();
+        let all_ids: Vec<u64> = self.tracks.keys().copied().collect();
         let n_m = list.len();
-        // A track's cache is seeded from the dwell's store when one of its pairs passes the
-        // pre-gate (a far track costs no lookup).
-        let mut caches: Vec<Option<PredCache>> = ids.iter().map(|_| None).collect();
-        let (table, near) = self.gate_channel(list, &ids, &mut caches);
-        let mut caches: Vec<PredCache> = caches.into_iter().map(Option::unwrap_or_default).collect();
+        let gated = self.gate_channel(list, &all_ids);
+        let near = gated.near;
+        // The soft (JPDA) path sees only the tracks the channel reached: a track no pair reached
+        // gates nothing, forms a cluster of its own and misses for sure, so it changes no
+        // probability and no track (docs/model.md §6.8).
+        let ids: Vec<u64> = gated.rows.iter().map(|&i| all_ids[i]).collect();
+        let mut table = gated.table;
+        let mut caches = gated.caches;
         let mut second = vec![false; n_m];
-        let claimed = match self.c.associator.probabilities(&table) {
+        let (ids, claimed) = match self.c.associator.probabilities(&table) {
             Some(probs) => {
                 if self.config.second_return_max_beta > 0.0 {
                     second =
                         crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
                 }
                 self.soft_updates(ctx, Hypotheses { list, ids: &ids, table: &table }, &mut caches, &probs, updated);
-                vec![false; n_m]
+                (ids, vec![false; n_m])
             }
             None => {
-                self.hard_updates(ctx, Hypotheses { list, ids: &ids, table: &table }, &mut caches, updated, excused)
+                // The hard path (GNN, partners) still sees every track, as its rules ask.
+                (table, caches) = reached::widen(table, caches, &gated.rows, all_ids.len());
+                let claimed =
+                    self.hard_updates(ctx, Hypotheses { list, ids: &all_ids, table: &table }, &mut caches, updated, excused);
+                (all_ids, claimed)
             }
         };
         // The channel's predictions, for the dwell's other channels and its deletion pass.
@@ -103,28 +111,25 @@ impl MultiTargetTracker {
         // strongest first; a detection inside the gate of a track started in this dwell is taken
         // as the same target and skipped.
         let mut cand: Vec<usize> = (0..n_m)
-            .filter(|&j| !claimed[j] && !near[j] && (second[j] || (0..ids.len()).all(|i| table.get(i, j).is_none())))
+            .filter(|&j| {
+                !claimed[j] && !near[j] && (second[j] || (0..table.n_tracks).all(|i| table.get(i, j).is_none()))
+            })
             .filter(|&j| self.config.false_tracks.admits(ctx.kind, list[j].snr_db))
             .collect();
         cand.sort_by(|&a, &b| list[b].snr_db.total_cmp(&list[a].snr_db).then(list[a].meas_id.cmp(&list[b].meas_id)));
         self.initiate(list, &cand, new_ids);
     }
 
-    /// Gate every track against the channel's measurements. Returns the hypotheses that gate,
-    /// and which measurements lie inside an existing track's resolution cell or its initiation
+    /// Gate every track (`ids`) against the channel's measurements. Returns the tracks one of
+    /// whose pairs passed the pre-gate, their hypotheses that gate and their predictions, and
+    /// which measurements lie inside an existing track's resolution cell or its initiation
     /// exclusion gate (such a measurement never starts a track, docs/model.md §6.4).
-    fn gate_channel(
-        &mut self,
-        list: &[PreparedMeasurement],
-        ids: &[u64],
-        caches: &mut [Option<PredCache>],
-    ) -> (HypothesisTable, Vec<bool>) {
+    fn gate_channel(&mut self, list: &[PreparedMeasurement], ids: &[u64]) -> reached::Reached<PredCache> {
         let n_m = list.len();
         let filter = &*self.c.filter;
-        let mut table = HypothesisTable::new(ids.len(), n_m);
+        let mut out = reached::Reached::new(n_m);
         let excl = self.config.initiation_exclusion;
         let cell_uv = excl.beam_fraction * self.config.revisit.beamwidth;
-        let mut near = vec![false; n_m];
         // Pairs that cannot gate are skipped before their prediction (docs/model.md §6.5).
         let pregate = PreGate::new(&*self.c.gater, &excl);
         for (i, id) in ids.iter().enumerate() {
@@ -134,29 +139,34 @@ impl MultiTargetTracker {
                 Some(m) => self.balls.get(filter, track, m.t_s - track.t_s),
                 None => None,
             };
+            // A track's cache is seeded from the dwell's store when one of its pairs passes the
+            // pre-gate (a far track costs no lookup).
+            let mut cache: Option<PredCache> = None;
             for (j, m) in list.iter().enumerate() {
                 let far = ball.is_some_and(|b| b.covers(track, m.t_s - track.t_s) && pregate.excludes_ball(b, m));
                 if far || pregate.excludes(filter, track, m, &mut bound) {
                     continue;
                 }
-                let pred = caches[i]
-                    .get_or_insert_with(|| PredCache::seeded(&mut self.preds, track))
-                    .get(filter, track, m.t_s);
+                let pred =
+                    cache.get_or_insert_with(|| PredCache::seeded(&mut self.preds, track)).get(filter, track, m.t_s);
                 if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
                     continue;
                 }
                 if let Ok(h) = filter.hypothesis(pred, m.observation()) {
                     if self.c.gater.accepts(&h) {
-                        table.set(i, j, Some(h));
+                        out.gate(j, h);
                     }
-                    near[j] |= h.nis <= excl.nis;
+                    out.near[j] |= h.nis <= excl.nis;
                 }
                 let zp = m.model.h(&pred.combined.x);
                 let (dr, du, dv) = (m.z[0] - zp[0], m.z[1] - zp[1], m.z[2] - zp[2]);
-                near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
+                out.near[j] |= dr.abs() <= 2.0 * excl.range_cell_m && du * du + dv * dv <= cell_uv * cell_uv;
+            }
+            if let Some(cache) = cache {
+                out.push_row(i, cache);
             }
         }
-        (table, near)
+        out.finish()
     }
 
     /// Start a tentative track from each candidate measurement in `cand` (in order), unless it

@@ -20,7 +20,6 @@ use crate::linalg::trace;
 use crate::state_stamp::StateStamp;
 use crate::tracker::Track;
 use mimo_core::records::TrackStatus;
-use std::collections::BTreeMap;
 
 /// Relative margin below the covariance limit that the span's ends must keep: far above the
 /// rounding of a 6×6 prediction, far below anything the limit means.
@@ -48,7 +47,7 @@ impl Basis {
 /// Per-track certificates: `dt` from the last update up to `max_dt_s` needs no check.
 #[derive(Debug, Default)]
 pub(crate) struct QuietTracks {
-    certs: BTreeMap<u64, (Basis, f64)>,
+    certs: crate::track_balls::IdMap<(Basis, f64)>,
 }
 
 impl QuietTracks {

@@ -124,6 +124,7 @@ pub mod partner;
 pub mod policy;
 mod pregate;
 mod queries;
+mod reached;
 pub mod second_return;
 mod state_stamp;
 mod track_balls;

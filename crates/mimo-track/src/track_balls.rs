@@ -14,6 +14,7 @@
 //! exactly as before: the gated table, the association and the tracks are the same, bit for bit.
 
 use crate::filter::TrackFilter;
+use crate::measurement::BistaticRuv;
 use crate::tracker::Track;
 use mimo_core::DVec3;
 use std::collections::HashMap;
@@ -66,6 +67,22 @@ impl TrackBall {
         let finite = centre.is_finite() && radius_m.is_finite() && trace_max_m2.is_finite() && trace_max_m2 >= 0.0;
         let (t_s, n_updates) = (track.t_s, track.n_updates);
         finite.then_some(TrackBall { t_s, n_updates, dt_lo_s: a, dt_hi_s: b, centre, radius_m, trace_max_m2 })
+    }
+
+    /// Whether no point of the ball lies within sine-space distance `theta` of the beam
+    /// `(beam_u, beam_v)` of the receive face `m` (its `(u, v)` as [`BistaticRuv::h_pos`] gives
+    /// them): then no prediction the ball holds is in that beam. `false` means "unsure". A point
+    /// of a ball of radius `ρ` whose centre lies at face distance `R ≥ 2ρ` is seen within
+    /// `1.05 ρ/R` of the centre in sine space (an angle `asin(ρ/R)`, and a rotation keeps lengths).
+    pub(crate) fn clear_of_beam(&self, m: &BistaticRuv, beam_u: f64, beam_v: f64, theta: f64) -> bool {
+        let l = crate::linalg::mul_vec(&m.m, &(self.centre - m.rx).to_array());
+        let range_m = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
+        if !(range_m > 0.0 && range_m >= 2.0 * self.radius_m) {
+            return false;
+        }
+        let (du, dv) = (l[0] / range_m - beam_u, l[1] / range_m - beam_v);
+        let need = theta + 1.05 * self.radius_m / range_m;
+        du * du + dv * dv > need * need
     }
 
     /// Whether the ball holds predictions of `track` over `dt_s`.
@@ -121,8 +138,71 @@ impl TrackBalls {
         self.by_track.get(&track.id)
     }
 
+    /// The kept ball of `track` when it covers `dt_s` (none is made).
+    pub(crate) fn kept(&self, track: &Track, dt_s: f64) -> Option<&TrackBall> {
+        self.by_track.get(&track.id).filter(|b| b.covers(track, dt_s))
+    }
+
     /// Drop a deleted track's ball.
     pub(crate) fn forget(&mut self, id: u64) {
         self.by_track.remove(&id);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mimo_core::rng::Stream;
+
+    /// A random rotation (tracking frame → face), row-major, from three random angles.
+    fn rotation(s: &mut Stream) -> crate::linalg::Mat3 {
+        let (a, b, c) = (6.3 * s.uniform(), 3.1 * s.uniform() - 1.55, 6.3 * s.uniform());
+        let rz = |t: f64| [[t.cos(), -t.sin(), 0.0], [t.sin(), t.cos(), 0.0], [0.0, 0.0, 1.0]];
+        let ry = |t: f64| [[t.cos(), 0.0, t.sin()], [0.0, 1.0, 0.0], [-t.sin(), 0.0, t.cos()]];
+        crate::linalg::mul(&crate::linalg::mul(&rz(a), &ry(b)), &rz(c))
+    }
+
+    /// A ball clear of a beam holds no point in that beam, on random faces, beams and balls
+    /// (each ball sampled inside, and on its surface), and balls are found clear often.
+    #[test]
+    fn no_point_of_a_ball_clear_of_a_beam_is_in_it() {
+        let mut s = Stream::new(7, &[41]);
+        let theta = 0.0252;
+        let (mut clear, mut unsure) = (0, 0);
+        for _ in 0..2000 {
+            let m =
+                BistaticRuv { tx: DVec3::new(1e3, -2e3, 5.0), rx: DVec3::new(-3e3, 4e3, 20.0), m: rotation(&mut s) };
+            let (bu, bv) = (0.8 * s.uniform() - 0.4, 0.8 * s.uniform() - 0.4);
+            // A ball a few beamwidths from the beam (seen from the face), some of it behind.
+            let range_m = 5e3 + 2e5 * s.uniform();
+            let (u, v) = (bu + 12.0 * theta * (s.uniform() - 0.5), bv + 12.0 * theta * (s.uniform() - 0.5));
+            let w = (1.0 - u * u - v * v).max(0.0).sqrt() * if s.uniform() < 0.1 { -1.0 } else { 1.0 };
+            let face = DVec3::new(u, v, w) * range_m;
+            let mt = |r: usize| DVec3::new(m.m[r][0], m.m[r][1], m.m[r][2]);
+            let centre = m.rx + mt(0) * face.x + mt(1) * face.y + mt(2) * face.z;
+            let radius_m = 8e3 * s.uniform() * s.uniform();
+            let ball = TrackBall {
+                t_s: 0.0,
+                n_updates: 0,
+                dt_lo_s: 0.0,
+                dt_hi_s: WINDOW_S,
+                centre,
+                radius_m,
+                trace_max_m2: 0.0,
+            };
+            if !ball.clear_of_beam(&m, bu, bv, theta) {
+                unsure += 1;
+                continue;
+            }
+            clear += 1;
+            for k in 0..50 {
+                let d = DVec3::new(s.normal(), s.normal(), s.normal()).normalize();
+                let p = centre + d * radius_m * if k % 2 == 0 { 1.0 } else { s.uniform() };
+                let z = m.h_pos(p);
+                let (du, dv) = (z[1] - bu, z[2] - bv);
+                assert!(du * du + dv * dv > theta * theta, "a point of a clear ball is in the beam");
+            }
+        }
+        assert!(clear > 300 && unsure > 300, "clear {clear}, unsure {unsure}");
     }
 }

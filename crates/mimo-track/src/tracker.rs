@@ -363,6 +363,13 @@ impl MultiTargetTracker {
             })
             .collect();
         for (id, t) in &self.tracks {
+            // A track whose kept ball is clear of every look's beam is in none of them: its
+            // prediction, which the ball holds, is not needed (crate::track_balls).
+            let ball = self.balls.kept(t, ctx.t_s - t.t_s);
+            if ball.is_some_and(|b| models.iter().all(|(look, m)| b.clear_of_beam(m, look.beam_u, look.beam_v, theta)))
+            {
+                continue;
+            }
             let x = self.c.filter.predict_mean(&t.state, ctx.t_s - t.t_s);
             let p = mimo_core::DVec3::new(x[0], x[1], x[2]);
             for (look, m) in &models {

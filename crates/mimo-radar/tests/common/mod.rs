@@ -123,3 +123,15 @@ pub fn fidelity() -> Fidelity {
 pub fn within(x: f64, mean: f64, sd: f64, z: f64) -> bool {
     (x - mean).abs() <= z * sd
 }
+
+/// A dwell of run 0 at t = 0 with stream keys `keys`, transmitters `txs` and receivers `rxs`,
+/// cells only near the returns.
+pub fn dwell_of<'a>(
+    keys: &'a [u64],
+    txs: &'a [Transmitter<'a>],
+    rxs: &'a [Receiver<'a>],
+    fid: &'a Fidelity,
+    record_voltages: bool,
+) -> Dwell<'a> {
+    Dwell { record_voltages, ..test_dwell(keys, txs, rxs, fid) }
+}

@@ -130,9 +130,10 @@ pub(crate) fn execute<'w>(
         .filter(|((_, p), _)| p.receives())
         .map(|((i, p), f)| receiver(world, g, p, gid + i as u64, *f, aim))
         .collect();
-    world.radar_targets_into(t_mid, targets);
     let stream_keys = [u64::from(keys.run), gid];
     let dwell = keys.radar_dwell(world, t_mid, &stream_keys, &txs, &rxs);
+    // Only the targets the dwell's beams may reach: the same dwell, at a cost that follows them.
+    world.radar_targets_reached_into(t_mid, mimo_radar::reach::DwellReach::new(&dwell).as_ref(), targets);
     let out = mimo_radar::evaluate(&dwell, targets);
     let measurements = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
     let dwells = (0..g.parts.len()).map(|i| dwell_row(world, keys.run, gid, g, i, t0_s, aim)).collect();
