@@ -32,6 +32,7 @@ pub mod params;
 pub mod polarimetry;
 pub mod records;
 pub mod rng;
+pub mod table_decl;
 pub mod sink;
 pub mod table_rules;
 pub mod text_file;
