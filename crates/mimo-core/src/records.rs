@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 #[macro_export]
 macro_rules! truth_table {
     ($gen:path) => {
-        $gen! {
+        $crate::table_decl! { $gen;
             /// One target at one truth sample.
             #[derive(Debug, Clone, PartialEq)]
             pub struct TruthRow / TruthColumns in TRUTH = "truth": "One row per target per truth sample (default 10 Hz)." {
@@ -105,7 +105,7 @@ crate::label_enum! {
 #[macro_export]
 macro_rules! dwells_table {
     ($gen:path) => {
-        $gen! {
+        $crate::table_decl! { $gen;
             /// One radar's part in one dwell.
             #[derive(Debug, Clone, PartialEq)]
             pub struct DwellRow / DwellColumns in DWELLS = "dwells":
@@ -160,7 +160,7 @@ dwells_table!(crate::record_struct);
 #[macro_export]
 macro_rules! voltages_table {
     ($gen:path) => {
-        $gen! {
+        $crate::table_decl! { $gen;
             /// Complex voltages of one receive channel (matched filter for one transmitter) in one range
             /// cell, normalized so that the noise is CN(0, 1) in every channel; written only with
             /// `--record voltages`.
@@ -201,7 +201,7 @@ voltages_table!(crate::record_struct);
 #[macro_export]
 macro_rules! primitives_table {
     ($gen:path) => {
-        $gen! {
+        $crate::table_decl! { $gen;
             /// A threshold crossing after monopulse DOA estimation.
             ///
             /// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
@@ -261,7 +261,7 @@ primitives_table!(crate::record_struct);
 #[macro_export]
 macro_rules! measurements_table {
     ($gen:path) => {
-        $gen! {
+        $crate::table_decl! { $gen;
             /// A clustered, centroided detection handed to trackers.
             ///
             /// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
@@ -330,7 +330,7 @@ crate::label_enum! {
 #[macro_export]
 macro_rules! tracks_table {
     ($gen:path) => {
-        $gen! {
+        $crate::table_decl! { $gen;
             /// A track's state at an update (or the final `deleted` row).
             ///
             /// Serialized (for the test-article protocol) without `run`, which the engine fills in.

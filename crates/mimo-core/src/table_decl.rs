@@ -1,7 +1,8 @@
 //! How a table is declared once (docs/architecture.md, "Tables").
 //!
 //! A table's declaration is a `macro_rules!` macro that hands its one column list to a generator
-//! macro (the "callback" style of arrow-rs' and rerun's schema code). The declaration names the
+//! macro (the "callback" style of arrow-rs' and rerun's schema code), through
+//! [`table_decl!`](crate::table_decl), which parses the grammar below once. The declaration names the
 //! record struct, the columns' field names (which are the column names), Rust types, units,
 //! meanings and any rule stricter than the type's default. Each crate expands it with its own
 //! generator:
@@ -27,11 +28,17 @@
 //! Enumerations stored as labels are declared once by [`label_enum!`](crate::label_enum): the
 //! variants with their on-disk labels, from which come `LABELS`, `as_str` and `parse`.
 
-/// Make the record struct of a table declaration (see the [module docs](self)), with its
-/// column names.
+/// Parse a table declaration (the grammar of the [module docs](self)) and hand it to the
+/// generator `$gen` in one normal form, which every generator matches:
+///
+/// ```text
+/// [struct attributes] Row Columns SPEC "table" "description"
+///     [[field attributes] field (Type) ("unit", "description" [, Rule])…]
+/// ```
 #[macro_export]
-macro_rules! record_struct {
+macro_rules! table_decl {
     (
+        $gen:path;
         $(#[$smeta:meta])*
         pub struct $row:ident / $cols:ident in $spec:ident = $table:literal : $tdesc:literal {
             $(
@@ -39,6 +46,18 @@ macro_rules! record_struct {
                 $field:ident : $ty:ty => ($unit:literal, $desc:literal $(, $rule:ident)?)
             ),* $(,)?
         }
+    ) => {
+        $gen! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
+    };
+}
+
+/// Make the record struct of a table declaration (see the [module docs](self)), with its
+/// column names.
+#[macro_export]
+macro_rules! record_struct {
+    (
+        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
     ) => {
         $(#[$smeta])*
         pub struct $row {

@@ -7,6 +7,7 @@
 //! ([`crate::dwell_read`]), as is a file whose values break a check.
 
 use crate::dwell_sums::{DwellSums, FilePass, Labels, Rows};
+use mimo_core::records::{DwellColumns, DwellRow};
 use parquet::basic::{ConvertedType, Encoding, Type as PhysicalType};
 use parquet::column::page::Page;
 use parquet::file::reader::{FileReader, RowGroupReader};
@@ -15,16 +16,19 @@ use std::collections::BTreeSet;
 use std::fs::File;
 use std::path::Path;
 
+/// The dwells table's column names (from its declaration).
+const D: DwellColumns = DwellRow::COLUMNS;
+
 /// The columns read, with the physical and converted type they must have.
 const COLUMNS: [(&str, PhysicalType, ConvertedType); 8] = [
-    ("run", PhysicalType::INT32, ConvertedType::UINT_32),
-    ("radar", PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
-    ("role", PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
-    ("kind", PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
-    ("requested_by", PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
-    ("t_s", PhysicalType::DOUBLE, ConvertedType::NONE),
-    ("duration_s", PhysicalType::DOUBLE, ConvertedType::NONE),
-    ("energy_j", PhysicalType::DOUBLE, ConvertedType::NONE),
+    (D.run, PhysicalType::INT32, ConvertedType::UINT_32),
+    (D.radar, PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
+    (D.role, PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
+    (D.kind, PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
+    (D.requested_by, PhysicalType::BYTE_ARRAY, ConvertedType::UTF8),
+    (D.t_s, PhysicalType::DOUBLE, ConvertedType::NONE),
+    (D.duration_s, PhysicalType::DOUBLE, ConvertedType::NONE),
+    (D.energy_j, PhysicalType::DOUBLE, ConvertedType::NONE),
 ];
 
 /// The values of one data page (levels skipped: the columns are required and flat), or `None`

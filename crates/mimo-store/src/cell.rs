@@ -125,7 +125,9 @@ impl Cell for RadarId {
             }
             names[i].get_or_insert_with(|| get(r).to_string());
         }
-        Arc::new(StringArray::from_iter_values(rows.iter().map(|r| names[get(r).index()].as_deref().unwrap_or_default())))
+        Arc::new(StringArray::from_iter_values(
+            rows.iter().map(|r| names[get(r).index()].as_deref().unwrap_or_default()),
+        ))
     }
     fn read(b: &Batch<'_>, name: &str) -> Result<Vec<Self>, StoreError> {
         b.radar(name)

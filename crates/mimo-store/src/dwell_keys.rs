@@ -9,11 +9,11 @@
 //! rows asked for, with the same column checks (types, nulls, finite values, categories) on
 //! those rows.
 
+use crate::cell::Cell;
 use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
 use arrow::array::BooleanArray;
 use mimo_core::ids::RadarId;
-use crate::cell::Cell;
 use mimo_core::records::{DwellColumns, DwellKind, DwellRow, Requester, Role};
 use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
 use parquet::arrow::ProjectionMask;

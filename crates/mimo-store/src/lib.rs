@@ -47,6 +47,10 @@ pub mod schema;
 pub mod score_schema;
 pub mod table_writer;
 
+/// `mimo-core`, for the table generators' expansions in other crates.
+#[doc(hidden)]
+pub use mimo_core as core_crate;
+
 use arrow::array::RecordBatch;
 use parquet::arrow::ArrowWriter;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;

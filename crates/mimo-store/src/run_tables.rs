@@ -22,13 +22,8 @@ macro_rules! column_rule {
 #[macro_export]
 macro_rules! table_spec {
     (
-        $(#[$smeta:meta])*
-        pub struct $row:ident / $cols:ident in $spec:ident = $table:literal : $tdesc:literal {
-            $(
-                $(#[$fmeta:meta])*
-                $field:ident : $ty:ty => ($unit:literal, $desc:literal $(, $rule:ident)?)
-            ),* $(,)?
-        }
+        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
     ) => {
         #[doc = concat!("`", $table, "`: ", $tdesc)]
         pub const $spec: $crate::schema::TableSpec = $crate::schema::TableSpec {
@@ -52,19 +47,10 @@ macro_rules! table_spec {
 /// [`TableRow`](crate::rows::TableRow) for its record struct.
 macro_rules! run_table {
     (
-        $(#[$smeta:meta])*
-        pub struct $row:ident / $cols:ident in $spec:ident = $table:literal : $tdesc:literal {
-            $(
-                $(#[$fmeta:meta])*
-                $field:ident : $ty:ty => ($unit:literal, $desc:literal $(, $rule:ident)?)
-            ),* $(,)?
-        }
+        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
     ) => {
-        $crate::table_spec! {
-            pub struct $row / $cols in $spec = $table : $tdesc {
-                $($field : $ty => ($unit, $desc $(, $rule)?)),*
-            }
-        }
+        $crate::table_spec! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
 
         impl $crate::rows::TableRow for $row {
             const SPEC: $crate::schema::TableSpec = $spec;

@@ -125,6 +125,24 @@ pub(crate) const fn opt(name: &'static str, ty: ColType, unit: &'static str, des
     ColumnSpec { name, ty, nullable: true, unit, description, rule: default_rule(ty) }
 }
 
+/// The columns of `parts`, in order, as one list of `N` columns (a compile error when `N` is not
+/// their count): a table whose columns open with shared ones (the study tables' identifying
+/// columns) lists them once.
+pub(crate) const fn join<const N: usize>(parts: &[&[ColumnSpec]]) -> [ColumnSpec; N] {
+    let mut out = [RUN; N];
+    let (mut n, mut p) = (0, 0);
+    while p < parts.len() {
+        let mut i = 0;
+        while i < parts[p].len() {
+            out[n] = parts[p][i];
+            (n, i) = (n + 1, i + 1);
+        }
+        p += 1;
+    }
+    assert!(n == N, "join: the parts do not hold N columns");
+    out
+}
+
 /// One table.
 #[derive(Debug, Clone, Copy)]
 pub struct TableSpec {
@@ -223,27 +241,26 @@ macro_rules! study_tables {
         /// The identifying columns opening every study table.
         pub(crate) const STUDY_IDS: [ColumnSpec; STUDY_ID_COLUMNS] = study_ids!();
 
-        const STUDY_RESULTS_COLUMNS: &[ColumnSpec] = &[
-            STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
-            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11],
-            RUN,
-            col("seed", U64, "", "master seed of the run"),
-            $(opt($name, F64, $unit, $desc),)*
-            opt("failure", Utf8, "", "why the run failed; null when it completed"),
-        ];
+        const STUDY_RESULTS_COLUMNS: [ColumnSpec; STUDY_ID_COLUMNS + 3 + STUDY_METRICS.len()] = join(&[
+            &STUDY_IDS,
+            &[RUN, col("seed", U64, "", "master seed of the run")],
+            &[$(opt($name, F64, $unit, $desc)),*],
+            &[opt("failure", Utf8, "", "why the run failed; null when it completed")],
+        ]);
 
-        const STUDY_SUMMARY_COLUMNS: &[ColumnSpec] = &[
-            STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
-            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11],
-            col("runs", U32, "", "Monte Carlo runs of the cell"),
-            col("failed", U32, "", "runs that failed"),
-            opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
-            $(
+        const STUDY_SUMMARY_COLUMNS: [ColumnSpec; STUDY_ID_COLUMNS + 3 + 3 * STUDY_METRICS.len()] = join(&[
+            &STUDY_IDS,
+            &[
+                col("runs", U32, "", "Monte Carlo runs of the cell"),
+                col("failed", U32, "", "runs that failed"),
+                opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
+            ],
+            &[$(
                 opt(concat!($name, "_mean"), F64, $unit, concat!("mean over completed runs where defined: ", $desc)),
                 opt(concat!($name, "_ci_lo"), F64, $unit, "lower end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range); null with fewer than 2 values"),
                 opt(concat!($name, "_ci_hi"), F64, $unit, "upper end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range)"),
-            )*
-        ];
+            )*],
+        ]);
     };
 }
 
@@ -284,46 +301,37 @@ pub const STUDY_RESULTS: TableSpec = TableSpec {
     name: "study_results",
     description: "A study's results: one row per cell (method, scenario, stress point) and Monte Carlo run; \
                   byte-deterministic for a plan and seed.",
-    columns: STUDY_RESULTS_COLUMNS,
+    columns: &STUDY_RESULTS_COLUMNS,
 };
 
 /// `DIR/costs.parquet` of a study: timings, which differ from machine to machine.
 pub const STUDY_COSTS: TableSpec = TableSpec {
     name: "study_costs",
     description: "A study's computing costs: one row per cell and Monte Carlo run (machine-dependent).",
-    columns: &[
-        STUDY_IDS[0],
-        STUDY_IDS[1],
-        STUDY_IDS[2],
-        STUDY_IDS[3],
-        STUDY_IDS[4],
-        STUDY_IDS[5],
-        STUDY_IDS[6],
-        STUDY_IDS[7],
-        STUDY_IDS[8],
-        STUDY_IDS[9],
-        STUDY_IDS[10],
-        STUDY_IDS[11],
-        RUN,
-        col("seed", U64, "", "master seed of the run"),
-        col("duration_s", F64, "s", "simulated seconds of the run"),
-        col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
-        col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
-        col("wall_s", F64, "s", "wall time of the run, simulation to score"),
-        opt(
-            "kf_cycle_s",
-            F64,
-            "s",
-            "CPU time of one reference EKF predict + update cycle (6-state, 3-D measurement) on the machine \
+    columns: &join::<20>(&[
+        &STUDY_IDS,
+        &[
+            RUN,
+            col("seed", U64, "", "master seed of the run"),
+            col("duration_s", F64, "s", "simulated seconds of the run"),
+            col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
+            col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
+            col("wall_s", F64, "s", "wall time of the run, simulation to score"),
+            opt(
+                "kf_cycle_s",
+                F64,
+                "s",
+                "CPU time of one reference EKF predict + update cycle (6-state, 3-D measurement) on the machine \
              that ran the item, the median of repeats measured when the study started; null in a record without one",
-        ),
-        opt(
-            "ta_cpu_kfu",
-            F64,
-            "",
-            "ta_cpu_s / kf_cycle_s: the test article's compute in reference Kalman-filter cycles",
-        ),
-    ],
+            ),
+            opt(
+                "ta_cpu_kfu",
+                F64,
+                "",
+                "ta_cpu_s / kf_cycle_s: the test article's compute in reference Kalman-filter cycles",
+            ),
+        ],
+    ]),
 };
 
 /// `DIR/summary.parquet` of a study: one row per cell, the Monte Carlo mean and 95 % confidence
@@ -331,7 +339,7 @@ pub const STUDY_COSTS: TableSpec = TableSpec {
 pub const STUDY_SUMMARY: TableSpec = TableSpec {
     name: "study_summary",
     description: "A study's summary: one row per cell with the mean and 95 % confidence interval of each metric.",
-    columns: STUDY_SUMMARY_COLUMNS,
+    columns: &STUDY_SUMMARY_COLUMNS,
 };
 
 /// Every table, in pipeline order.

@@ -8,7 +8,7 @@ use crate::grid::Cell;
 use crate::plan::Plan;
 use crate::record::{ItemCosts, ItemRecord, RecordError, record_path};
 use mimo_core::records::{DwellRow, Requester, Role, RunTables};
-use mimo_metrics::{MetricsError, Score, ScoreInput, ScoreOptions};
+use mimo_metrics::{MetricsError, Purpose, Score, ScoreInput, ScoreOptions};
 use mimo_sim::World;
 use mimo_store::layout::RunDir;
 use mimo_store::manifest::TableFile;
@@ -172,14 +172,7 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
         ("ta_energy_per_object_j", per_object(3)),
         ("ta_dwell_time_per_object_s", per_object(2)),
     ];
-    let by = &r.by_purpose;
-    let purposes = [
-        ("search", by.search),
-        ("confirm_true", by.confirm_true),
-        ("confirm_false", by.confirm_false),
-        ("track", by.track),
-        ("track_false", by.track_false),
-    ];
+    let purposes = Purpose::ALL.map(|p| (p.as_str(), r.by_purpose.get(p)));
     for (name, pair) in purposes {
         m.insert(format!("energy_{name}_j"), Some(pair.energy_j));
         m.insert(format!("dwell_time_{name}_s"), Some(pair.dwell_time_s));
