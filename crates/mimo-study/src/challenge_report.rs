@@ -32,6 +32,15 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
     let mut o = String::new();
     let pct = 100.0 * COMPLETENESS_REQUIRED;
     let _ = writeln!(o, "## The challenge: {pct} % track completeness for the least energy\n");
+    if c.families.iter().all(|f| f.knob.is_none()) {
+        let _ = writeln!(
+            o,
+            "No method sweeps a knob (a `[[methods]]` entry with `sweep`), so no family has a curve to cross \
+             {pct} % on: the energy at {pct} % is not defined here. Where each method stops holding {pct} % under \
+             stress is in \"Where each method fails\" below.\n"
+        );
+        return o;
+    }
     let _ = writeln!(
         o,
         "Per scenario, each family (a `[[methods]]` entry; a swept one is a curve of points) at the first point of \

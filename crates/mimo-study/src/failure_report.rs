@@ -9,6 +9,21 @@ use crate::report::value_text;
 use mimo_report::study::StudyCharts;
 use std::fmt::Write;
 
+/// An estimate (a failure point or an interval end) to three significant figures, as a bootstrap
+/// over ten runs supports no more: `-4.03`, `0.316`, `57.2`, `1.04e-6`. Grid values keep
+/// [`value_text`].
+pub(crate) fn estimate_text(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return value_text(v);
+    }
+    let magnitude = v.abs().log10().floor() as i32;
+    if !(-3..6).contains(&magnitude) {
+        return format!("{v:.2e}");
+    }
+    let decimals = (2 - magnitude).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// An interval as the table writes it: `a to b`, an end off the grid as `< v` or `> v` of the
 /// grid's end on that side.
 fn interval_text(r: &FailureRow) -> Option<String> {
@@ -17,7 +32,7 @@ fn interval_text(r: &FailureRow) -> Option<String> {
     let max = r.values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let below = || format!("< {}", value_text(min));
     let above = || format!("> {}", value_text(max));
-    let end = |v: Option<f64>, off: &dyn Fn() -> String| v.map_or_else(off, value_text);
+    let end = |v: Option<f64>, off: &dyn Fn() -> String| v.map_or_else(off, estimate_text);
     match word {
         "none" => None,
         "below_grid" => Some(below()),
@@ -36,7 +51,7 @@ fn point_text(r: &FailureRow) -> String {
     let first = r.values.first().copied().map(value_text).unwrap_or_default();
     let last = r.values.last().copied().map(value_text).unwrap_or_default();
     match r.point.failure {
-        Failure::At(_) => with(format!("**{}**", r.point.value.map(value_text).unwrap_or_default())),
+        Failure::At(_) => with(format!("**{}**", r.point.value.map(estimate_text).unwrap_or_default())),
         Failure::Holds => with(format!("holds over the range (to {last})")),
         Failure::FailsAtBaseline => with(format!("fails at the baseline ({first})")),
     }
@@ -83,4 +98,26 @@ pub fn failure_md(plan: &Plan, rows: &[FailureRow], charts: &StudyCharts) -> Str
     }
     let _ = writeln!(o);
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::estimate_text;
+
+    #[test]
+    fn estimates_are_written_to_three_significant_figures() {
+        let cases = [
+            (-4.032838, "-4.03"),
+            (0.315544, "0.316"),
+            (57.203457, "57.2"),
+            (161.230066, "161"),
+            (1.041088322946308e-6, "1.04e-6"),
+            (250000.0, "250000"),
+            (2500000.0, "2.50e6"),
+            (0.0, "0"),
+        ];
+        for (v, text) in cases {
+            assert_eq!(estimate_text(v), text, "{v}");
+        }
+    }
 }

@@ -19,16 +19,23 @@ impl RadarBudget {
         }
     }
 
-    /// Fraction of `[now − window_s, now]` that `radar` spent on test-article dwells; older
-    /// intervals are forgotten.
-    pub fn share(&mut self, radar: RadarId, now: f64, window_s: f64) -> f64 {
-        let Some(q) = self.busy.get_mut(&radar) else { return 0.0 };
+    /// Fraction of `[now − window_s, now]` that `radar` spent on test-article dwells. Nothing is
+    /// forgotten here, so windows of different lengths can be asked in any order
+    /// ([`RadarBudget::forget_before`] drops what no window reaches).
+    pub fn share(&self, radar: RadarId, now: f64, window_s: f64) -> f64 {
+        let Some(q) = self.busy.get(&radar) else { return 0.0 };
         let from = now - window_s;
-        while q.front().is_some_and(|&(_, end)| end <= from) {
-            q.pop_front();
-        }
         let used: f64 = q.iter().map(|&(a, b)| (b.min(now) - a.max(from)).max(0.0)).sum();
         used / window_s
+    }
+
+    /// Forget the busy intervals that ended at or before `t_s`.
+    pub fn forget_before(&mut self, t_s: f64) {
+        for q in self.busy.values_mut() {
+            while q.front().is_some_and(|&(_, end)| end <= t_s) {
+                q.pop_front();
+            }
+        }
     }
 
     /// Forget everything (a new run).
@@ -53,5 +60,21 @@ mod tests {
         assert_eq!(b.share(RadarId(1), 10.0, 5.0), 0.0);
         // Window [8.5, 10.5]: 0.5 + 0.5 of 2 s.
         assert!((b.share(r, 10.5, 2.0) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_short_window_asked_first_leaves_a_long_one_whole() {
+        let mut b = RadarBudget::default();
+        let r = RadarId(2);
+        b.record(r, 1.0, 2.0);
+        b.record(r, 6.0, 1.0);
+        // [2, 10]: 1 + 1 of 8 s; [7, 10]: nothing.
+        assert_eq!(b.share(r, 10.0, 3.0), 0.0);
+        assert!((b.share(r, 10.0, 8.0) - 0.25).abs() < 1e-12);
+        // Forgetting before the long window's start keeps its share.
+        b.forget_before(2.0);
+        assert!((b.share(r, 10.0, 8.0) - 0.25).abs() < 1e-12);
+        b.forget_before(7.0);
+        assert_eq!(b.share(r, 10.0, 8.0), 0.0);
     }
 }

@@ -16,6 +16,8 @@
 mod afford;
 mod budget;
 mod config;
+#[cfg(test)]
+mod fixture;
 pub mod group;
 pub mod planner;
 pub mod power;
@@ -127,8 +129,9 @@ impl DefaultTa {
         let rm = &self.cfg.resource_manager;
         // Faces, heights and predicted positions at `now`, kept for every plan of this pass.
         let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now);
-        let over_budget = radars_at_share(&mut self.budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s);
-        let busy_rx = radars_at_share(&mut self.budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s);
+        self.budget.forget_before(now - rm.budget_window_s.max(rm.rx_busy_window_s));
+        let over_budget = radars_at_share(&self.budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s);
+        let busy_rx = radars_at_share(&self.budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s);
         let mut dues: Vec<_> = st.tracker.track_dues().collect();
         if let Some(a) = &mut self.afford {
             a.begin_pass(now);
@@ -204,7 +207,7 @@ impl DefaultTa {
 
 /// The radars whose test-article share of the last `window_s` is at least `limit` (none when
 /// `limit` ≥ 1).
-fn radars_at_share(budget: &mut RadarBudget, ids: &[RadarId], now: f64, limit: f64, window_s: f64) -> Vec<RadarId> {
+fn radars_at_share(budget: &RadarBudget, ids: &[RadarId], now: f64, limit: f64, window_s: f64) -> Vec<RadarId> {
     if limit < 1.0 {
         ids.iter().copied().filter(|&r| budget.share(r, now, window_s) >= limit).collect()
     } else {

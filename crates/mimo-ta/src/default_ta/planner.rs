@@ -170,3 +170,56 @@ pub fn unresolved_from(cfg: &ResourceConfig, snap: &Snapshot, id: u64, aim: mimo
         r1 > 0.0 && (r1 - r0).abs() <= dr_max && (d1 / r1 - d0 / r0).length() <= da_max
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::default_ta::budget::RadarBudget;
+    use crate::default_ta::fixture::minute_of_scenario_7;
+    use crate::default_ta::radars_at_share;
+
+    /// Search protection (docs/model.md §7.3) on a hand-made load: a radar that spent 4.5 of the
+    /// last 8 s on test-article dwells is busy at the default 0.5, one that spent 3.5 s is not,
+    /// and the busy radar is left out of a confirmed track's MIMO look while the transmitter
+    /// keeps its look; with every other radar busy the look is a monostatic track dwell.
+    #[test]
+    fn a_busy_radar_is_not_asked_to_receive_and_its_look_stays() {
+        let (ta, geom) = minute_of_scenario_7();
+        let tracker = ta.tracker().expect("started");
+        let (t_s, ids) = (60.4, geom.ids());
+        let snap = Snapshot::new(tracker, &geom, &ids, t_s);
+        let rm = ResourceConfig::default();
+        // A confirmed track whose look is a MIMO dwell with at least two receivers besides the
+        // transmitter.
+        let (info, tx, receivers) = tracker
+            .track_dues()
+            .filter(|d| d.status == TrackStatus::Confirmed)
+            .find_map(|d| planner_mimo(&rm, &snap, &d).map(|(tx, rx)| (d, tx, rx)))
+            .expect("a MIMO look at a confirmed track");
+        let busy_one = *receivers.iter().find(|&&r| r != tx).expect("another receiver");
+        // The hand-made load: `busy_one` 4.5 s of the last 8 s, every other radar 3.5 s.
+        let mut budget = RadarBudget::default();
+        for &r in &ids {
+            let busy_s = if r == busy_one { 4.5 } else { 3.5 };
+            budget.record(r, t_s - 8.0 + 1.0, busy_s);
+        }
+        let busy = radars_at_share(&budget, &ids, t_s, rm.rx_busy_share, rm.rx_busy_window_s);
+        assert_eq!(busy, vec![busy_one]);
+        let (req, _) = plan(&rm, &snap, &info, &[], &[], &busy, false).expect("a look");
+        assert_eq!(req.transmitters[0].radar, tx);
+        let expected: Vec<RadarId> = receivers.iter().copied().filter(|&r| r != busy_one).collect();
+        assert_eq!(req.receivers, expected);
+        // Every other radar busy: the transmitter looks alone.
+        let all_others: Vec<RadarId> = ids.iter().copied().filter(|&r| r != tx).collect();
+        let (req, _) = plan(&rm, &snap, &info, &[], &[], &all_others, false).expect("a look");
+        assert_eq!((req.kind, req.receivers), (DwellKind::Track, vec![tx]));
+        // Off (share 1): nobody is busy, whatever the load.
+        assert!(radars_at_share(&budget, &ids, t_s, 1.0, 8.0).is_empty());
+    }
+
+    /// The transmitter and receivers of the MIMO look `plan` makes for `d`, if it makes one.
+    fn planner_mimo(rm: &ResourceConfig, snap: &Snapshot, d: &TrackDue) -> Option<(RadarId, Vec<RadarId>)> {
+        let (req, _) = plan(rm, snap, d, &[], &[], &[], false)?;
+        (req.kind == DwellKind::Mimo && req.receivers.len() >= 3).then_some((req.transmitters[0].radar, req.receivers))
+    }
+}

@@ -103,32 +103,17 @@ impl<'a> Snapshot<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::default_ta::{DefaultTa, DefaultTaConfig};
-    use mimo_core::records::{RunTables, TrackStatus};
+    use crate::default_ta::fixture::minute_of_scenario_7;
+    use mimo_core::records::TrackStatus;
     use mimo_radar::energy::predict_pair;
-    use mimo_sim::engine::Engine;
-    use mimo_sim::{EngineConfig, SearchConfig, World};
 
     /// Every kept value is the direct computation's, bit for bit: faces, heights, the pair
     /// predictions of every radar pair and the predicted positions of every live track, on the
     /// default test article's tracker after a minute of scenario 7.
     #[test]
     fn kept_values_are_the_direct_ones() {
-        let mut s = mimo_scenario::load_standard(7).expect("scenario 7");
-        s.duration_s = 60.0;
-        let world = World::new(s).expect("world");
-        let cfg = EngineConfig {
-            seed: 3,
-            duration_s: 60.0,
-            record_voltages: false,
-            search: SearchConfig::default(),
-            ta_config: serde_json::Value::Null,
-        };
-        let mut ta = DefaultTa::new("default", DefaultTaConfig::default());
-        let mut tables = RunTables::default();
-        mimo_sim::run_one(&world, &cfg, 0, &mut ta, &mut tables).expect("run");
+        let (ta, geom) = minute_of_scenario_7();
         let tracker = ta.tracker().expect("started");
-        let geom = ShipGeometry::from_start(&Engine::start_info(&world, 0, &cfg, true));
         let t_s = 60.4;
         let ids = geom.ids();
         let snap = Snapshot::new(tracker, &geom, &ids, t_s);
