@@ -65,7 +65,7 @@ impl From<mimo_ta::replay::ReplayError> for CliError {
         use mimo_ta::replay::ReplayError as R;
         match e {
             R::UnknownDwell { .. } | R::UnknownFace { .. } => CliError::Input(e.to_string()),
-            R::Ta { .. } | R::Sink(_) => CliError::Other(e.to_string()),
+            R::Run(_) => CliError::Other(e.to_string()),
             // The store's own error, with its class (input or system).
             R::DwellRows(e) => match e.downcast::<mimo_store::StoreError>() {
                 Ok(store) => CliError::from(*store),

@@ -5,10 +5,12 @@
 //! a dwell against the number of targets in the beam and against the range-window length. The
 //! cost should follow targets, not cells. Plain `std::time`, no harness.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::Ship;
 use mimo_core::DVec3;
-use mimo_core::face::FaceFrame;
 use mimo_core::geo::Geodetic;
-use mimo_core::ids::RadarId;
 use mimo_core::params::{Fidelity, RadarParams};
 use mimo_core::rng::Stream;
 use mimo_radar::dwell::{Dwell, RangeWindow, Receiver, Target, Transmitter, evaluate};
@@ -16,21 +18,6 @@ use mimo_radar::geometry::beam_point;
 use mimo_radar::measure::measurements_from_primitives;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-
-struct Ship {
-    id: RadarId,
-    faces: Vec<FaceFrame>,
-}
-
-fn ship(id: u8, lat: f64, lon: f64, p: &RadarParams) -> Ship {
-    let site = Geodetic::from_deg(lat, lon, 20.0);
-    let faces = p
-        .face_azimuths_deg
-        .iter()
-        .map(|a| FaceFrame::new(site, a.to_radians(), p.face_tilt_deg.to_radians()))
-        .collect();
-    Ship { id: RadarId(id), faces }
-}
 
 /// One dwell's description, owned, so the bench can prebuild a list.
 #[derive(Clone)]
@@ -120,7 +107,7 @@ fn main() {
     let p = RadarParams::default();
     // The voltage level: the figures in reports/benchmarks-history.md are the voltage model's.
     let fid = Fidelity { level: mimo_core::params::FidelityLevel::Voltage, ..Fidelity::default() };
-    let ships = vec![ship(0, 36.0, -70.0, &p), ship(1, 36.25, -70.3, &p), ship(2, 35.8, -69.7, &p)];
+    let ships = vec![Ship::new(0, 36.0, -70.0, &p), Ship::new(1, 36.25, -70.3, &p), Ship::new(2, 35.8, -69.7, &p)];
     let b = Bench { p, fid, ships };
     // Targets: a fighter formation 120 km NE at 6 km (2 m²) and three airliners (30 m²).
     let lead = Geodetic::from_deg(36.8, -69.1, 6000.0).to_ecef();

@@ -188,6 +188,35 @@ pub struct ChannelInfo<'a> {
     pub two_target: bool,
 }
 
+impl ChannelInfo<'_> {
+    /// A primitives row holding the columns the channel fixes (its key and beam steering
+    /// direction), with zero estimate columns: the base of a struct update in which the caller
+    /// sets every estimate column.
+    pub(crate) fn channel_columns(&self) -> PrimitiveRow {
+        PrimitiveRow {
+            run: self.run,
+            dwell_id: self.dwell_id,
+            t_s: self.t_s,
+            rx: self.rx,
+            tx: self.tx,
+            rx_face: self.rx_face,
+            range_cell: 0,
+            range_m: 0.0,
+            u: 0.0,
+            v: 0.0,
+            snr_db: 0.0,
+            eta_q: 0.0,
+            merged: false,
+            beam_u: self.beam_u,
+            beam_v: self.beam_v,
+            var_range_m2: 0.0,
+            var_u: 0.0,
+            var_v: 0.0,
+            target_hint: None,
+        }
+    }
+}
+
 /// Detect, centroid and estimate DOA on one channel's cells (sorted by `k`, unique). `hint` maps
 /// a target index of [`Source`] to its id.
 pub fn detect(cells: &[Cell], info: &ChannelInfo, hint: &dyn Fn(usize) -> Option<String>) -> Vec<PrimitiveRow> {
@@ -317,12 +346,6 @@ fn primitive(
     let other_crosses = other.is_some_and(|o| o.sum.norm_sqr() > info.threshold);
     let merged = mp.t_stat > MERGE_T_THRESHOLD || wide || other_crosses;
     Some(PrimitiveRow {
-        run: info.run,
-        dwell_id: info.dwell_id,
-        t_s: info.t_s,
-        rx: info.rx,
-        tx: info.tx,
-        rx_face: info.rx_face,
         range_cell: peak.k,
         range_m: rho,
         u: info.beam_u + du,
@@ -330,11 +353,10 @@ fn primitive(
         snr_db: 10.0 * mp.s.log10(),
         eta_q: mp.t_stat,
         merged,
-        beam_u: info.beam_u,
-        beam_v: info.beam_v,
         var_range_m2: sig_r * sig_r,
         var_u,
         var_v,
         target_hint: peak.source.and_then(|s| hint(s.target)),
+        ..info.channel_columns()
     })
 }

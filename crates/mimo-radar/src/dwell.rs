@@ -265,12 +265,12 @@ pub fn simulate(d: &Dwell, targets: &[Target]) -> Vec<Channel> {
     out
 }
 
-/// Detect on one simulated channel of a dwell.
-pub fn detect_channel(d: &Dwell, ch: &Channel, targets: &[Target]) -> Vec<PrimitiveRow> {
-    let tx = &d.transmitters[ch.tx];
-    let rx = &d.receivers[ch.rx];
-    let ant = Antenna::new(rx.params, d.fidelity.pattern);
-    let info = ChannelInfo {
+/// What the detector needs of channel (transmitter `j`, receiver `i`) of a dwell, with the
+/// receiver's antenna `ant`.
+pub(crate) fn channel_info<'a>(d: &Dwell, j: usize, i: usize, ant: &'a Antenna) -> ChannelInfo<'a> {
+    let tx = &d.transmitters[j];
+    let rx = &d.receivers[i];
+    ChannelInfo {
         run: d.run,
         dwell_id: rx.dwell_id,
         t_s: d.t_s,
@@ -279,12 +279,18 @@ pub fn detect_channel(d: &Dwell, ch: &Channel, targets: &[Target]) -> Vec<Primit
         rx_face: rx.face,
         beam_u: rx.beam_u,
         beam_v: rx.beam_v,
-        antenna: &ant,
+        antenna: ant,
         range_cell_m: rx.params.range_cell_m(),
         threshold: rx.params.threshold(),
         predicted_snr: rx.predicted_snr,
         two_target: d.fidelity.two_target,
-    };
+    }
+}
+
+/// Detect on one simulated channel of a dwell.
+pub fn detect_channel(d: &Dwell, ch: &Channel, targets: &[Target]) -> Vec<PrimitiveRow> {
+    let ant = Antenna::new(d.receivers[ch.rx].params, d.fidelity.pattern);
+    let info = channel_info(d, ch.tx, ch.rx, &ant);
     let hint = |t: usize| targets.get(t).map(|x| x.id.to_string());
     detect(&ch.cells, &info, &hint)
 }

@@ -41,7 +41,7 @@
 
 use crate::channel::{false_alarm_cells, merge_intervals, open_channel};
 use crate::detect::{Cell, MIN_SIGMA_UV, range_f2_observed, range_sigma_m};
-use crate::dwell::{Channel, Dwell, Return, Target, cn, detect_channel, stream};
+use crate::dwell::{Channel, Dwell, Return, Target, channel_info, cn, detect_channel, stream};
 use crate::monopulse::{MERGE_T_THRESHOLD, ml_bias_factor};
 use crate::pattern::Antenna;
 use crate::range::triangle;
@@ -158,10 +158,9 @@ fn group_primitive(
     s: &mut Stream,
     targets: &[Target],
 ) -> Option<PrimitiveRow> {
-    let tx = &d.transmitters[j];
     let rx = &d.receivers[i];
-    let dr = rx.params.range_cell_m();
-    let gamma = rx.params.threshold();
+    let info = channel_info(d, j, i, ant);
+    let (dr, gamma) = (info.range_cell_m, info.threshold);
     // 1. The Σ voltages of the straddled cells and their guard cells.
     let cells = group_cells(rets, g, cells_ab, signal_ab, dr, gamma, s);
     // 2. Detection.
@@ -202,12 +201,6 @@ fn group_primitive(
     let merged = t_stat > MERGE_T_THRESHOLD || peak.wide || peak.other_crosses;
     let k_peak = cells[m].k;
     Some(PrimitiveRow {
-        run: d.run,
-        dwell_id: rx.dwell_id,
-        t_s: d.t_s,
-        rx: rx.radar,
-        tx: tx.radar,
-        rx_face: rx.face,
         range_cell: k_peak,
         range_m: rho_hat,
         u: u_hat,
@@ -215,12 +208,11 @@ fn group_primitive(
         snr_db: 10.0 * s_obs.log10(),
         eta_q: t_stat,
         merged,
-        beam_u: rx.beam_u,
-        beam_v: rx.beam_v,
         var_range_m2: sig_r * sig_r,
         var_u,
         var_v,
         target_hint: dominant_target(rets, g, k_peak, dr, targets),
+        ..info.channel_columns()
     })
 }
 

@@ -357,12 +357,6 @@ pub fn split(
             .and_then(|cell| cell.source)
             .or_else(|| cells.iter().filter_map(|cell| cell.source).max_by(|p, q| p.power.total_cmp(&q.power)));
         Some(PrimitiveRow {
-            run: info.run,
-            dwell_id: info.dwell_id,
-            t_s: info.t_s,
-            rx: info.rx,
-            tx: info.tx,
-            rx_face: info.rx_face,
             range_cell: peak_k,
             range_m: fit.x_cells[i] * dr,
             u: info.beam_u + du,
@@ -370,12 +364,11 @@ pub fn split(
             snr_db: 10.0 * fit.energy[i].max(1e-12).log10(),
             eta_q: t_stat,
             merged: t_stat > MERGE_T_THRESHOLD,
-            beam_u: info.beam_u,
-            beam_v: info.beam_v,
             var_range_m2: var_r,
             var_u,
             var_v,
             target_hint: source.and_then(|s| hint(s.target)),
+            ..info.channel_columns()
         })
     };
     Some([row(0)?, row(1)?])

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{SEED, Ship, fidelity, rcs_for_snr, within};
+use common::{SEED, Ship, fidelity, rcs_for_snr, test_dwell, within};
 use mimo_core::params::{RadarParams, Swerling};
 use mimo_core::rng::{Stream, domain};
 use mimo_radar::detect::{range_centroid, range_sigma_m, range_sigma_predicted_m};
@@ -34,17 +34,7 @@ fn noise_only_cells_have_unit_power_and_the_false_alarm_rate() {
         let txs = [ship.tx(&p, 0, 0.0, 0.0, 1)];
         let rxs = [ship.rx(&p, trial, 0, 0.0, 0.0, window)];
         let keys = [trial];
-        let mut d = Dwell {
-            run: 0,
-            t_s: 0.0,
-            seed: SEED,
-            keys: &keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: &fid,
-            record_voltages: false,
-            simulate_all_cells: true,
-        };
+        let mut d = Dwell { simulate_all_cells: true, ..test_dwell(&keys, &txs, &rxs, &fid) };
         for ch in simulate(&d, &[]) {
             for c in &ch.cells {
                 n += 1;
@@ -115,17 +105,7 @@ fn false_alarm_shortcut_matches_brute_force() {
             let txs = [ship.tx(&p, 0, 0.0, 0.0, 1)];
             let rxs = [ship.rx(&p, trial, 0, 0.0, 0.0, window)];
             let keys = [trial, mode as u64];
-            let d = Dwell {
-                run: 0,
-                t_s: 0.0,
-                seed: SEED,
-                keys: &keys,
-                transmitters: &txs,
-                receivers: &rxs,
-                fidelity: &fid,
-                record_voltages: false,
-                simulate_all_cells: all,
-            };
+            let d = Dwell { simulate_all_cells: all, ..test_dwell(&keys, &txs, &rxs, &fid) };
             let out = evaluate(&d, &[]);
             let ch = &out.channels[0];
             let crossing: Vec<f64> = ch.cells.iter().map(|c| c.sum.norm_sqr()).filter(|&x| x > p.threshold()).collect();
@@ -362,17 +342,7 @@ fn single_target_measurements_are_consistent() {
         let mut rxs = [ship.rx(&p, trial, 1, bu, bv, (r - 1000.0, r + 1000.0))];
         rxs[0].predicted_snr = Some(25.0);
         let keys = [trial];
-        let d = Dwell {
-            run: 0,
-            t_s: 0.0,
-            seed: SEED,
-            keys: &keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: &fid,
-            record_voltages: false,
-            simulate_all_cells: false,
-        };
+        let d = test_dwell(&keys, &txs, &rxs, &fid);
         let tg = [Target { id: "T", index: 0, pos_ecef: pos, rcs_m2: rcs, pol: None }];
         let out = evaluate(&d, &tg);
         let meas = measurements_from_primitives(&out.primitives, 0);
@@ -460,17 +430,7 @@ fn peak_cell_power_is_signal_plus_noise() {
             let txs = [ship.tx(&p, 0, 0.0, 0.0, 1)];
             let rxs = [ship.rx(&p, trial, 0, 0.0, 0.0, (r - 300.0, r + 300.0))];
             let keys = [trial];
-            let d = Dwell {
-                run: 0,
-                t_s: 0.0,
-                seed: SEED,
-                keys: &keys,
-                transmitters: &txs,
-                receivers: &rxs,
-                fidelity: &fid,
-                record_voltages: false,
-                simulate_all_cells: false,
-            };
+            let d = test_dwell(&keys, &txs, &rxs, &fid);
             let tg = [Target { id: "T", index: 0, pos_ecef: ship.point(0, r, 0.0, 0.0), rcs_m2: rcs, pol: None }];
             let ch = simulate(&d, &tg).remove(0);
             let c = ch.cells.iter().find(|c| c.k == k).expect("peak cell simulated");

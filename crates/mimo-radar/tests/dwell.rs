@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{SEED, Ship, fidelity, rcs_for_snr};
+use common::{SEED, Ship, fidelity, rcs_for_snr, test_dwell};
 use mimo_core::DVec3;
 use mimo_core::geo::Geodetic;
 use mimo_core::params::{Fidelity, RadarParams};
@@ -47,17 +47,7 @@ fn dwell<'a>(
     fid: &'a Fidelity,
     all: bool,
 ) -> Dwell<'a> {
-    Dwell {
-        run: 3,
-        t_s: 12.5,
-        seed: SEED,
-        keys,
-        transmitters: txs,
-        receivers: rxs,
-        fidelity: fid,
-        record_voltages: false,
-        simulate_all_cells: all,
-    }
+    Dwell { run: 3, t_s: 12.5, simulate_all_cells: all, ..test_dwell(keys, txs, rxs, fid) }
 }
 
 /// 2 transmitters × 3 receivers give 6 channels, one per (tx, rx) pair, with uncorrelated noise.

@@ -5,10 +5,10 @@
 
 mod common;
 
-use common::{SEED, Ship, fidelity, rcs_for_snr};
+use common::{SEED, Ship, fidelity, rcs_for_snr, test_dwell};
 use mimo_core::params::{Fidelity, FidelityLevel, RadarParams, Swerling};
 use mimo_core::rng::{Stream, domain};
-use mimo_radar::dwell::{Dwell, DwellOutput, Receiver, Target, Transmitter, evaluate};
+use mimo_radar::dwell::{DwellOutput, Receiver, Target, Transmitter, evaluate};
 use mimo_radar::measure::measurements_from_primitives;
 
 fn at(level: FidelityLevel, base: &Fidelity) -> Fidelity {
@@ -16,17 +16,7 @@ fn at(level: FidelityLevel, base: &Fidelity) -> Fidelity {
 }
 
 fn run(keys: &[u64], txs: &[Transmitter], rxs: &[Receiver], fid: &Fidelity, tg: &[Target]) -> DwellOutput {
-    let d = Dwell {
-        run: 0,
-        t_s: 0.0,
-        seed: SEED,
-        keys,
-        transmitters: txs,
-        receivers: rxs,
-        fidelity: fid,
-        record_voltages: false,
-        simulate_all_cells: false,
-    };
+    let d = test_dwell(keys, txs, rxs, fid);
     evaluate(&d, tg)
 }
 

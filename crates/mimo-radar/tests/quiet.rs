@@ -5,12 +5,28 @@
 
 mod common;
 
-use common::{SEED, Ship, rcs_for_snr};
+use common::{SEED, Ship, rcs_for_snr, test_dwell};
 use mimo_core::params::{Fidelity, PatternModel, RadarParams};
 use mimo_core::rng::{Stream, domain};
 use mimo_radar::dwell::{Dwell, Target, evaluate};
 use mimo_radar::geometry::visible;
 use mimo_radar::quiet::{QuietRadar, TargetBall, beam_clear, is_quiet};
+
+/// A target position a few beamwidths `th` around the beam `(bu, bv)` of `face`, 10 to 210 km
+/// out, its range, and a ball of up to 3 km somewhere around it that holds it.
+fn near_the_beam(
+    s: &mut Stream,
+    ship: &Ship,
+    face: usize,
+    (bu, bv): (f64, f64),
+    (th_u, th_v): (f64, f64),
+) -> (mimo_core::DVec3, f64, TargetBall) {
+    let (du, dv) = ((s.uniform() - 0.5) * 10.0 * th_u, (s.uniform() - 0.5) * 10.0 * th_v);
+    let r = 10e3 + s.uniform() * 200e3;
+    let pos = ship.point(face, r, bu + du, bv + dv);
+    let off = mimo_core::DVec3::new(s.uniform() - 0.5, s.uniform() - 0.5, s.uniform() - 0.5) * 3e3;
+    (pos, r, TargetBall { center_ecef: pos + off, radius_m: off.length() * (1.0 + s.uniform()) })
+}
 
 /// The dwell of both tests: run 5 at t = 1 s, one transmitter and one receiver, cells only
 /// near the returns.
@@ -21,17 +37,7 @@ fn dwell<'a>(
     fid: &'a Fidelity,
     record_voltages: bool,
 ) -> Dwell<'a> {
-    Dwell {
-        run: 5,
-        t_s: 1.0,
-        seed: SEED,
-        keys,
-        transmitters: txs,
-        receivers: rxs,
-        fidelity: fid,
-        record_voltages,
-        simulate_all_cells: false,
-    }
+    Dwell { run: 5, t_s: 1.0, record_voltages, ..test_dwell(keys, txs, rxs, fid) }
 }
 
 #[test]
@@ -119,11 +125,8 @@ fn a_clear_beam_gets_no_return_from_any_target_in_its_ball() {
         let mut balls = Vec::new();
         let targets: Vec<Target> = (0..3)
             .map(|i| {
-                let (du, dv) = ((s.uniform() - 0.5) * 10.0 * th_u, (s.uniform() - 0.5) * 10.0 * th_v);
-                let r = 10e3 + s.uniform() * 200e3;
-                let pos = ship.point(face, r, bu + du, bv + dv);
-                let off = mimo_core::DVec3::new(s.uniform() - 0.5, s.uniform() - 0.5, s.uniform() - 0.5) * 3e3;
-                balls.push(TargetBall { center_ecef: pos + off, radius_m: off.length() * (1.0 + s.uniform()) });
+                let (pos, r, ball) = near_the_beam(&mut s, &ship, face, (bu, bv), (th_u, th_v));
+                balls.push(ball);
                 Target { id: &ids[i], index: i as u32, pos_ecef: pos, rcs_m2: rcs_for_snr(&p, 1e3, r, 1.0), pol: None }
             })
             .collect();
@@ -173,11 +176,8 @@ fn a_radar_made_once_answers_as_each_dwell_alone() {
         let mut balls = Vec::new();
         let targets: Vec<Target> = (0..3)
             .map(|i| {
-                let (du, dv) = ((s.uniform() - 0.5) * 10.0 * th_u, (s.uniform() - 0.5) * 10.0 * th_v);
-                let r = 10e3 + s.uniform() * 200e3;
-                let pos = ship.point(face, r, bu + du, bv + dv);
-                let off = mimo_core::DVec3::new(s.uniform() - 0.5, s.uniform() - 0.5, s.uniform() - 0.5) * 3e3;
-                balls.push(TargetBall { center_ecef: pos + off, radius_m: off.length() * (1.0 + s.uniform()) });
+                let (pos, r, ball) = near_the_beam(&mut s, &ship, face, (bu, bv), (th_u, th_v));
+                balls.push(ball);
                 let snr = 10f64.powf(s.uniform() * 3.0 - 1.0);
                 Target {
                     id: &ids[i],

@@ -4,6 +4,9 @@
 //!
 //! Every run has a fixed seed. Test articles written here implement [`TestArticle`] directly.
 
+mod common;
+
+use common::{check_stats, config, end_of, groups, run, standard, timelines};
 use mimo_core::DVec3;
 use mimo_core::geo::{EnuFrame, Geodetic};
 use mimo_core::ids::RadarId;
@@ -12,7 +15,7 @@ use mimo_radar::energy::{dwell_duration_s, dwell_energy_j};
 use mimo_radar::geometry::beam_point;
 use mimo_sim::messages::{DwellFilter, DwellReport, DwellRequest, Reply, Request, StartInfo, Subscription, TxOrder};
 use mimo_sim::test_article::{TaFault, TestArticle};
-use mimo_sim::{EngineConfig, EngineError, RunStats, SearchConfig, World};
+use mimo_sim::{EngineConfig, EngineError, SearchConfig, World};
 use std::collections::BTreeMap;
 
 const R1: RadarId = RadarId(0);
@@ -23,30 +26,6 @@ const R4: RadarId = RadarId(3);
 // ---------------------------------------------------------------------------------------------
 // Helpers
 // ---------------------------------------------------------------------------------------------
-
-/// Standard scenario `n`, cut to `duration_s`.
-fn standard(n: u32, duration_s: f64) -> World {
-    let mut s = mimo_scenario::load_standard(n).expect("standard scenario");
-    s.duration_s = duration_s;
-    World::new(s).expect("world")
-}
-
-fn config(seed: u64, duration_s: f64) -> EngineConfig {
-    EngineConfig {
-        seed,
-        duration_s,
-        record_voltages: false,
-        search: SearchConfig::default(),
-        ta_config: serde_json::Value::Null,
-    }
-}
-
-/// Run a test article; the run must succeed.
-fn run(world: &World, cfg: &EngineConfig, ta: &mut dyn TestArticle) -> (RunTables, RunStats) {
-    let mut tables = RunTables::default();
-    let stats = mimo_sim::run_one(world, cfg, 0, ta, &mut tables).expect("run");
-    (tables, stats)
-}
 
 /// Run a test article that must fail; returns the fault.
 fn fault_of(world: &World, cfg: &EngineConfig, ta: &mut dyn TestArticle) -> TaFault {
@@ -83,45 +62,6 @@ fn monostatic(kind: DwellKind, radar: RadarId, earliest_s: f64, aim: DVec3, n_pu
         predicted_snr: None,
         tag: Vec::new(),
     })
-}
-
-/// Dwell rows per radar, sorted by start time.
-fn timelines(dwells: &[DwellRow]) -> BTreeMap<RadarId, Vec<&DwellRow>> {
-    let mut out: BTreeMap<RadarId, Vec<&DwellRow>> = BTreeMap::new();
-    for d in dwells {
-        out.entry(d.radar).or_default().push(d);
-    }
-    for v in out.values_mut() {
-        v.sort_by(|a, b| a.t_s.total_cmp(&b.t_s).then(a.dwell_id.cmp(&b.dwell_id)));
-    }
-    out
-}
-
-/// Dwell rows per group.
-fn groups(dwells: &[DwellRow]) -> BTreeMap<u64, Vec<&DwellRow>> {
-    let mut out: BTreeMap<u64, Vec<&DwellRow>> = BTreeMap::new();
-    for d in dwells {
-        out.entry(d.group_id).or_default().push(d);
-    }
-    for v in out.values_mut() {
-        v.sort_by_key(|d| d.dwell_id);
-    }
-    out
-}
-
-fn end_of(d: &DwellRow) -> f64 {
-    d.t_s + d.duration_s
-}
-
-/// Consistency of the counters with the tables, for every run a test makes.
-fn check_stats(t: &RunTables, s: &RunStats) {
-    let g = groups(&t.dwells);
-    assert_eq!(s.dwells, g.len() as u64);
-    assert_eq!(s.search_dwells + s.ta_dwells, s.dwells);
-    let search = g.values().filter(|v| v[0].requested_by == Requester::Radar).count() as u64;
-    assert_eq!(s.search_dwells, search);
-    assert_eq!(s.measurements, t.measurements.len() as u64);
-    assert_eq!(s.primitives, t.primitives.len() as u64);
 }
 
 // ---------------------------------------------------------------------------------------------

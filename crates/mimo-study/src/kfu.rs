@@ -14,7 +14,7 @@
 use glam::DVec3;
 use mimo_track::filter::{FilterState, SingleModelFilter, TrackFilter};
 use mimo_track::frame::Gaussian;
-use mimo_track::measurement::BistaticRuv;
+use mimo_track::measurement::{BistaticRuv, Observation};
 use mimo_track::motion::{KalmanPredictor, Ncv};
 use mimo_track::update::EkfUpdater;
 use std::hint::black_box;
@@ -69,7 +69,10 @@ impl ReferenceCycle {
     /// One predict (1 s) + update cycle; the posterior state, or `None` if the update is refused.
     pub fn cycle(&self) -> Option<FilterState> {
         let pred = self.filter.predict(black_box(&self.prior), black_box(1.0));
-        let up = self.filter.update(&pred, &self.model, black_box(&self.z), black_box(&self.r), 1).ok()?;
+        let up = self
+            .filter
+            .update(&pred, Observation { model: &self.model, z: black_box(&self.z), r: black_box(&self.r) }, 1)
+            .ok()?;
         Some(up.state)
     }
 }

@@ -17,7 +17,7 @@ use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Requester, Role, TrackRow};
 use mimo_core::sink::{RunSink, SinkError};
 use mimo_core::time::SimTime;
-use mimo_sim::engine::{Engine, first_meas_id};
+use mimo_sim::engine::{Engine, EngineError, first_meas_id};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Subscription};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
@@ -53,20 +53,18 @@ pub enum ReplayError {
         /// Its face.
         face: u8,
     },
-    /// The test article failed.
-    #[error("test article '{name}': {fault}")]
-    Ta {
-        /// Its name.
-        name: String,
-        /// What went wrong.
-        fault: TaFault,
-    },
-    /// The sink could not take the rows.
+    /// The test article failed or the sink could not take the rows, as in a closed-loop run.
     #[error("{0}")]
-    Sink(#[from] SinkError),
+    Run(#[from] EngineError),
     /// The whole dwells rows of the groups delivered could not be loaded.
     #[error("{0}")]
     DwellRows(Box<dyn std::error::Error + Send + Sync>),
+}
+
+impl From<SinkError> for ReplayError {
+    fn from(e: SinkError) -> ReplayError {
+        ReplayError::Run(EngineError::Sink(e))
+    }
 }
 
 /// Counters of a re-run.
@@ -254,7 +252,7 @@ pub fn replay_selected(
 
 /// The replay error of a test article's fault.
 fn ta_fault(ta: &dyn TestArticle, fault: TaFault) -> ReplayError {
-    ReplayError::Ta { name: ta.name().to_string(), fault }
+    ReplayError::Run(EngineError::ta(ta.name(), fault))
 }
 
 /// Takes the test article's replies: counts the ignored requests, checks the tracks and sends them on.
@@ -271,7 +269,9 @@ impl Taker {
     /// Take one reply.
     fn take(&mut self, reply: Reply, stats: &mut ReplayStats, sink: &mut dyn RunSink) -> Result<(), ReplayError> {
         stats.ignored_requests += reply.requests.len() as u64;
-        self.track_check.check(&reply.tracks).map_err(|fault| ReplayError::Ta { name: self.ta_name.clone(), fault })?;
+        self.track_check
+            .check(&reply.tracks)
+            .map_err(|fault| ReplayError::Run(EngineError::ta(&self.ta_name, fault)))?;
         let mut rows: Vec<TrackRow> = reply.tracks;
         rows.iter_mut().for_each(|r| r.run = self.run);
         if !rows.is_empty() {

@@ -49,6 +49,15 @@ impl PredCache {
     }
 }
 
+/// A channel's association hypotheses: its measurements (the table's columns), the live tracks'
+/// ids (its rows) and the table of the pairs that gate.
+#[derive(Clone, Copy)]
+struct Hypotheses<'a> {
+    list: &'a [PreparedMeasurement],
+    ids: &'a [u64],
+    table: &'a HypothesisTable,
+}
+
 impl MultiTargetTracker {
     pub(crate) fn process_channel(
         &mut self,
@@ -73,10 +82,12 @@ impl MultiTargetTracker {
                     second =
                         crate::second_return::second_returns(&table, &probs.beta, self.config.second_return_max_beta);
                 }
-                self.soft_updates(ctx, list, &ids, &mut caches, &table, &probs, updated);
+                self.soft_updates(ctx, Hypotheses { list, ids: &ids, table: &table }, &mut caches, &probs, updated);
                 vec![false; n_m]
             }
-            None => self.hard_updates(ctx, list, &ids, &mut caches, &table, updated, excused),
+            None => {
+                self.hard_updates(ctx, Hypotheses { list, ids: &ids, table: &table }, &mut caches, updated, excused)
+            }
         };
         // The channel's predictions, for the dwell's other channels and its deletion pass.
         for (id, cache) in ids.iter().zip(caches) {
@@ -134,7 +145,7 @@ impl MultiTargetTracker {
                 if pred.modes.len() > 1 && pregate.excludes_prediction(pred, m) {
                     continue;
                 }
-                if let Ok(h) = filter.hypothesis(pred, &m.model, &m.z, &m.r) {
+                if let Ok(h) = filter.hypothesis(pred, m.observation()) {
                     if self.c.gater.accepts(&h) {
                         table.set(i, j, Some(h));
                     }
@@ -158,7 +169,7 @@ impl MultiTargetTracker {
             let dup = new_ids.iter().any(|nid| {
                 self.tracks.get(nid).is_some_and(|t| {
                     let pred = filter.predict(&t.state, m.t_s - t.t_s);
-                    filter.hypothesis(&pred, &m.model, &m.z, &m.r).is_ok_and(|h| self.c.gater.accepts(&h))
+                    filter.hypothesis(&pred, m.observation()).is_ok_and(|h| self.c.gater.accepts(&h))
                 })
             });
             if dup {
@@ -191,17 +202,15 @@ impl MultiTargetTracker {
 
     /// GNN: each track is updated with its assigned measurement (plus, with `share_merged`, a
     /// gated `merged` measurement left to it). Returns which measurements were claimed.
-    #[allow(clippy::too_many_arguments)]
     fn hard_updates(
         &mut self,
         ctx: &DwellContext,
-        list: &[PreparedMeasurement],
-        ids: &[u64],
+        hyps: Hypotheses,
         caches: &mut [PredCache],
-        table: &HypothesisTable,
         updated: &mut BTreeSet<u64>,
         excused: &mut BTreeSet<u64>,
     ) -> Vec<bool> {
+        let Hypotheses { list, ids, table } = hyps;
         let n_m = list.len();
         let mut assign = self.c.associator.associate(table);
         assign.resize(ids.len(), None);
@@ -235,7 +244,7 @@ impl MultiTargetTracker {
             let iterations =
                 if track.n_updates < self.config.iekf_first_updates { self.config.iekf_iterations } else { 1 };
             let pred = caches[i].get(filter, track, m.t_s).clone();
-            let outcome = filter.update(&pred, &m.model, &m.z, &m.r, iterations).map(|mut u| {
+            let outcome = filter.update(&pred, m.observation(), iterations).map(|mut u| {
                 if partnered[i] {
                     if let Some(dx) = correction[j] {
                         crate::group::shift_modes(&mut u.state, &pred, &dx);
@@ -334,17 +343,15 @@ impl MultiTargetTracker {
 
     /// JPDA (docs/model.md §6.8): each track with gated measurements is updated with every one
     /// of them and the posteriors are mixed with the association probabilities.
-    #[allow(clippy::too_many_arguments)]
     fn soft_updates(
         &mut self,
         ctx: &DwellContext,
-        list: &[PreparedMeasurement],
-        ids: &[u64],
+        hyps: Hypotheses,
         caches: &mut [PredCache],
-        table: &HypothesisTable,
         probs: &AssociationProbabilities,
         updated: &mut BTreeSet<u64>,
     ) {
+        let Hypotheses { list, ids, table } = hyps;
         let n_m = list.len();
         let filter = &*self.c.filter;
         for (i, id) in ids.iter().enumerate() {
@@ -365,7 +372,7 @@ impl MultiTargetTracker {
             let mut jitter = false;
             for j in (0..n_m).filter(|&j| row[j] > 0.0 && list[j].t_s == t_s) {
                 let m = &list[j];
-                if let Ok(u) = filter.update(&pred, &m.model, &m.z, &m.r, iterations)
+                if let Ok(u) = filter.update(&pred, m.observation(), iterations)
                     && u.state.is_finite()
                 {
                     jitter |= u.jitter;

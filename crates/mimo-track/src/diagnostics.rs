@@ -3,31 +3,29 @@
 
 use crate::deletion::DeleteReason;
 use crate::linalg::Mat3;
+use crate::queries::TrackDue;
 use mimo_core::ids::RadarId;
-use mimo_core::records::TrackStatus;
 use std::collections::BTreeMap;
 
-/// A snapshot of a track for the scheduler.
+/// A snapshot of a track for the scheduler: its scheduling state ([`TrackDue`], whose fields
+/// it derefs to) and more.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrackInfo {
-    /// Track id.
-    pub id: u64,
-    /// Tentative or confirmed.
-    pub status: TrackStatus,
-    /// Time of the last update (s).
-    pub t_last_update_s: f64,
-    /// Updates so far.
-    pub n_updates: u32,
-    /// Missed looks in a row.
-    pub consecutive_misses: u32,
-    /// When the track should next be looked at (s).
-    pub next_due_s: f64,
+    /// Id, status, last update, misses and due time.
+    pub due: TrackDue,
     /// Receiver and face of the last update.
     pub last_face: Option<(RadarId, u8)>,
     /// IMM mode probabilities (`[1.0]` for the EKF).
     pub mode_probabilities: Vec<f64>,
     /// Mean NIS over the track's updates (NaN before the first update).
     pub mean_nis: f64,
+}
+
+impl std::ops::Deref for TrackInfo {
+    type Target = TrackDue;
+    fn deref(&self) -> &TrackDue {
+        &self.due
+    }
 }
 
 /// The NIS of one update, for consistency checks (χ²₃ when the filter is consistent).

@@ -9,8 +9,8 @@
 
 use crate::association::Hypothesis;
 use crate::frame::Gaussian;
-use crate::linalg::{Mat3, Vec3, symmetrize_in_place, vsub};
-use crate::measurement::MeasurementModel;
+use crate::linalg::{symmetrize_in_place, vsub};
+use crate::measurement::Observation;
 use crate::motion::Predictor;
 use crate::update::{Innovation, UpdateError, Updater};
 
@@ -40,17 +40,23 @@ impl FilterState {
     }
 }
 
-/// `x = Σ w_j x_j`, `P = Σ w_j (P_j + (x_j − x)(x_j − x)ᵀ)` (weights summing to 1).
-pub fn moment_match(w: &[f64], g: &[Gaussian]) -> Gaussian {
-    if g.len() == 1 {
-        return g[0];
-    }
+/// `x = Σ w_j x_j`, accumulated in `j` order.
+pub(crate) fn weighted_mean(w: &[f64], g: &[Gaussian]) -> [f64; 6] {
     let mut x = [0.0; 6];
     for (wj, gj) in w.iter().zip(g) {
         for (xi, gi) in x.iter_mut().zip(&gj.x) {
             *xi += wj * gi;
         }
     }
+    x
+}
+
+/// `x = Σ w_j x_j`, `P = Σ w_j (P_j + (x_j − x)(x_j − x)ᵀ)` (weights summing to 1).
+pub fn moment_match(w: &[f64], g: &[Gaussian]) -> Gaussian {
+    if g.len() == 1 {
+        return g[0];
+    }
+    let x = weighted_mean(w, g);
     // `P += w_j (P_j + d dᵀ)` entry by entry: the same operations in the same order as
     // `add(&p, &scale(&add(&P_j, &outer(&d)), w_j))`, without the four 6×6 temporaries.
     let mut p = [[0.0; 6]; 6];
@@ -128,22 +134,9 @@ pub trait TrackFilter: Send + Sync {
         None
     }
     /// Update a prediction with a measurement.
-    fn update(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-        iterations: u32,
-    ) -> Result<FilterUpdate, UpdateError>;
+    fn update(&self, pred: &FilterPrediction, obs: Observation, iterations: u32) -> Result<FilterUpdate, UpdateError>;
     /// Innovation of the combined prediction.
-    fn innovation(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Innovation, UpdateError>;
+    fn innovation(&self, pred: &FilterPrediction, obs: Observation) -> Result<Innovation, UpdateError>;
 
     /// What the pre-gate needs of [`TrackFilter::predict`] (docs/model.md §6.5): the combined
     /// predicted mean, bit for bit, and the trace of the predicted position covariance, when
@@ -155,14 +148,8 @@ pub trait TrackFilter: Send + Sync {
 
     /// Gating and association statistics of a measurement (see [`Hypothesis`]). The default is
     /// the combined prediction's innovation.
-    fn hypothesis(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Hypothesis, UpdateError> {
-        self.innovation(pred, model, z, r).map(|i| Hypothesis { nis: i.nis, ln_det_2pi_s: i.ln_det_2pi_s })
+    fn hypothesis(&self, pred: &FilterPrediction, obs: Observation) -> Result<Hypothesis, UpdateError> {
+        self.innovation(pred, obs).map(|i| Hypothesis { nis: i.nis, ln_det_2pi_s: i.ln_det_2pi_s })
     }
 }
 
@@ -216,26 +203,13 @@ impl TrackFilter for SingleModelFilter {
         Some(PredictionBound { mean: self.predictor.predict_mean(g, dt), position_trace })
     }
 
-    fn update(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-        iterations: u32,
-    ) -> Result<FilterUpdate, UpdateError> {
-        let out = self.updater.update(&pred.combined, model, z, r, iterations)?;
+    fn update(&self, pred: &FilterPrediction, obs: Observation, iterations: u32) -> Result<FilterUpdate, UpdateError> {
+        let out = self.updater.update(&pred.combined, obs, iterations)?;
         Ok(FilterUpdate { state: FilterState::single(out.posterior), innovation: out.innovation, jitter: out.jitter })
     }
 
-    fn innovation(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Innovation, UpdateError> {
-        self.updater.innovation(&pred.combined, model, z, r)
+    fn innovation(&self, pred: &FilterPrediction, obs: Observation) -> Result<Innovation, UpdateError> {
+        self.updater.innovation(&pred.combined, obs)
     }
 }
 
@@ -251,12 +225,7 @@ mod tests {
         if g.len() == 1 {
             return g[0];
         }
-        let mut x = [0.0; 6];
-        for (wj, gj) in w.iter().zip(g) {
-            for (xi, gi) in x.iter_mut().zip(&gj.x) {
-                *xi += wj * gi;
-            }
-        }
+        let x = weighted_mean(w, g);
         let mut p = [[0.0; 6]; 6];
         for (wj, gj) in w.iter().zip(g) {
             let d = vsub(&gj.x, &x);

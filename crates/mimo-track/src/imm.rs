@@ -4,10 +4,9 @@
 //! stack path of the mixing that keeps a prediction free of allocation but its result.
 
 use crate::association::Hypothesis;
-use crate::filter::{FilterPrediction, FilterState, FilterUpdate, TrackFilter, moment_match};
+use crate::filter::{FilterPrediction, FilterState, FilterUpdate, TrackFilter, moment_match, weighted_mean};
 use crate::frame::Gaussian;
-use crate::linalg::{Mat3, Vec3};
-use crate::measurement::MeasurementModel;
+use crate::measurement::Observation;
 use crate::motion::Predictor;
 use crate::update::{Innovation, UpdateError, Updater};
 
@@ -187,12 +186,7 @@ impl TrackFilter for ImmFilter {
         for j in 0..m {
             let cbar_j = cbar_of(&pi, &state.mu, j);
             let w = mixing_weights(&pi, &state.mu, cbar_j, j);
-            let mut x0 = [0.0; 6];
-            for (wi, gi) in w[..m].iter().zip(&state.modes) {
-                for (a, b) in x0.iter_mut().zip(&gi.x) {
-                    *a += wi * b;
-                }
-            }
+            let x0 = weighted_mean(&w[..m], &state.modes);
             let xj = self.predictors[j].predict_mean(&Gaussian { x: x0, p: [[0.0; 6]; 6] }, dt);
             for (a, b) in x.iter_mut().zip(&xj) {
                 *a += cbar_j * b;
@@ -201,21 +195,14 @@ impl TrackFilter for ImmFilter {
         x
     }
 
-    fn update(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-        iterations: u32,
-    ) -> Result<FilterUpdate, UpdateError> {
+    fn update(&self, pred: &FilterPrediction, obs: Observation, iterations: u32) -> Result<FilterUpdate, UpdateError> {
         let m = pred.modes.len();
         let mut posts = Vec::with_capacity(m);
         let mut loglik = Vec::with_capacity(m);
         let mut jitter = false;
         let mut last_err = UpdateError::NonFinite;
         for g in &pred.modes {
-            match self.updater.update(g, model, z, r, iterations) {
+            match self.updater.update(g, obs, iterations) {
                 Ok(o) => {
                     jitter |= o.jitter;
                     posts.push(o.posterior);
@@ -243,35 +230,23 @@ impl TrackFilter for ImmFilter {
         }
         let s: f64 = mu.iter().sum();
         let mu: Vec<f64> = vscale_vec(&mu, 1.0 / s);
-        let innovation = self.updater.innovation(&pred.combined, model, z, r)?;
+        let innovation = self.updater.innovation(&pred.combined, obs)?;
         Ok(FilterUpdate { state: FilterState { modes: posts, mu }, innovation, jitter })
     }
 
-    fn innovation(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Innovation, UpdateError> {
-        self.updater.innovation(&pred.combined, model, z, r)
+    fn innovation(&self, pred: &FilterPrediction, obs: Observation) -> Result<Innovation, UpdateError> {
+        self.updater.innovation(&pred.combined, obs)
     }
 
     /// Gate on the union of the mode-matched gates (the smallest mode NIS), so that a
     /// manoeuvre the quiet mode cannot explain still reaches the manoeuvre mode; cost from the
     /// mixture likelihood `Λ = Σ_j c̄_j N(ν_j; 0, S_j)`, i.e. `nis + ln_det_2pi_s = −2 ln Λ`.
-    fn hypothesis(
-        &self,
-        pred: &FilterPrediction,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Hypothesis, UpdateError> {
+    fn hypothesis(&self, pred: &FilterPrediction, obs: Observation) -> Result<Hypothesis, UpdateError> {
         let mut min_nis = f64::INFINITY;
         let mut terms = Vec::with_capacity(pred.modes.len());
         let mut last_err = UpdateError::NonFinite;
         for (g, c) in pred.modes.iter().zip(&pred.cbar) {
-            match self.updater.innovation(g, model, z, r) {
+            match self.updater.innovation(g, obs) {
                 Ok(i) => {
                     min_nis = min_nis.min(i.nis);
                     if *c > 0.0 {

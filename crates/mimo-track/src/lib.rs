@@ -57,7 +57,7 @@
 //! result never depends on hash order or on the order of the input rows.
 //!
 //! The scheduler (in `mimo-sim`) asks the tracker for predictions
-//! ([`MultiTargetTracker::predict`], [`MultiTargetTracker::predict_measurement`]), revisit
+//! ([`MultiTargetTracker::predict`], [`MultiTargetTracker::predict_measurement_of`]), revisit
 //! intervals ([`MultiTargetTracker::revisit_interval`]), due tracks
 //! ([`MultiTargetTracker::due_tracks`]) and track snapshots ([`MultiTargetTracker::tracks`]).
 //! Every update's NIS is logged ([`MultiTargetTracker::nis_log`]) for consistency checks.

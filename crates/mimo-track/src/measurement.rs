@@ -283,7 +283,23 @@ pub struct PreparedMeasurement {
     pub snr_db: f64,
 }
 
+/// A measurement as an update sees it: `z` under `model`, with noise covariance `r`.
+#[derive(Clone, Copy)]
+pub struct Observation<'a> {
+    /// The measurement function `h` and its Jacobian.
+    pub model: &'a dyn MeasurementModel,
+    /// The measurement `z`.
+    pub z: &'a Vec3,
+    /// Its noise covariance `R`.
+    pub r: &'a Mat3,
+}
+
 impl PreparedMeasurement {
+    /// The measurement with its model and covariance, for the filter.
+    pub fn observation(&self) -> Observation<'_> {
+        Observation { model: &self.model, z: &self.z, r: &self.r }
+    }
+
     /// Validate a row and put it in the tracking frame. The geometry is queried at the row's time.
     pub fn from_row(
         row: &MeasurementRow,

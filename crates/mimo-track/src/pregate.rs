@@ -206,7 +206,7 @@ mod tests {
         let pairs = (-400..=400)
             .map(|k| {
                 let m = meas(model, rb_true + 10.0 * k as f64, dt);
-                let h = filter.hypothesis(&pred, &m.model, &m.z, &m.r).expect("finite");
+                let h = filter.hypothesis(&pred, m.observation()).expect("finite");
                 (h.nis, skips(&gate, filter, &t, &pred, &m))
             })
             .collect();
@@ -220,14 +220,10 @@ mod tests {
         assert!(skipped > 100 && kept > 10, "skipped {skipped}, kept {kept}");
     }
 
-    /// Every pair the pre-gate skips has a computed NIS above the gate, and a pair well inside
-    /// the gate is never skipped.
-    #[test]
-    fn skips_only_pairs_whose_nis_is_above_the_gate() {
-        let (gate_nis, pairs) = sweep(crate::config::TrackerKind::Default, &|g, f, t, _, m| {
-            g.excludes(f, t, m, &mut BoundCache::default())
-        });
-        for &(nis, skipped) in &pairs {
+    /// Every skipped pair has a NIS above `NIS_MARGIN` times the gate, no pair inside the gate is
+    /// skipped, and both kinds occur.
+    fn assert_skips_only_beyond_the_margin(gate_nis: f64, pairs: &[(f64, bool)]) {
+        for &(nis, skipped) in pairs {
             if skipped {
                 assert!(nis > NIS_MARGIN * gate_nis, "skipped a pair with NIS {nis}");
             }
@@ -235,7 +231,17 @@ mod tests {
                 assert!(!skipped);
             }
         }
-        assert_both_kinds(&pairs);
+        assert_both_kinds(pairs);
+    }
+
+    /// Every pair the pre-gate skips has a computed NIS above the gate, and a pair well inside
+    /// the gate is never skipped.
+    #[test]
+    fn skips_only_pairs_whose_nis_is_above_the_gate() {
+        let (gate_nis, pairs) = sweep(crate::config::TrackerKind::Default, &|g, f, t, _, m| {
+            g.excludes(f, t, m, &mut BoundCache::default())
+        });
+        assert_skips_only_beyond_the_margin(gate_nis, &pairs);
     }
 
     /// The IMM's bound before its prediction (the mode hull): every pair it skips has a
@@ -245,15 +251,7 @@ mod tests {
     fn the_imm_bound_skips_only_pairs_whose_nis_is_above_the_gate() {
         let (gate_nis, pairs) =
             sweep(crate::config::TrackerKind::Imm, &|g, f, t, _, m| g.excludes(f, t, m, &mut BoundCache::default()));
-        for &(nis, skipped) in &pairs {
-            if skipped {
-                assert!(nis > NIS_MARGIN * gate_nis, "skipped a pair with NIS {nis}");
-            }
-            if nis <= gate_nis {
-                assert!(!skipped);
-            }
-        }
-        assert_both_kinds(&pairs);
+        assert_skips_only_beyond_the_margin(gate_nis, &pairs);
         let config = TrackerConfig::for_kind(crate::config::TrackerKind::Imm);
         let c = Components::from_config(&config);
         let gate = PreGate::new(&*c.gater, &config.initiation_exclusion);

@@ -7,7 +7,7 @@ use crate::geometry::SensorGeometry;
 use crate::linalg::sandwich;
 use crate::measurement::{BistaticRuv, MeasurementModel};
 use crate::policy::{DueInfo, due_tracks, revisit_interval};
-use crate::tracker::MultiTargetTracker;
+use crate::tracker::{MultiTargetTracker, Track};
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
@@ -31,18 +31,25 @@ pub struct TrackDue {
     pub next_due_s: f64,
 }
 
+/// A track's scheduling state.
+fn due_of(t: &Track) -> TrackDue {
+    TrackDue {
+        id: t.id,
+        status: t.status,
+        t_last_update_s: t.t_s,
+        n_updates: t.n_updates,
+        consecutive_misses: t.consecutive_misses,
+        next_due_s: t.next_due_s,
+    }
+}
+
 impl MultiTargetTracker {
     /// Snapshots of the live tracks, by id.
     pub fn tracks(&self) -> Vec<TrackInfo> {
         self.tracks
             .values()
             .map(|t| TrackInfo {
-                id: t.id,
-                status: t.status,
-                t_last_update_s: t.t_s,
-                n_updates: t.n_updates,
-                consecutive_misses: t.consecutive_misses,
-                next_due_s: t.next_due_s,
+                due: due_of(t),
                 last_face: t.last_face,
                 mode_probabilities: t.state.mu.clone(),
                 mean_nis: if t.nis_count > 0 { t.nis_sum / t.nis_count as f64 } else { f64::NAN },
@@ -88,28 +95,7 @@ impl MultiTargetTracker {
     /// The live tracks' scheduling state, by id: [`Self::tracks`] without the mode probabilities
     /// and the NIS, and without allocating.
     pub fn track_dues(&self) -> impl Iterator<Item = TrackDue> + '_ {
-        self.tracks.values().map(|t| TrackDue {
-            id: t.id,
-            status: t.status,
-            t_last_update_s: t.t_s,
-            n_updates: t.n_updates,
-            consecutive_misses: t.consecutive_misses,
-            next_due_s: t.next_due_s,
-        })
-    }
-
-    /// The predicted measurement of a track on channel `tx → rx` (face `rx_face`) at `t_s`.
-    pub fn predict_measurement(
-        &self,
-        id: u64,
-        t_s: f64,
-        tx: RadarId,
-        rx: RadarId,
-        rx_face: u8,
-        geom: &dyn SensorGeometry,
-    ) -> Option<PredictedMeasurement> {
-        let g = self.predict_local(id, t_s)?;
-        self.predict_measurement_of(&g, t_s, tx, rx, rx_face, geom)
+        self.tracks.values().map(due_of)
     }
 
     /// The predicted measurement of a prediction `g` at `t_s` (tracking frame, from

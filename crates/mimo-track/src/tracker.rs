@@ -47,18 +47,17 @@ pub struct Track {
     pub nis_count: u32,
 }
 
-#[cfg(test)]
 impl Track {
-    /// A confirmed track `id` in `state` at `t_s` after `n_updates` updates, with no misses, for
-    /// the unit tests.
-    pub(crate) fn confirmed_for_test(id: u64, state: FilterState, t_s: f64, n_updates: u32) -> Track {
+    /// A track `id` in `state` started at `t_s` from an external estimate: no updates, no
+    /// misses, no measurement, due at once.
+    fn started(id: u64, status: TrackStatus, state: FilterState, t_s: f64) -> Track {
         Track {
             id,
-            status: TrackStatus::Confirmed,
+            status,
             state,
             t_s,
             t_init_s: t_s,
-            n_updates,
+            n_updates: 0,
             last_meas_id: None,
             looks: vec![true],
             consecutive_misses: 0,
@@ -67,6 +66,13 @@ impl Track {
             nis_sum: 0.0,
             nis_count: 0,
         }
+    }
+
+    /// A confirmed track `id` in `state` at `t_s` after `n_updates` updates, with no misses, for
+    /// the unit tests.
+    #[cfg(test)]
+    pub(crate) fn confirmed_for_test(id: u64, state: FilterState, t_s: f64, n_updates: u32) -> Track {
+        Track { n_updates, ..Track::started(id, TrackStatus::Confirmed, state, t_s) }
     }
 }
 
@@ -179,21 +185,7 @@ impl MultiTargetTracker {
         }
         let id = self.next_id;
         self.next_id += 1;
-        let track = Track {
-            id,
-            status,
-            state: self.c.filter.init(g),
-            t_s,
-            t_init_s: t_s,
-            n_updates: 0,
-            last_meas_id: None,
-            looks: vec![true],
-            consecutive_misses: 0,
-            next_due_s: t_s,
-            last_face: None,
-            nis_sum: 0.0,
-            nis_count: 0,
-        };
+        let track = Track::started(id, status, self.c.filter.init(g), t_s);
         let row = self.row_of(run, &track, &track.state.combined(), t_s, status);
         self.tracks.insert(id, track);
         Some((id, row))

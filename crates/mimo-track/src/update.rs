@@ -13,7 +13,7 @@ use crate::linalg::{
     Mat3, Mat3x6, Vec3, add, all_finite, chol_log_det, chol_mahalanobis, chol_solve, cholesky, ensure_pd, identity,
     mul, mul_vec, sandwich, sub, transpose, vadd, vsub,
 };
-use crate::measurement::MeasurementModel;
+use crate::measurement::Observation;
 use std::fmt;
 
 /// Innovation statistics of a prediction against a measurement.
@@ -78,24 +78,11 @@ impl std::error::Error for UpdateError {}
 
 /// The update family.
 pub trait Updater: Send + Sync {
-    /// Innovation statistics of `pred` against `z` (covariance `r`) under `model`.
-    fn innovation(
-        &self,
-        pred: &Gaussian,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Innovation, UpdateError>;
+    /// Innovation statistics of `pred` against the observation.
+    fn innovation(&self, pred: &Gaussian, obs: Observation) -> Result<Innovation, UpdateError>;
 
-    /// Update `pred` with `z`, relinearizing `iterations` times (at least once).
-    fn update(
-        &self,
-        pred: &Gaussian,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-        iterations: u32,
-    ) -> Result<UpdateOutcome, UpdateError>;
+    /// Update `pred` with the observation, relinearizing `iterations` times (at least once).
+    fn update(&self, pred: &Gaussian, obs: Observation, iterations: u32) -> Result<UpdateOutcome, UpdateError>;
 }
 
 /// The (iterated) extended Kalman filter update, Joseph form.
@@ -106,13 +93,8 @@ pub struct EkfUpdater {
     pub iteration_tolerance: f64,
 }
 
-fn innovation_at(
-    pred: &Gaussian,
-    model: &dyn MeasurementModel,
-    z: &Vec3,
-    r: &Mat3,
-    x_lin: &[f64; 6],
-) -> Result<(Innovation, Vec3), UpdateError> {
+fn innovation_at(pred: &Gaussian, obs: Observation, x_lin: &[f64; 6]) -> Result<(Innovation, Vec3), UpdateError> {
+    let Observation { model, z, r } = obs;
     let h = model.jacobian(x_lin);
     let hx = model.h(x_lin);
     if !all_finite(&h) || !hx.iter().all(|v| v.is_finite()) {
@@ -132,32 +114,19 @@ fn innovation_at(
 }
 
 impl Updater for EkfUpdater {
-    fn innovation(
-        &self,
-        pred: &Gaussian,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-    ) -> Result<Innovation, UpdateError> {
+    fn innovation(&self, pred: &Gaussian, obs: Observation) -> Result<Innovation, UpdateError> {
         if !pred.is_finite() {
             return Err(UpdateError::NonFinite);
         }
-        innovation_at(pred, model, z, r, &pred.x).map(|(i, _)| i)
+        innovation_at(pred, obs, &pred.x).map(|(i, _)| i)
     }
 
-    fn update(
-        &self,
-        pred: &Gaussian,
-        model: &dyn MeasurementModel,
-        z: &Vec3,
-        r: &Mat3,
-        iterations: u32,
-    ) -> Result<UpdateOutcome, UpdateError> {
+    fn update(&self, pred: &Gaussian, obs: Observation, iterations: u32) -> Result<UpdateOutcome, UpdateError> {
         if !pred.is_finite() {
             return Err(UpdateError::NonFinite);
         }
         let n_iter = iterations.max(1);
-        let (first, _) = innovation_at(pred, model, z, r, &pred.x)?;
+        let (first, _) = innovation_at(pred, obs, &pred.x)?;
         let mut inn = first;
         let mut x_lin = pred.x;
         let mut gain;
@@ -176,7 +145,7 @@ impl Updater for EkfUpdater {
             if used >= n_iter || moved <= self.iteration_tolerance {
                 break;
             }
-            match innovation_at(pred, model, z, r, &x_lin) {
+            match innovation_at(pred, obs, &x_lin) {
                 Ok((i, _)) => inn = i,
                 Err(_) => break,
             }
@@ -186,7 +155,7 @@ impl Updater for EkfUpdater {
         }
         // Joseph form with the last linearization: (I − KH) P (I − KH)ᵀ + K R Kᵀ.
         let a = sub(&identity::<6>(), &mul(&gain, &inn.h));
-        let p = add(&sandwich(&a, &pred.p), &sandwich(&gain, r));
+        let p = add(&sandwich(&a, &pred.p), &sandwich(&gain, obs.r));
         let (p, jitter) = ensure_pd(&p).ok_or(UpdateError::PosteriorNotPd)?;
         Ok(UpdateOutcome { posterior: Gaussian { x: x_lin, p }, innovation: first, jitter, iterations: used })
     }
@@ -196,6 +165,10 @@ impl Updater for EkfUpdater {
 mod tests {
     use super::*;
     use crate::measurement::PositionMeasurement;
+
+    fn position<'a>(z: &'a Vec3, r: &'a Mat3) -> Observation<'a> {
+        Observation { model: &PositionMeasurement, z, r }
+    }
 
     #[test]
     fn linear_update_matches_textbook_kalman() {
@@ -209,7 +182,7 @@ mod tests {
         let prior = Gaussian { x: [0.0, 0.0, 0.0, 1.0, 2.0, 3.0], p };
         let r = [[4.0, 0.0, 0.0], [0.0, 4.0, 0.0], [0.0, 0.0, 4.0]];
         let z = [10.0, -5.0, 2.0];
-        let out = EkfUpdater::default().update(&prior, &PositionMeasurement, &z, &r, 1).expect("ok");
+        let out = EkfUpdater::default().update(&prior, position(&z, &r), 1).expect("ok");
         // Scalar per axis: k_p = 100/104, k_v = 10/104.
         let kp = 100.0 / 104.0;
         let kv = 10.0 / 104.0;
@@ -220,7 +193,7 @@ mod tests {
         let nis = (100.0 + 25.0 + 4.0) / 104.0;
         assert!((out.innovation.nis - nis).abs() < 1e-12);
         // Iterating a linear model changes nothing.
-        let it = EkfUpdater::default().update(&prior, &PositionMeasurement, &z, &r, 3).expect("ok");
+        let it = EkfUpdater::default().update(&prior, position(&z, &r), 3).expect("ok");
         for i in 0..6 {
             assert!((it.posterior.x[i] - out.posterior.x[i]).abs() < 1e-9);
         }
@@ -230,9 +203,6 @@ mod tests {
     fn refuses_nan_prior() {
         let prior = Gaussian { x: [f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0], p: identity() };
         let r = identity::<3>();
-        assert_eq!(
-            EkfUpdater::default().update(&prior, &PositionMeasurement, &[0.0; 3], &r, 1),
-            Err(UpdateError::NonFinite)
-        );
+        assert_eq!(EkfUpdater::default().update(&prior, position(&[0.0; 3], &r), 1), Err(UpdateError::NonFinite));
     }
 }

@@ -201,7 +201,8 @@ fn beam_looks_count_misses_without_track_ids() {
     let id = dwell(&mut tr, &sc, DwellKind::Search, 0.0, vec![], true)[0].track_id;
     dwell(&mut tr, &sc, DwellKind::Confirm, 0.3, vec![id], true);
     dwell(&mut tr, &sc, DwellKind::Track, 0.6, vec![id], true);
-    let pm = tr.predict_measurement(id, 1.0, R1, R1, 0, &sc.sim.geom).expect("prediction");
+    let g = tr.predict_local(id, 1.0).expect("live track");
+    let pm = tr.predict_measurement_of(&g, 1.0, R1, R1, 0, &sc.sim.geom).expect("prediction");
     let truth_rho = (sc.sim.ecef(&sc.truth(1.0)) - sc.sim.geom.face(R1, 0, 1.0).expect("face").origin_ecef).length();
     assert!((pm.rho_m - truth_rho).abs() < 5.0 * pm.sigma_rho_m.max(5.0), "{} vs {truth_rho}", pm.rho_m);
     let look = |du: f64| Look { tx: R1, rx: R1, rx_face: 0, beam_u: pm.u + du, beam_v: pm.v, rho_window_m: None };

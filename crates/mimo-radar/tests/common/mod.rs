@@ -76,23 +76,34 @@ impl Ship {
     ) -> DwellOutput {
         let txs = [self.tx(p, 0, beam.0, beam.1, 1)];
         let rxs = [self.rx(p, keys.first().copied().unwrap_or(0), 0, beam.0, beam.1, rho)];
-        let d = Dwell {
-            run: 0,
-            t_s: 0.0,
-            seed: SEED,
-            keys,
-            transmitters: &txs,
-            receivers: &rxs,
-            fidelity: fid,
-            record_voltages: false,
-            simulate_all_cells: false,
-        };
+        let d = test_dwell(keys, &txs, &rxs, fid);
         evaluate(&d, targets)
     }
 
     /// A point at range `r` and direction `(u, v)` of a face.
     pub fn point(&self, face: usize, r: f64, u: f64, v: f64) -> DVec3 {
         self.faces[face].from_ruv(r, u, v)
+    }
+}
+
+/// A dwell of run 0 at t = 0 with the tests' seed, recording no voltages and simulating the cells
+/// near the returns only.
+pub fn test_dwell<'a>(
+    keys: &'a [u64],
+    txs: &'a [Transmitter<'a>],
+    rxs: &'a [Receiver<'a>],
+    fid: &'a Fidelity,
+) -> Dwell<'a> {
+    Dwell {
+        run: 0,
+        t_s: 0.0,
+        seed: SEED,
+        keys,
+        transmitters: txs,
+        receivers: rxs,
+        fidelity: fid,
+        record_voltages: false,
+        simulate_all_cells: false,
     }
 }
 

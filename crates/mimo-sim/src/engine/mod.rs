@@ -124,6 +124,13 @@ pub enum EngineError {
     Sink(#[from] SinkError),
 }
 
+impl EngineError {
+    /// The fault `fault` of the test article named `name`.
+    pub fn ta(name: &str, fault: TaFault) -> EngineError {
+        EngineError::Ta { name: name.to_string(), fault }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Ev {
     /// A radar became free and decides what to do next.
@@ -225,7 +232,7 @@ impl<'a> Engine<'a> {
     }
 
     fn fault(&self, fault: TaFault) -> EngineError {
-        EngineError::Ta { name: self.ta.name().to_string(), fault }
+        EngineError::ta(self.ta.name(), fault)
     }
 
     /// Run to the end; the rows went to the sink. Returns the run's counters.
