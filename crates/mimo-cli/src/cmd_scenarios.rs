@@ -35,10 +35,10 @@ fn draw_map(path: &std::path::Path) -> Result<(), CliError> {
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.partial-{}.{ext}", std::process::id()));
     mimo_store::output::register(&tmp);
-    // Marked as mimo's (by content), so that `--force` may replace it later and nothing else.
+    // Marked as mimo's map by the drawing (by content), so that `--force` may replace it later
+    // and nothing else.
     let drawn = mimo_report::draw_geometry(&ships, &truth, &title, &tmp)
         .map_err(|e| CliError::Other(format!("{}: write failed: {e}", path.display())))
-        .and_then(|()| Ok(mimo_store::recognise::mark_image(&tmp)?))
         .and_then(|()| {
             std::fs::rename(&tmp, path).map_err(|e| CliError::Other(format!("{}: write failed: {e}", path.display())))
         });

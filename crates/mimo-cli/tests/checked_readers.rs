@@ -6,7 +6,7 @@
 
 use arrow::array::{Array, ArrayRef, AsArray, FixedSizeListArray, RecordBatch};
 use arrow::datatypes::{DataType, Field, Float64Type, Schema};
-use mimo_core::records::{MeasurementRow, PrimitiveRow, TrackRow, TruthRow};
+use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::{Arc, OnceLock};
@@ -214,6 +214,38 @@ fn variances_that_are_not_positive_are_refused() {
     let d = fresh();
     edit_rows::<PrimitiveRow>(&file(&d.path().join("r"), "primitives", 1), |rows| rows[0].var_range_m2 = 0.0);
     refused(d.path(), &["track", "r", "--out", "t"], &["primitives/run-0001.parquet", "column 'var_range_m2'"], "t");
+}
+
+#[test]
+fn times_outside_the_run_are_refused_by_every_reader() {
+    // After the run's end (60 s, its manifest's duration_s).
+    let d = fresh();
+    let truth = file(&d.path().join("r"), "truth", 0);
+    let mut last = 0;
+    edit_rows::<TruthRow>(&truth, |rows| {
+        last = rows.len() - 1;
+        rows[last].t_s = 61.0;
+    });
+    let after = format!("column 't_s' is 61 at row {last}, after the run's end at 60 s");
+    score_refuses(d.path(), &["truth/run-0000.parquet", &after]);
+    plot_refuses(d.path(), &["truth/run-0000.parquet", &after]);
+    let d = fresh();
+    edit_rows::<DwellRow>(&file(&d.path().join("r"), "dwells", 1), |rows| {
+        last = rows.len() - 1;
+        rows[last].t_s = 1.0e9;
+    });
+    let after = format!("column 't_s' is 1000000000 at row {last}, after the run's end at 60 s");
+    score_refuses(d.path(), &["dwells/run-0001.parquet", &after]);
+    refused(d.path(), &["track", "r", "--out", "t"], &["dwells/run-0001.parquet", &after], "t");
+    // Before its start.
+    let d = fresh();
+    edit_rows::<TrackRow>(&file(&d.path().join("r"), "tracks", 1), |rows| rows[0].t_s = -1.0);
+    let before = "column 't_s' is -1 at row 0 (expected a finite number >= 0)";
+    score_refuses(d.path(), &["tracks/run-0001.parquet", before]);
+    refused(d.path(), &["plot", "r", "--run", "1", "--out", "p.html"], &["tracks/run-0001.parquet", before], "p.html");
+    let d = fresh();
+    edit_rows::<PrimitiveRow>(&file(&d.path().join("r"), "primitives", 0), |rows| rows[0].t_s = -1.0);
+    refused(d.path(), &["track", "r", "--out", "t"], &["primitives/run-0000.parquet", before], "t");
 }
 
 /// Two rows of one track: the indices of the first pair of consecutive confirmed rows of one

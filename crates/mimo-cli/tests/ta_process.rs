@@ -124,6 +124,8 @@ fn a_ta_writing_something_else_than_a_reply_stops_the_run() {
     assert!(e.contains("bad reply") && e.contains("hello, mimo"), "{e}");
     let e = fault("unknown_key", &[]);
     assert!(e.contains("bad reply") && e.contains("trackz"), "{e}");
+    let e = fault("json_array", &[]);
+    assert!(e.contains("bad reply: expected a JSON object") && e.contains("`[]`"), "{e}");
     // JSON has no NaN: Python's json.dumps writes `NaN`, which is a bad reply, not a request.
     let e = fault("nan_aim", &[]);
     assert!(e.contains("bad reply") && e.contains("NaN"), "{e}");
@@ -139,6 +141,14 @@ fn a_second_reply_line_stops_the_run_at_once() {
 fn a_track_row_back_in_time_beyond_the_window_stops_the_run() {
     let e = fault("track_back", &[]);
     assert!(e.contains("invalid request: track 7 has a row at t = 1 s, 30.000 s before its row at t = 31 s"), "{e}");
+}
+
+#[test]
+fn a_covariance_the_tracks_table_refuses_stops_the_run_at_once() {
+    let e = fault("track_negative_variance", &[]);
+    assert!(e.contains("invalid request: track 7 at t = 2 s: covariance variance 0 (diagonal) is -1"), "{e}");
+    let e = fault("track_not_psd", &[]);
+    assert!(e.contains("invalid request: track 7 at t = 2 s: covariance is not positive semi-definite"), "{e}");
 }
 
 #[test]

@@ -184,6 +184,46 @@ fn a_map_is_replaced_only_if_scenarios_drew_it() {
     assert!(left.is_empty(), "no temporary file left: {left:?}");
 }
 
+/// A PNG whose bytes are a real image but carry no mark of mimo's (a user's own chart).
+fn users_png(d: &Path) -> Vec<u8> {
+    let marked = std::fs::read(d.join("r/score/charts/completeness.png")).expect("a chart");
+    // The mark is the chunk after the header (33 bytes): length, type, data, CRC.
+    let len = u32::from_be_bytes(marked[33..37].try_into().expect("4 bytes")) as usize;
+    [&marked[..33], &marked[33 + 12 + len..]].concat()
+}
+
+#[test]
+fn charts_are_mimos_by_their_mark_and_a_users_image_among_them_is_kept() {
+    let tmp = workdir();
+    let d = tmp.path();
+    for name in ["completeness.png", "completeness.svg"] {
+        let chart = d.join("r/score/charts").join(name);
+        assert!(mimo_store::recognise::is_chart_image(&chart), "{name} carries the mark");
+    }
+    // The marked PNG is still a PNG every decoder reads.
+    let file = std::fs::File::open(d.join("r/score/charts/completeness.png")).expect("open");
+    let reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().expect("a valid PNG");
+    assert_eq!(reader.info().width, 1200);
+    let mine = users_png(d);
+    for (name, bytes) in
+        [("mine.png", mine.clone()), ("mine.svg", b"<svg xmlns=\"http://www.w3.org/2000/svg\"/>".to_vec())]
+    {
+        let path = d.join("r/score/charts").join(name);
+        std::fs::write(&path, &bytes).expect("write");
+        let before = contents(&d.join("r"));
+        refused(d, &["score", "r"], 2, &[name, "mimo score replaces only what mimo wrote"]);
+        refused(d, &["simulate", "--scenario", "small.toml", "--out", "r", "--force"], 2, &[name, "did not write"]);
+        assert_eq!(contents(&d.join("r")), before, "{name}: the run and its score are untouched");
+        std::fs::remove_file(&path).expect("rm");
+    }
+    ok(d, &["score", "r", "--quiet"]);
+    // In a study, the same.
+    ok(d, &["study", "plan.toml", "--out", "st", "--quiet", "--threads", "1"]);
+    std::fs::write(d.join("st/mine.png"), &mine).expect("write");
+    refused(d, &["study", "plan.toml", "--out", "st", "--force", "--quiet"], 2, &["mine.png", "did not write"]);
+    assert_eq!(std::fs::read(d.join("st/mine.png")).expect("read"), mine);
+}
+
 #[test]
 fn a_study_is_replaced_only_if_all_of_it_is_mimos() {
     let tmp = workdir();

@@ -22,7 +22,7 @@ macro_rules! truth_table {
                 /// Monte Carlo run index, 0-based.
                 run: u32 => ("", "Monte Carlo run index"),
                 /// Sample time since scenario start (s).
-                t_s: f64 => ("s", "time since scenario start"),
+                t_s: f64 => ("s", "time since scenario start", NonNegative),
                 /// Target id (`F-1`…`F-4`, `A`, `B`, `C` in the standard scenarios).
                 target: String => ("", "target id (F-1…F-4, A, B, C in the standard scenarios)"),
                 /// Target position, ECEF x (m).
@@ -215,7 +215,7 @@ macro_rules! primitives_table {
                 /// The receiver's dwell part.
                 dwell_id: u64 => ("", "receiver's dwell part"),
                 /// Dwell mid-time, when truth was evaluated (s since scenario start).
-                t_s: f64 => ("s", "dwell time"),
+                t_s: f64 => ("s", "dwell time", NonNegative),
                 /// Receiving radar.
                 rx: $crate::ids::RadarId => ("", "receiving radar"),
                 /// Transmitting radar (equal to `rx` for the monostatic channel).
@@ -277,7 +277,7 @@ macro_rules! measurements_table {
                 /// The receiver's dwell part (`DwellRow::dwell_id`).
                 dwell_id: u64 => ("", "receiver's dwell part"),
                 /// Dwell mid-time, when truth was evaluated (s since scenario start).
-                t_s: f64 => ("s", "dwell time"),
+                t_s: f64 => ("s", "dwell time", NonNegative),
                 /// Receiving radar.
                 rx: $crate::ids::RadarId => ("", "receiving radar"),
                 /// Transmitting radar (equal to `rx` for a monostatic measurement).
@@ -342,7 +342,7 @@ macro_rules! tracks_table {
                 #[serde(skip)]
                 run: u32 => ("", "Monte Carlo run index"),
                 /// Time of the state (s since scenario start).
-                t_s: f64 => ("s", "time of the state"),
+                t_s: f64 => ("s", "time of the state", NonNegative),
                 /// Track id, unique within a run.
                 track_id: u64 => ("", "track id, unique within a run"),
                 /// Track status at this row.

@@ -100,8 +100,9 @@ fn draw_any<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, c: &Chart) -> Dra
     root.present().map_err(e)
 }
 
-/// Render `chart` to `path` (PNG or SVG by extension), via a temporary file renamed into place.
-fn render(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), ReportError> {
+/// Render `chart` to `path` (PNG or SVG by extension), marked as mimo's with `mark`
+/// (`mimo_store::recognise::mark_image`), via a temporary file renamed into place.
+fn render(chart: &Chart, path: &Path, size: (u32, u32), mark: &str) -> Result<(), ReportError> {
     let ext = path.extension().and_then(|x| x.to_str()).unwrap_or("png").to_ascii_lowercase();
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp.{ext}"));
@@ -111,7 +112,11 @@ fn render(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), ReportErro
     } else {
         draw_any(&BitMapBackend::new(&tmp, size).into_drawing_area(), chart)
     };
-    let done = drawn.map_err(draw_err).and_then(|()| {
+    let marked = drawn.map_err(draw_err).and_then(|()| {
+        mimo_store::recognise::mark_image(&tmp, mark)
+            .map_err(|err| ReportError::Io { path: path.to_path_buf(), detail: err.to_string() })
+    });
+    let done = marked.and_then(|()| {
         std::fs::rename(&tmp, path).map_err(|err| ReportError::Io { path: path.to_path_buf(), detail: err.to_string() })
     });
     // A drawing that failed (a full disk) leaves no temporary file behind.
@@ -125,7 +130,7 @@ fn render(chart: &Chart, path: &Path, size: (u32, u32)) -> Result<(), ReportErro
 fn save(chart: &Chart, dir: &Path, stem: &str, size: (u32, u32), out: &mut Vec<PathBuf>) -> Result<(), ReportError> {
     for ext in ["png", "svg"] {
         let path = dir.join(format!("{stem}.{ext}"));
-        render(chart, &path, size)?;
+        render(chart, &path, size, mimo_store::recognise::CHART_MARK)?;
         out.push(path);
     }
     Ok(())
@@ -422,7 +427,8 @@ fn render_track_metrics(score: &Score, charts_dir: &Path, out: &mut Vec<PathBuf>
 
 /// Draw a scenario map: ships (name, lat °, lon °) as triangles, target trajectories
 /// (name, [(lat °, lon °)]) as lines with their names, longitude across and latitude up at equal
-/// ground scale. The format follows the extension of `out_png` (`.png` or `.svg`).
+/// ground scale, marked as a map mimo drew (`mimo_store::recognise::MAP_MARK`). The format
+/// follows the extension of `out_png` (`.png` or `.svg`).
 pub fn draw_geometry(
     ships: &[(String, f64, f64)],
     truth: &[(String, Vec<(f64, f64)>)],
@@ -435,7 +441,7 @@ pub fn draw_geometry(
             .map_err(|err| ReportError::Io { path: dir.to_path_buf(), detail: err.to_string() })?;
     }
     let chart = Chart::Geo(GeoChart { title: title.to_string(), ships: ships.to_vec(), truth: truth.to_vec() });
-    render(&chart, out_png, (1100, 1000))
+    render(&chart, out_png, (1100, 1000), mimo_store::recognise::MAP_MARK)
 }
 
 /// Draw the fidelity-ladder chart (docs/model.md §4.8): one point per rung, simulated seconds per
@@ -447,5 +453,5 @@ pub fn draw_fidelity(points: &[FidelityPoint], title: &str, out: &Path) -> Resul
             .map_err(|err| ReportError::Io { path: dir.to_path_buf(), detail: err.to_string() })?;
     }
     let chart = Chart::Fidelity(fidelity::FidelityChart { title: title.to_string(), points: points.to_vec() });
-    render(&chart, out, (1000, 700))
+    render(&chart, out, (1000, 700), mimo_store::recognise::CHART_MARK)
 }

@@ -190,7 +190,11 @@ fn renders_every_chart() {
         let len = std::fs::metadata(&png).expect("png").len();
         assert!(len > 20_000, "{stem}.png is only {len} bytes");
         let svg = std::fs::read_to_string(charts.join(format!("{stem}.svg"))).expect("svg");
-        assert!(svg.starts_with("<svg") && svg.len() > 5_000 && svg.contains("<text"), "{stem}.svg");
+        // Marked as mimo's (a comment before the root element), then the drawing.
+        assert!(svg.starts_with("<!-- mimo -->\n<svg") && svg.len() > 5_000 && svg.contains("<text"), "{stem}.svg");
+        for chart in [&png, &charts.join(format!("{stem}.svg"))] {
+            assert!(mimo_store::recognise::is_chart_image(chart), "{} carries mimo's mark", chart.display());
+        }
     }
     // No temporary files left behind.
     for f in std::fs::read_dir(&charts).expect("dir") {

@@ -1,12 +1,14 @@
-//! The track rows a test article returns, checked as they arrive (docs/design.md §7): finite
-//! states and covariances, and no row further back in time than the out-of-sequence window
-//! ([`TRACK_OUT_OF_SEQUENCE_S`]) behind the same track's latest earlier row. The tables' readers
-//! refuse such rows later anyway; refusing them here stops the run at the reply that broke the
-//! rule, with the test article named, instead of after a whole simulation.
+//! The track rows a test article returns, checked as they arrive (docs/design.md §7) by the
+//! tracks table's own rules: finite states at times from 0 on, covariances the table accepts
+//! ([`covariance_ok`]: finite, positive variances, positive semi-definite), and no row further
+//! back in time than the out-of-sequence window ([`TRACK_OUT_OF_SEQUENCE_S`]) behind the same
+//! track's latest earlier row. The tables' readers refuse such rows later anyway; refusing them
+//! here stops the run at the reply that broke the rule, with the test article named, instead of
+//! after a whole simulation.
 
 use crate::test_article::TaFault;
 use mimo_core::records::TrackRow;
-use mimo_core::table_rules::TRACK_OUT_OF_SEQUENCE_S;
+use mimo_core::table_rules::{TRACK_OUT_OF_SEQUENCE_S, covariance_ok};
 use std::collections::BTreeMap;
 
 /// The latest time seen of every track of one run.
@@ -19,14 +21,16 @@ impl TrackRowCheck {
     /// Check `rows` (one reply's, in order) against each other and everything seen before.
     pub fn check(&mut self, rows: &[TrackRow]) -> Result<(), TaFault> {
         for r in rows {
-            let finite = [r.t_s, r.x_m, r.y_m, r.z_m, r.vx_mps, r.vy_mps, r.vz_mps].iter().all(|x| x.is_finite())
-                && r.cov.iter().all(|x| x.is_finite());
-            if !finite {
+            let finite = [r.t_s, r.x_m, r.y_m, r.z_m, r.vx_mps, r.vy_mps, r.vz_mps].iter().all(|x| x.is_finite());
+            if !finite || r.t_s < 0.0 {
                 return Err(TaFault::InvalidRequest(format!(
-                    "track {} at t = {} s has a non-finite state or covariance",
+                    "track {} at t = {} s has a non-finite state or a negative time",
                     r.track_id, r.t_s
                 )));
             }
+            covariance_ok(&r.cov).map_err(|why| {
+                TaFault::InvalidRequest(format!("track {} at t = {} s: covariance {why}", r.track_id, r.t_s))
+            })?;
             let latest = self.latest_s.entry(r.track_id).or_insert(r.t_s);
             if r.t_s < *latest - TRACK_OUT_OF_SEQUENCE_S {
                 return Err(TaFault::InvalidRequest(format!(
@@ -48,6 +52,10 @@ impl TrackRowCheck {
 mod tests {
     use super::*;
 
+    fn identity() -> [[f64; 6]; 6] {
+        std::array::from_fn(|i| std::array::from_fn(|j| if i == j { 1.0 } else { 0.0 }))
+    }
+
     fn row(track_id: u64, t_s: f64) -> TrackRow {
         TrackRow {
             run: 0,
@@ -60,7 +68,7 @@ mod tests {
             vx_mps: 0.0,
             vy_mps: 0.0,
             vz_mps: 0.0,
-            cov: [0.0; 21],
+            cov: mimo_core::records::pack_cov(&identity()),
             n_updates: 1,
             last_meas_id: None,
         }
@@ -76,5 +84,20 @@ mod tests {
         assert!(e.to_string().contains("track 1 has a row at t = 70 s, 30.200 s before its row at t = 100.2 s"), "{e}");
         // Another track keeps its own clock.
         c.check(&[row(2, 10.5)]).expect("track 2");
+    }
+
+    #[test]
+    fn a_covariance_the_tracks_table_refuses_is_refused_at_once() {
+        let mut c = TrackRowCheck::default();
+        let mut m = identity();
+        m[0][0] = -1.0;
+        let e = c.check(&[TrackRow { cov: mimo_core::records::pack_cov(&m), ..row(3, 5.0) }]).expect_err("negative");
+        assert!(e.to_string().contains("track 3 at t = 5 s: covariance variance 0 (diagonal) is -1"), "{e}");
+        let mut m = identity();
+        (m[0][1], m[1][0]) = (2.0, 2.0);
+        let e = c.check(&[TrackRow { cov: mimo_core::records::pack_cov(&m), ..row(3, 5.0) }]).expect_err("not PSD");
+        assert!(e.to_string().contains("is not positive semi-definite"), "{e}");
+        let e = c.check(&[row(4, -1.0)]).expect_err("negative time");
+        assert!(e.to_string().contains("negative time"), "{e}");
     }
 }

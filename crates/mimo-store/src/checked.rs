@@ -7,7 +7,9 @@
 //!   float32 or `run` as int64 is refused; columns beyond the spec are welcome);
 //! * [`check_array`]: a column's values keep the spec's [`Rule`] (no null where none is allowed,
 //!   finite numbers, positive variances, labels of the enumeration, covariances that are ones);
-//! * [`check_file_run`]: every row of `run-K.parquet` is run K.
+//! * [`check_file_run`]: every row of `run-K.parquet` is run K;
+//! * every `t_s` within the run: from 0 on (the column rule) and up to its manifest's
+//!   `duration_s` ([`crate::run_window`]).
 //!
 //! Each refusal is a [`StoreError`] naming the file and the column (and the row).
 
@@ -90,6 +92,9 @@ pub fn check_array(path: &Path, c: &ColumnSpec, array: &dyn Array, first_row: us
     {
         return Err(bad(path, c.name, format!("is null at row {}", at(i))));
     }
+    if c.name == "t_s" {
+        check_run_end(path, array, first_row)?;
+    }
     match c.rule {
         Rule::Any => Ok(()),
         Rule::Finite | Rule::NonNegative | Rule::Positive => check_numbers(path, c, array, first_row),
@@ -117,6 +122,17 @@ fn check_numbers(path: &Path, c: &ColumnSpec, array: &dyn Array, first_row: usiz
         return Err(bad(path, c.name, format!("is {} at row {} (expected {what})", values[i], first_row + i)));
     }
     Ok(())
+}
+
+/// No time after the end of the run the file belongs to ([`crate::run_window`]).
+fn check_run_end(path: &Path, array: &dyn Array, first_row: usize) -> Result<(), StoreError> {
+    let (Some(t), Some(end_s)) = (array.as_primitive_opt::<Float64Type>(), crate::run_window::run_end_s(path)) else {
+        return Ok(());
+    };
+    match crate::run_window::first_after_end(t.values(), end_s, first_row) {
+        None => Ok(()),
+        Some((row, t_s)) => Err(bad(path, "t_s", format!("is {t_s} at row {row}, after the run's end at {end_s} s"))),
+    }
 }
 
 /// Every non-null string accepted by `ok`, called once per run of equal values.

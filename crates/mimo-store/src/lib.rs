@@ -42,6 +42,7 @@ pub mod recognise;
 pub mod rows;
 pub mod run_sink;
 pub mod run_tables;
+pub mod run_window;
 pub mod rundir;
 pub mod schema;
 pub mod score_schema;
@@ -307,18 +308,21 @@ pub(crate) fn write_batch(path: &Path, batch: &RecordBatch) -> Result<(), StoreE
 }
 
 /// Write into an existing directory (never re-creating one removed meanwhile, e.g. a staging
-/// directory removed by the interrupt handler).
+/// directory removed by the interrupt handler). A write that fails (a full disk) removes its
+/// temporary file.
 pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), StoreError> {
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp"));
     let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
     let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
-    let mut w = ArrowWriter::try_new(file, batch.schema(), Some(writer_props(&batch.schema())))
-        .map_err(|e| write_err(e.to_string()))?;
-    w.write(batch).map_err(|e| write_err(e.to_string()))?;
-    w.close().map_err(|e| write_err(e.to_string()))?;
-    std::fs::rename(&tmp, path).map_err(|e| write_err(e.to_string()))?;
-    Ok(())
+    let written = ArrowWriter::try_new(file, batch.schema(), Some(writer_props(&batch.schema())))
+        .and_then(|mut w| w.write(batch).and_then(|()| w.close()))
+        .map_err(|e| write_err(e.to_string()))
+        .and_then(|_| std::fs::rename(&tmp, path).map_err(|e| write_err(e.to_string())));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }
 
 /// Read one Parquet file of table `R`, checked ([`checked`]: table name, schema version, column

@@ -5,11 +5,13 @@
 //!   manifest, the table files the manifest lists, a score directory (below), a study cell's item
 //!   records (JSON) and mimo's own hidden lock and staging entries.
 //! * A **score directory**: `summary.json` a JSON object with the summary's `challenge` and
-//!   `usage`, Parquet files whose metadata names a mimo table, and `charts/` holding only PNG and
-//!   SVG images.
+//!   `usage`, Parquet files whose metadata names a mimo table, and `charts/` holding only charts
+//!   mimo drew (below).
 //! * A **page `mimo plot` wrote**: it carries [`PLOT_MARK`] in its head.
 //! * An **image `scenarios --map` wrote**: a PNG with a `tEXt` chunk, or an SVG opening with a
 //!   comment, holding [`MAP_MARK`] ([`mark_image`]).
+//! * A **chart mimo drew** (a score's or a study's): a PNG whose `Software` `tEXt` chunk, or an
+//!   SVG whose opening comment, starts with [`CHART_MARK`] (maps included).
 //!
 //! A file name alone never makes something mimo's: a web project's `manifest.json` is not a
 //! mimo manifest, and a user's `notes.txt` inside a run is not a table.
@@ -24,6 +26,10 @@ use std::path::{Path, PathBuf};
 pub const PLOT_MARK: &str = r#"<meta name="generator" content="mimo plot">"#;
 /// The text marking a map `mimo scenarios --map` drew.
 pub const MAP_MARK: &str = "mimo scenarios --map";
+/// The text marking a chart mimo drew (score and study charts; a map's mark starts with it too).
+pub const CHART_MARK: &str = "mimo";
+/// The PNG `tEXt` keyword of a mark.
+const PNG_KEYWORD: &[u8] = b"Software\0";
 
 /// Most entries named in a refusal.
 const NAMED: usize = 5;
@@ -50,11 +56,14 @@ pub fn is_mimo_parquet(path: &Path) -> bool {
     }
 }
 
-/// Whether `path` is a PNG or an SVG image (a chart).
-fn is_image(path: &Path) -> bool {
-    let h = head(path, 256);
-    let svg = (h.starts_with(b"<svg") || h.starts_with(b"<?xml")) && contains(&h, b"<svg");
-    h.starts_with(b"\x89PNG\r\n\x1a\n") || svg
+/// Whether `path` is a chart mimo drew: a PNG whose first chunk after the header is the
+/// `Software` `tEXt` chunk [`mark_image`] writes, or an SVG opening with its comment, holding
+/// [`CHART_MARK`] (or a longer mark starting with it, as a map's).
+pub fn is_chart_image(path: &Path) -> bool {
+    let h = head(path, 33 + 8 + PNG_KEYWORD.len() + CHART_MARK.len());
+    let png = [b"tEXt".as_slice(), PNG_KEYWORD, CHART_MARK.as_bytes()].concat();
+    (h.starts_with(b"\x89PNG\r\n\x1a\n") && h.get(37..).is_some_and(|chunk| chunk.starts_with(&png)))
+        || h.starts_with(format!("<!-- {CHART_MARK}").as_bytes())
 }
 
 /// Whether `path` holds a JSON document.
@@ -84,14 +93,14 @@ fn crc32(bytes: &[u8]) -> u32 {
     !c
 }
 
-/// Mark a drawn map as mimo's: a `tEXt` chunk (`Software`) after a PNG's header chunk, or a
-/// comment before an SVG's root element, holding [`MAP_MARK`].
-pub fn mark_image(path: &Path) -> Result<(), StoreError> {
+/// Mark a drawn image as mimo's: a `tEXt` chunk (`Software`) after a PNG's header chunk, or a
+/// comment before an SVG's root element, holding `mark` ([`MAP_MARK`], [`CHART_MARK`]).
+pub fn mark_image(path: &Path, mark: &str) -> Result<(), StoreError> {
     let write_err = |e: std::io::Error| StoreError::Write { path: path.to_path_buf(), why: e.to_string() };
     let bytes = std::fs::read(path).map_err(write_err)?;
     // Signature (8 bytes), then the IHDR chunk: length 13, type, data, CRC (25 bytes).
     let marked = if bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 33 {
-        let data = [b"Software\0".as_slice(), MAP_MARK.as_bytes()].concat();
+        let data = [PNG_KEYWORD, mark.as_bytes()].concat();
         let mut chunk = Vec::with_capacity(data.len() + 12);
         chunk.extend_from_slice(&(data.len() as u32).to_be_bytes());
         let typed = [b"tEXt".as_slice(), &data].concat();
@@ -99,7 +108,7 @@ pub fn mark_image(path: &Path) -> Result<(), StoreError> {
         chunk.extend_from_slice(&crc32(&typed).to_be_bytes());
         [&bytes[..33], &chunk, &bytes[33..]].concat()
     } else {
-        [format!("<!-- {MAP_MARK} -->\n").as_bytes(), &bytes].concat()
+        [format!("<!-- {mark} -->\n").as_bytes(), &bytes].concat()
     };
     std::fs::write(path, marked).map_err(write_err)
 }
@@ -117,8 +126,8 @@ fn is_own_hidden(name: &str) -> bool {
 }
 
 /// The files below `dir` mimo did not write: every file must be mimo's own hidden entry, a
-/// Parquet file of a mimo table, a JSON document (a manifest, a record, a log), a chart image,
-/// or one the caller recognises (`ours`). Used inside a directory already recognised as mimo's
+/// Parquet file of a mimo table, a JSON document (a manifest, a record, a log), a chart mimo
+/// drew, or one the caller recognises (`ours`). Used inside a directory already recognised as mimo's
 /// (a study, by its mark).
 pub fn foreign_in_tree(dir: &Path, ours: &dyn Fn(&Path) -> bool) -> Result<Vec<PathBuf>, StoreError> {
     let mut foreign = Vec::new();
@@ -127,7 +136,11 @@ pub fn foreign_in_tree(dir: &Path, ours: &dyn Fn(&Path) -> bool) -> Result<Vec<P
         if meta.is_dir() {
             foreign.extend(foreign_in_tree(&path, ours)?);
         } else if !(meta.is_file()
-            && (ours(&path) || is_own_hidden(&name) || is_mimo_parquet(&path) || is_json(&path) || is_image(&path)))
+            && (ours(&path)
+                || is_own_hidden(&name)
+                || is_mimo_parquet(&path)
+                || is_json(&path)
+                || is_chart_image(&path)))
         {
             foreign.push(path);
         }
@@ -157,7 +170,7 @@ pub fn foreign_in_score_dir(dir: &ScoreDir) -> Result<Vec<PathBuf>, StoreError> 
                 .is_some_and(|v| v.get("challenge").is_some() && v.get("usage").is_some())
         } else if path == dir.charts() && path.is_dir() {
             let inside = entries(&path)?;
-            foreign.extend(inside.into_iter().filter(|(_, p)| !(p.is_file() && is_image(p))).map(|(_, p)| p));
+            foreign.extend(inside.into_iter().filter(|(_, p)| !(p.is_file() && is_chart_image(p))).map(|(_, p)| p));
             true
         } else {
             is_own_hidden(&name) || (path.is_file() && is_mimo_parquet(&path))
@@ -231,14 +244,20 @@ mod tests {
         bytes.extend_from_slice(&[0; 17]);
         bytes.extend_from_slice(b"rest");
         std::fs::write(&png, &bytes).expect("write");
-        assert!(!is_map_image(&png) && is_image(&png));
-        mark_image(&png).expect("mark");
+        assert!(!is_map_image(&png) && !is_chart_image(&png));
+        mark_image(&png, MAP_MARK).expect("mark");
         let marked = std::fs::read(&png).expect("read");
         assert!(is_map_image(&png) && marked.starts_with(&bytes[..33]) && marked.ends_with(b"rest"));
+        assert!(is_chart_image(&png), "a map is a chart mimo drew");
+        let chart = tmp.path().join("c.png");
+        std::fs::write(&chart, &bytes).expect("write");
+        mark_image(&chart, CHART_MARK).expect("mark");
+        assert!(is_chart_image(&chart) && !is_map_image(&chart));
         let svg = tmp.path().join("m.svg");
         std::fs::write(&svg, "<svg></svg>").expect("write");
-        mark_image(&svg).expect("mark");
-        assert!(is_map_image(&svg));
+        assert!(!is_chart_image(&svg));
+        mark_image(&svg, MAP_MARK).expect("mark");
+        assert!(is_map_image(&svg) && is_chart_image(&svg));
         let page = tmp.path().join("p.html");
         std::fs::write(&page, format!("<html><head>{PLOT_MARK}</head></html>")).expect("write");
         assert!(is_plot_page(&page) && !is_plot_page(&svg));

@@ -4,7 +4,8 @@
 //! rows at most) — flat in the run's length.
 //!
 //! The file is written under a temporary name (`.NAME.tmp`) in a directory that must exist (a
-//! staging directory removed on interrupt is never re-created) and renamed by [`TableWriter::finish`].
+//! staging directory removed on interrupt is never re-created) and renamed by [`TableWriter::finish`];
+//! a writer dropped unfinished, or whose `finish` failed (a full disk), removes its temporary file.
 //! Chunks are a whole number of the Parquet writer's mini-batches (1024 rows), so the bytes are the
 //! ones a single write of all the rows gives.
 
@@ -25,6 +26,7 @@ pub struct TableWriter<R: TableRow> {
     writer: ArrowWriter<File>,
     held: Vec<R>,
     rows: u64,
+    finished: bool,
 }
 
 impl<R: TableRow> TableWriter<R> {
@@ -35,9 +37,18 @@ impl<R: TableRow> TableWriter<R> {
         let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
         let schema = std::sync::Arc::new(R::SPEC.arrow_schema());
         let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
-        let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema)))
-            .map_err(|e| write_err(e.to_string()))?;
-        Ok(TableWriter { path: path.to_path_buf(), tmp, writer, held: Vec::with_capacity(CHUNK_ROWS), rows: 0 })
+        let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema))).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            write_err(e.to_string())
+        })?;
+        Ok(TableWriter {
+            path: path.to_path_buf(),
+            tmp,
+            writer,
+            held: Vec::with_capacity(CHUNK_ROWS),
+            rows: 0,
+            finished: false,
+        })
     }
 
     fn write_err(&self, why: String) -> StoreError {
@@ -90,6 +101,35 @@ impl<R: TableRow> TableWriter<R> {
         }
         self.writer.finish().map_err(|e| self.write_err(e.to_string()))?;
         std::fs::rename(&self.tmp, &self.path).map_err(|e| self.write_err(e.to_string()))?;
+        self.finished = true;
         Ok(self.rows)
+    }
+}
+
+impl<R: TableRow> Drop for TableWriter<R> {
+    fn drop(&mut self) {
+        if !self.finished {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mimo_core::records::TruthRow;
+
+    #[test]
+    fn a_writer_dropped_unfinished_leaves_no_temporary_file() {
+        let tmp = tempfile::tempdir().expect("tmp");
+        let path = tmp.path().join("run-0000.parquet");
+        let w = TableWriter::<TruthRow>::create(&path).expect("create");
+        assert!(tmp.path().join(".run-0000.parquet.tmp").exists(), "written under its temporary name");
+        drop(w);
+        assert_eq!(std::fs::read_dir(tmp.path()).expect("ls").count(), 0, "nothing left");
+        let w = TableWriter::<TruthRow>::create(&path).expect("create");
+        assert_eq!(w.finish().expect("finish"), 0);
+        let names: Vec<_> = std::fs::read_dir(tmp.path()).expect("ls").flatten().map(|e| e.file_name()).collect();
+        assert_eq!(names, ["run-0000.parquet"], "only the finished file");
     }
 }

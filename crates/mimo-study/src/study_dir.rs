@@ -116,9 +116,13 @@ fn claim(dir: &Path, mark: &StudyMark) -> Result<bool, DirError> {
     let study = StudyDir::new(dir);
     let path = study.mark();
     let tmp = path.with_file_name(format!(".{STUDY_FILE}.tmp-{}", unique_suffix()));
-    std::fs::write(&tmp, &json).map_err(io(&tmp))?;
-    let linked = std::fs::hard_link(&tmp, &path);
+    // Removed by the interrupt handler if a signal comes before it is linked and removed here:
+    // the next writer takes it for another shard's mark being written and leaves it alone.
+    mimo_store::output::register(&tmp);
+    let linked = std::fs::write(&tmp, &json).map(|()| std::fs::hard_link(&tmp, &path));
     let _ = std::fs::remove_file(&tmp);
+    mimo_store::output::unregister(&tmp);
+    let linked = linked.map_err(io(&tmp))?;
     let created = match linked {
         Ok(()) => true,
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => false,
@@ -137,8 +141,15 @@ fn claim(dir: &Path, mark: &StudyMark) -> Result<bool, DirError> {
         std::fs::create_dir_all(study.runs()).map_err(io(dir))?;
         let plan = study.plan();
         let tmp = plan.with_file_name(format!(".plan.toml.tmp-{}", unique_suffix()));
-        std::fs::write(&tmp, &mark.plan).map_err(io(&tmp))?;
-        std::fs::rename(&tmp, &plan).map_err(io(&plan))?;
+        mimo_store::output::register(&tmp);
+        let copied = std::fs::write(&tmp, &mark.plan)
+            .map_err(io(&tmp))
+            .and_then(|()| std::fs::rename(&tmp, &plan).map_err(io(&plan)));
+        if copied.is_err() {
+            let _ = std::fs::remove_file(&tmp);
+        }
+        mimo_store::output::unregister(&tmp);
+        copied?;
     }
     Ok(created)
 }

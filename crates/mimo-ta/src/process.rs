@@ -59,12 +59,19 @@ pub fn split_command(cmd: &str) -> Option<Vec<String>> {
 /// One line of a test article's output read as the reply to the message at `t_s`: a
 /// [`ReplyMessage`] in JSON (trailing whitespace and line end ignored), or a
 /// [`TaFault::BadMessage`] quoting at most 120 characters of it, on one line.
+///
+/// The reply must be a JSON object (docs/ta-protocol.md §3): serde would also read a struct
+/// from an array of its fields in order, so `[]` would pass as an empty reply.
 pub fn parse_reply(line: &str, t_s: f64) -> Result<ReplyMessage, TaFault> {
     let text = line.trim_end();
-    serde_json::from_str::<ReplyMessage>(text).map_err(|e| {
+    let fault = |why: String| {
         let shown: String = text.chars().take(120).filter(|c| !c.is_control()).collect();
-        TaFault::BadMessage(format!("{e} in reply to the message at t = {t_s} s: `{shown}`"))
-    })
+        TaFault::BadMessage(format!("{why} in reply to the message at t = {t_s} s: `{shown}`"))
+    };
+    if !text.trim_start().starts_with('{') {
+        return Err(fault("expected a JSON object".into()));
+    }
+    serde_json::from_str::<ReplyMessage>(text).map_err(|e| fault(e.to_string()))
 }
 
 /// A test article run as a child process.

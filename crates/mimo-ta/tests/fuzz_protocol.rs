@@ -43,6 +43,15 @@ fn check_bad(line: &str) {
 const VALID: &str = r#"{"requests":[{"wake_at":3.5},{"stop_local_tracking":"R2"}],"tracks":[{"t_s":1.0,"track_id":4,"status":"confirmed","x_m":1.0,"y_m":2.0,"z_m":3.0,"vx_mps":0.0,"vy_mps":0.0,"vz_mps":0.0,"cov":[1,0,0,0,0,0,1,0,0,0,0,1,0,0,0,1,0,0,1,0,1],"n_updates":2,"last_meas_id":null}]}"#;
 
 #[test]
+fn a_reply_that_is_not_a_json_object_is_refused() {
+    for line in ["[]", "[[], []]", "42", "\"{}\"", "null"] {
+        let e = parse_reply(line, 12.5).expect_err(line).to_string();
+        assert!(e.contains("expected a JSON object") && e.contains("t = 12.5 s"), "{line}: {e}");
+    }
+    assert!(parse_reply(" {}", 0.0).is_ok(), "leading space before an object");
+}
+
+#[test]
 fn the_valid_reply_reads() {
     let r = parse_reply(&format!("{VALID}\r\n"), 0.0).expect("valid");
     assert_eq!(r.requests.len(), 2);
