@@ -33,6 +33,7 @@ pub mod polarimetry;
 pub mod records;
 pub mod rng;
 pub mod sink;
+pub mod table_decl;
 pub mod table_rules;
 pub mod text_file;
 pub mod time;

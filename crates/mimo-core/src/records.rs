@@ -1,389 +1,378 @@
 //! Row records of the run tables (docs/design.md §3).
 //!
-//! These are plain structs: simulation, radar and tracking code produce them without knowing
-//! about Arrow or Parquet. `mimo-store` owns the Arrow schemas (with units in the field
-//! metadata), converts these rows to record batches and back, and checks `schemas/`.
+//! Each table is declared once here (a `macro_rules!` declaration, [`crate::table_decl`]): its
+//! record struct, column names, units, meanings and rules. Expanded here, a declaration gives
+//! plain structs that simulation, radar and tracking code produce without knowing about Arrow or
+//! Parquet; expanded in `mimo-store`, the same declaration gives the Arrow schema (with units in
+//! the field metadata), the conversions to record batches and back, and `schemas/`.
 //!
 //! Positions and velocities are ECEF (m, m/s) unless a name says otherwise; times are seconds since
 //! scenario start. Radar ids are [`RadarId`] here and the strings `R1`…`R4` on disk.
 
-use crate::ids::RadarId;
 use serde::{Deserialize, Serialize};
 
-/// One target at one truth sample.
-#[derive(Debug, Clone, PartialEq)]
-pub struct TruthRow {
-    /// Monte Carlo run index, 0-based.
-    pub run: u32,
-    /// Sample time since scenario start (s).
-    pub t_s: f64,
-    /// Target id (`F-1`…`F-4`, `A`, `B`, `C` in the standard scenarios).
-    pub target: String,
-    /// Target position, ECEF x (m).
-    pub x_m: f64,
-    /// Target position, ECEF y (m).
-    pub y_m: f64,
-    /// Target position, ECEF z (m).
-    pub z_m: f64,
-    /// Target velocity, ECEF x (m/s).
-    pub vx_mps: f64,
-    /// Target velocity, ECEF y (m/s).
-    pub vy_mps: f64,
-    /// Target velocity, ECEF z (m/s).
-    pub vz_mps: f64,
-    /// Target WGS-84 geodetic latitude (deg).
-    pub lat_deg: f64,
-    /// Target WGS-84 geodetic longitude (deg, east positive).
-    pub lon_deg: f64,
-    /// Target height above the WGS-84 ellipsoid (m).
-    pub alt_m: f64,
-    /// Mean radar cross-section (m²).
-    pub rcs_m2: f64,
+/// The `truth` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! truth_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// One target at one truth sample.
+            #[derive(Debug, Clone, PartialEq)]
+            pub struct TruthRow / TruthColumns in TRUTH = "truth": "One row per target per truth sample (default 10 Hz)." {
+                /// Monte Carlo run index, 0-based.
+                run: u32 => ("", "Monte Carlo run index"),
+                /// Sample time since scenario start (s).
+                t_s: f64 => ("s", "time since scenario start", NonNegative),
+                /// Target id (`F-1`…`F-4`, `A`, `B`, `C` in the standard scenarios).
+                target: String => ("", "target id (F-1…F-4, A, B, C in the standard scenarios)"),
+                /// Target position, ECEF x (m).
+                x_m: f64 => ("m", "ECEF x position"),
+                /// Target position, ECEF y (m).
+                y_m: f64 => ("m", "ECEF y position"),
+                /// Target position, ECEF z (m).
+                z_m: f64 => ("m", "ECEF z position"),
+                /// Target velocity, ECEF x (m/s).
+                vx_mps: f64 => ("m/s", "ECEF x velocity"),
+                /// Target velocity, ECEF y (m/s).
+                vy_mps: f64 => ("m/s", "ECEF y velocity"),
+                /// Target velocity, ECEF z (m/s).
+                vz_mps: f64 => ("m/s", "ECEF z velocity"),
+                /// Target WGS-84 geodetic latitude (deg).
+                lat_deg: f64 => ("deg", "WGS-84 geodetic latitude"),
+                /// Target WGS-84 geodetic longitude (deg, east positive).
+                lon_deg: f64 => ("deg", "WGS-84 geodetic longitude"),
+                /// Target height above the WGS-84 ellipsoid (m).
+                alt_m: f64 => ("m", "height above the WGS-84 ellipsoid"),
+                /// Mean radar cross-section (m²).
+                rcs_m2: f64 => ("m^2", "mean radar cross-section"),
+            }
+        }
+    };
 }
+truth_table!(crate::record_struct);
 
-/// A radar's part in a dwell.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Role {
-    /// Transmit only (MIMO transmitter that does not receive).
-    Tx,
-    /// Receive only: costs no energy.
-    Rx,
-    /// Transmit and receive.
-    Txrx,
+crate::label_enum! {
+    /// A radar's part in a dwell.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    pub enum Role {
+        /// Transmit only (MIMO transmitter that does not receive).
+        Tx = "tx",
+        /// Receive only: costs no energy.
+        Rx = "rx",
+        /// Transmit and receive.
+        Txrx = "txrx",
+    }
 }
 
 impl Role {
-    /// Every on-disk label, in declaration order (the values the table's column may hold).
-    pub const LABELS: [&'static str; 3] = ["tx", "rx", "txrx"];
-    /// The on-disk string: `tx`, `rx` or `txrx`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Role::Tx => "tx",
-            Role::Rx => "rx",
-            Role::Txrx => "txrx",
-        }
-    }
-    /// The role written as `s` (`tx`, `rx`, `txrx`); `None` for any other string.
-    pub fn parse(s: &str) -> Option<Role> {
-        Some(match s {
-            "tx" => Role::Tx,
-            "rx" => Role::Rx,
-            "txrx" => Role::Txrx,
-            _ => return None,
-        })
-    }
     /// Does this role transmit (and so cost energy and dwell time)?
     pub fn transmits(self) -> bool {
         !matches!(self, Role::Rx)
     }
 }
 
-/// Why a dwell was made.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DwellKind {
-    /// Background search raster (docs/model.md §7.4), or search requested by a test article.
-    Search,
-    /// Confirmation look at a tentative track (M-of-N, docs/model.md §6.4).
-    Confirm,
-    /// Update look at a track.
-    Track,
-    /// MIMO dwell: several radars steer at one aim point, each transmitter with its own orthogonal
-    /// waveform, each receiver with one matched filter per transmitter (docs/model.md §5).
-    Mimo,
+crate::label_enum! {
+    /// Why a dwell was made.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    pub enum DwellKind {
+        /// Background search raster (docs/model.md §7.4), or search requested by a test article.
+        Search = "search",
+        /// Confirmation look at a tentative track (M-of-N, docs/model.md §6.4).
+        Confirm = "confirm",
+        /// Update look at a track.
+        Track = "track",
+        /// MIMO dwell: several radars steer at one aim point, each transmitter with its own orthogonal
+        /// waveform, each receiver with one matched filter per transmitter (docs/model.md §5).
+        Mimo = "mimo",
+    }
 }
 
-impl DwellKind {
-    /// Every on-disk label, in declaration order (the values the table's column may hold).
-    pub const LABELS: [&'static str; 4] = ["search", "confirm", "track", "mimo"];
-    /// The on-disk string: `search`, `confirm`, `track` or `mimo`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            DwellKind::Search => "search",
-            DwellKind::Confirm => "confirm",
-            DwellKind::Track => "track",
-            DwellKind::Mimo => "mimo",
+crate::label_enum! {
+    /// Who asked for a dwell: the radar's own background search, or the test article.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    pub enum Requester {
+        /// The radar's own background search.
+        Radar = "radar",
+        /// The test article.
+        Ta = "ta",
+    }
+}
+
+/// The `dwells` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! dwells_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// One radar's part in one dwell.
+            #[derive(Debug, Clone, PartialEq)]
+            pub struct DwellRow / DwellColumns in DWELLS = "dwells":
+                "One row per radar's part in one dwell; the radars of one MIMO dwell share group_id." {
+                /// Monte Carlo run index, 0-based.
+                run: u32 => ("", "Monte Carlo run index"),
+                /// Unique within a run per (dwell, radar) part.
+                dwell_id: u64 => ("", "id of this radar's part in the dwell, unique within a run"),
+                /// Shared by all radars of one (MIMO) dwell; equals `dwell_id` of the first part.
+                group_id: u64 => ("", "id shared by all radars of one (MIMO) dwell"),
+                /// The radar this part belongs to (`R1`…`R4` on disk).
+                radar: $crate::ids::RadarId => ("", "radar id R1…R4"),
+                /// Whether this radar transmits, receives or both in the dwell.
+                role: $crate::records::Role => ("", "tx, rx or txrx"),
+                /// Why the dwell was made (search, confirm, track, mimo).
+                kind: $crate::records::DwellKind => ("", "search, confirm, track or mimo"),
+                /// Who asked for the dwell: the radar's background search or the test article.
+                requested_by: $crate::records::Requester => ("", "radar (own background search) or ta (test article)"),
+                /// Start time (s).
+                t_s: f64 => ("s", "dwell start time", NonNegative),
+                /// Time the radar's timeline is occupied, τ_dwell (s).
+                duration_s: f64 => ("s", "timeline occupancy τ_dwell", NonNegative),
+                /// Pulse width τ_pw (s).
+                pulse_width_s: f64 => ("s", "pulse width τ_pw"),
+                /// Pulses integrated coherently.
+                n_pulses: u32 => ("", "pulses integrated coherently"),
+                /// Peak transmit power (W).
+                peak_power_w: f64 => ("W", "peak transmit power"),
+                /// Emitted energy = peak_power_w · pulse_width_s · n_pulses; 0 for `rx`.
+                energy_j: f64 => ("J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)", NonNegative),
+                /// Orthogonal waveform (code) index transmitted; receivers list 0.
+                waveform: u32 => ("", "orthogonal waveform (code) index transmitted"),
+                /// Array face used (0-based).
+                face: u8 => ("", "array face used (0-based)"),
+                /// Beam steering direction in the face's sine space.
+                beam_u: f64 => ("", "beam steering direction cosine u in the face frame"),
+                /// Beam steering direction cosine v (face-up axis) in the face frame.
+                beam_v: f64 => ("", "beam steering direction cosine v in the face frame"),
+                /// Aim point (ECEF, m).
+                aim_x_m: f64 => ("m", "aim point ECEF x"),
+                /// Aim point, ECEF y (m).
+                aim_y_m: f64 => ("m", "aim point ECEF y"),
+                /// Aim point, ECEF z (m).
+                aim_z_m: f64 => ("m", "aim point ECEF z"),
+            }
         }
-    }
-    /// The kind written as `s`; `None` for any string but `search`, `confirm`, `track`, `mimo`.
-    pub fn parse(s: &str) -> Option<DwellKind> {
-        Some(match s {
-            "search" => DwellKind::Search,
-            "confirm" => DwellKind::Confirm,
-            "track" => DwellKind::Track,
-            "mimo" => DwellKind::Mimo,
-            _ => return None,
-        })
-    }
+    };
 }
+dwells_table!(crate::record_struct);
 
-/// Who asked for a dwell: the radar's own background search, or the test article.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Requester {
-    /// The radar's own background search.
-    Radar,
-    /// The test article.
-    Ta,
-}
-
-impl Requester {
-    /// Every on-disk label, in declaration order (the values the table's column may hold).
-    pub const LABELS: [&'static str; 2] = ["radar", "ta"];
-    /// The on-disk string: `radar` or `ta`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Requester::Radar => "radar",
-            Requester::Ta => "ta",
+/// The `voltages` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! voltages_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// Complex voltages of one receive channel (matched filter for one transmitter) in one range
+            /// cell, normalized so that the noise is CN(0, 1) in every channel; written only with
+            /// `--record voltages`.
+            #[derive(Debug, Clone, PartialEq)]
+            pub struct VoltageRow / VoltageColumns in VOLTAGES = "voltages":
+                "Complex voltages per receive channel per range cell per dwell (only with --record voltages); noise is CN(0,1)." {
+                /// Monte Carlo run index, 0-based.
+                run: u32 => ("", "Monte Carlo run index"),
+                /// The receiver's dwell part (`DwellRow::dwell_id`).
+                dwell_id: u64 => ("", "receiver's dwell part"),
+                /// Receiving radar.
+                rx: $crate::ids::RadarId => ("", "receiving radar"),
+                /// Transmitting radar whose waveform this channel's matched filter is for.
+                tx: $crate::ids::RadarId => ("", "transmitting radar (matched filter)"),
+                /// Range cell index k; the cell centre is at ρ_k = k·ΔR (docs/model.md §4.1).
+                range_cell: i64 => ("", "cell index k, ρ_k = k·δs"),
+                /// Equivalent monostatic range of the cell centre, ρ = R_B/2 (m).
+                range_m: f64 => ("m", "equivalent monostatic range ρ = R_B/2 of the cell"),
+                /// Sum channel, in-phase part (√SNR units: noise is CN(0, 1)).
+                sum_i: f64 => ("", "sum channel in-phase (√SNR units)"),
+                /// Sum channel, quadrature part (√SNR units).
+                sum_q: f64 => ("", "sum channel quadrature"),
+                /// Azimuth-difference (u) channel, in-phase part (√SNR units).
+                az_i: f64 => ("", "azimuth-difference channel in-phase"),
+                /// Azimuth-difference (u) channel, quadrature part (√SNR units).
+                az_q: f64 => ("", "azimuth-difference channel quadrature"),
+                /// Elevation-difference (v) channel, in-phase part (√SNR units).
+                el_i: f64 => ("", "elevation-difference channel in-phase"),
+                /// Elevation-difference (v) channel, quadrature part (√SNR units).
+                el_q: f64 => ("", "elevation-difference channel quadrature"),
+            }
         }
-    }
-    /// The requester written as `s` (`radar`, `ta`); `None` for any other string.
-    pub fn parse(s: &str) -> Option<Requester> {
-        Some(match s {
-            "radar" => Requester::Radar,
-            "ta" => Requester::Ta,
-            _ => return None,
-        })
-    }
+    };
 }
+voltages_table!(crate::record_struct);
 
-/// One radar's part in one dwell.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DwellRow {
-    /// Monte Carlo run index, 0-based.
-    pub run: u32,
-    /// Unique within a run per (dwell, radar) part.
-    pub dwell_id: u64,
-    /// Shared by all radars of one (MIMO) dwell; equals `dwell_id` of the first part.
-    pub group_id: u64,
-    /// The radar this part belongs to (`R1`…`R4` on disk).
-    pub radar: RadarId,
-    /// Whether this radar transmits, receives or both in the dwell.
-    pub role: Role,
-    /// Why the dwell was made (search, confirm, track, mimo).
-    pub kind: DwellKind,
-    /// Who asked for the dwell: the radar's background search or the test article.
-    pub requested_by: Requester,
-    /// Start time (s).
-    pub t_s: f64,
-    /// Time the radar's timeline is occupied, τ_dwell (s).
-    pub duration_s: f64,
-    /// Pulse width τ_pw (s).
-    pub pulse_width_s: f64,
-    /// Pulses integrated coherently.
-    pub n_pulses: u32,
-    /// Peak transmit power (W).
-    pub peak_power_w: f64,
-    /// Emitted energy = peak_power_w · pulse_width_s · n_pulses; 0 for `rx`.
-    pub energy_j: f64,
-    /// Orthogonal waveform (code) index transmitted; receivers list 0.
-    pub waveform: u32,
-    /// Array face used (0-based).
-    pub face: u8,
-    /// Beam steering direction in the face's sine space.
-    pub beam_u: f64,
-    /// Beam steering direction cosine v (face-up axis) in the face frame.
-    pub beam_v: f64,
-    /// Aim point (ECEF, m).
-    pub aim_x_m: f64,
-    /// Aim point, ECEF y (m).
-    pub aim_y_m: f64,
-    /// Aim point, ECEF z (m).
-    pub aim_z_m: f64,
-}
-
-/// Complex voltages of one receive channel (matched filter for one transmitter) in one range
-/// cell, normalized so that the noise is CN(0, 1) in every channel.
-#[derive(Debug, Clone, PartialEq)]
-pub struct VoltageRow {
-    /// Monte Carlo run index, 0-based.
-    pub run: u32,
-    /// The receiver's dwell part (`DwellRow::dwell_id`).
-    pub dwell_id: u64,
-    /// Receiving radar.
-    pub rx: RadarId,
-    /// Transmitting radar whose waveform this channel's matched filter is for.
-    pub tx: RadarId,
-    /// Range cell index k; the cell centre is at ρ_k = k·ΔR (docs/model.md §4.1).
-    pub range_cell: i64,
-    /// Equivalent monostatic range of the cell centre, ρ = R_B/2 (m).
-    pub range_m: f64,
-    /// Sum channel, in-phase part (√SNR units: noise is CN(0, 1)).
-    pub sum_i: f64,
-    /// Sum channel, quadrature part (√SNR units).
-    pub sum_q: f64,
-    /// Azimuth-difference (u) channel, in-phase part (√SNR units).
-    pub az_i: f64,
-    /// Azimuth-difference (u) channel, quadrature part (√SNR units).
-    pub az_q: f64,
-    /// Elevation-difference (v) channel, in-phase part (√SNR units).
-    pub el_i: f64,
-    /// Elevation-difference (v) channel, quadrature part (√SNR units).
-    pub el_q: f64,
-}
-
-/// A threshold crossing after monopulse DOA estimation.
-///
-/// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PrimitiveRow {
-    /// Monte Carlo run index, 0-based.
-    #[serde(skip)]
-    pub run: u32,
-    /// The receiver's dwell part.
-    pub dwell_id: u64,
-    /// Dwell mid-time, when truth was evaluated (s since scenario start).
-    pub t_s: f64,
-    /// Receiving radar.
-    pub rx: RadarId,
-    /// Transmitting radar (equal to `rx` for the monostatic channel).
-    pub tx: RadarId,
-    /// Receiver face the (u, v) refer to.
-    pub rx_face: u8,
-    /// Peak cell index.
-    pub range_cell: i64,
-    /// Centroided equivalent monostatic range ρ = R_B/2 (m).
-    pub range_m: f64,
-    /// Estimated direction cosine u (face's horizontal axis) in the receiver face.
-    pub u: f64,
-    /// Estimated direction cosine v (face-up axis) in the receiver face.
-    pub v: f64,
-    /// Observed sum-channel SNR S = Σ|Σ_k|² over the cells used (dB).
-    pub snr_db: f64,
-    /// Imaginary-part statistic T = η_Qa²/var_a + η_Qe²/var_e (χ²₂ for one target).
-    pub eta_q: f64,
-    /// Flagged as possibly two unresolved targets in one beam and cell (docs/model.md §2.7).
-    pub merged: bool,
-    /// Beam steering direction of the receiver (sine space), so the monopulse ratio can be
-    /// recovered offline.
-    pub beam_u: f64,
-    /// Receiver beam steering direction cosine v (sine space).
-    pub beam_v: f64,
-    /// Variances of this primitive's estimates, from the observed SNR (docs/model.md §2.6, §4.6).
-    pub var_range_m2: f64,
-    /// Variance of `u` (dimensionless, sine space).
-    pub var_u: f64,
-    /// Variance of `v` (dimensionless, sine space).
-    pub var_v: f64,
-    /// Truth id of the dominant contributor (evaluation only).
-    #[serde(skip)]
-    pub target_hint: Option<String>,
-}
-
-/// A clustered, centroided detection handed to trackers.
-///
-/// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MeasurementRow {
-    /// Monte Carlo run index, 0-based.
-    #[serde(skip)]
-    pub run: u32,
-    /// Measurement id, unique within a run; ids of dwell group `g` start at `g << 12`.
-    pub meas_id: u64,
-    /// The receiver's dwell part (`DwellRow::dwell_id`).
-    pub dwell_id: u64,
-    /// Dwell mid-time, when truth was evaluated (s since scenario start).
-    pub t_s: f64,
-    /// Receiving radar.
-    pub rx: RadarId,
-    /// Transmitting radar (equal to `rx` for a monostatic measurement).
-    pub tx: RadarId,
-    /// Receiver face the (u, v) refer to (0-based).
-    pub rx_face: u8,
-    /// Equivalent monostatic range ρ = (R_t + R_r)/2 (m).
-    pub range_m: f64,
-    /// Direction cosine u (face's horizontal axis) in the receiver face.
-    pub u: f64,
-    /// Direction cosine v (face-up axis) in the receiver face.
-    pub v: f64,
-    /// Observed sum-channel SNR of the strongest primitive of the cluster (dB).
-    pub snr_db: f64,
-    /// Variance of `range_m` (m²).
-    pub var_range_m2: f64,
-    /// Variance of `u` (dimensionless, sine space).
-    pub var_u: f64,
-    /// Variance of `v` (dimensionless, sine space).
-    pub var_v: f64,
-    /// Number of primitives clustered into this measurement.
-    pub n_primitives: u32,
-    /// Possibly unresolved targets: set when any primitive of the cluster is merged.
-    pub merged: bool,
-    /// Truth id of the dominant contributor; `None` for false alarms. Never shown to a tracker.
-    #[serde(skip)]
-    pub target_hint: Option<String>,
-}
-
-/// Track status.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum TrackStatus {
-    /// Started, not yet confirmed (the default tracker confirms by M-of-N, docs/model.md §6.4).
-    Tentative,
-    /// Confirmed: scoring counts a track from its first confirmed row on (docs/design.md §6).
-    Confirmed,
-    /// Ended: the track's last row, written once.
-    Deleted,
-}
-
-impl TrackStatus {
-    /// Every on-disk label, in declaration order (the values the table's column may hold).
-    pub const LABELS: [&'static str; 3] = ["tentative", "confirmed", "deleted"];
-    /// The on-disk string: `tentative`, `confirmed` or `deleted`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            TrackStatus::Tentative => "tentative",
-            TrackStatus::Confirmed => "confirmed",
-            TrackStatus::Deleted => "deleted",
+/// The `primitives` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! primitives_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// A threshold crossing after monopulse DOA estimation.
+            ///
+            /// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
+            #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+            #[serde(deny_unknown_fields)]
+            pub struct PrimitiveRow / PrimitiveColumns in PRIMITIVES = "primitives":
+                "One row per threshold crossing (local maximum) after ML monopulse DOA." {
+                /// Monte Carlo run index, 0-based.
+                #[serde(skip)]
+                run: u32 => ("", "Monte Carlo run index"),
+                /// The receiver's dwell part.
+                dwell_id: u64 => ("", "receiver's dwell part"),
+                /// Dwell mid-time, when truth was evaluated (s since scenario start).
+                t_s: f64 => ("s", "dwell time", NonNegative),
+                /// Receiving radar.
+                rx: $crate::ids::RadarId => ("", "receiving radar"),
+                /// Transmitting radar (equal to `rx` for the monostatic channel).
+                tx: $crate::ids::RadarId => ("", "transmitting radar"),
+                /// Receiver face the (u, v) refer to.
+                rx_face: u8 => ("", "receiver face the (u, v) refer to"),
+                /// Peak cell index.
+                range_cell: i64 => ("", "peak cell index"),
+                /// Centroided equivalent monostatic range ρ = R_B/2 (m).
+                range_m: f64 => ("m", "centroided equivalent monostatic range ρ = R_B/2"),
+                /// Estimated direction cosine u (face's horizontal axis) in the receiver face.
+                u: f64 => ("", "estimated direction cosine u (receiver face)"),
+                /// Estimated direction cosine v (face-up axis) in the receiver face.
+                v: f64 => ("", "estimated direction cosine v (receiver face)"),
+                /// Observed sum-channel SNR S = Σ|Σ_k|² over the cells used (dB).
+                snr_db: f64 => ("dB", "observed sum-channel SNR over the cells used"),
+                /// Imaginary-part statistic T = η_Qa²/var_a + η_Qe²/var_e (χ²₂ for one target).
+                eta_q: f64 => ("", "imaginary-part monopulse statistic T (χ²₂ for one target)"),
+                /// Flagged as possibly two unresolved targets in one beam and cell (docs/model.md §2.7).
+                merged: bool => ("", "flagged as possibly unresolved (merged) targets"),
+                /// Beam steering direction of the receiver (sine space), so the monopulse ratio can be
+                /// recovered offline.
+                beam_u: f64 => ("", "receiver beam steering u"),
+                /// Receiver beam steering direction cosine v (sine space).
+                beam_v: f64 => ("", "receiver beam steering v"),
+                /// Variances of this primitive's estimates, from the observed SNR (docs/model.md §2.6, §4.6).
+                var_range_m2: f64 => ("m^2", "variance of range_m", Positive),
+                /// Variance of `u` (dimensionless, sine space).
+                var_u: f64 => ("", "variance of u", Positive),
+                /// Variance of `v` (dimensionless, sine space).
+                var_v: f64 => ("", "variance of v", Positive),
+                /// Truth id of the dominant contributor (evaluation only).
+                #[serde(skip)]
+                target_hint: Option<String> =>
+                    ("", "truth id of the dominant contributor (evaluation only); null for false alarms"),
+            }
         }
-    }
-    /// The status written as `s`; `None` for any string but `tentative`, `confirmed`, `deleted`.
-    pub fn parse(s: &str) -> Option<TrackStatus> {
-        Some(match s {
-            "tentative" => TrackStatus::Tentative,
-            "confirmed" => TrackStatus::Confirmed,
-            "deleted" => TrackStatus::Deleted,
-            _ => return None,
-        })
+    };
+}
+primitives_table!(crate::record_struct);
+
+/// The `measurements` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! measurements_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// A clustered, centroided detection handed to trackers.
+            ///
+            /// Serialized (for the test-article protocol) without `run` and `target_hint`, which the engine fills in.
+            #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+            #[serde(deny_unknown_fields)]
+            pub struct MeasurementRow / MeasurementColumns in MEASUREMENTS = "measurements":
+                "One row per clustered, centroided detection handed to trackers." {
+                /// Monte Carlo run index, 0-based.
+                #[serde(skip)]
+                run: u32 => ("", "Monte Carlo run index"),
+                /// Measurement id, unique within a run; ids of dwell group `g` start at `g << 12`.
+                meas_id: u64 => ("", "measurement id, unique within a run"),
+                /// The receiver's dwell part (`DwellRow::dwell_id`).
+                dwell_id: u64 => ("", "receiver's dwell part"),
+                /// Dwell mid-time, when truth was evaluated (s since scenario start).
+                t_s: f64 => ("s", "dwell time", NonNegative),
+                /// Receiving radar.
+                rx: $crate::ids::RadarId => ("", "receiving radar"),
+                /// Transmitting radar (equal to `rx` for a monostatic measurement).
+                tx: $crate::ids::RadarId => ("", "transmitting radar"),
+                /// Receiver face the (u, v) refer to (0-based).
+                rx_face: u8 => ("", "receiver face the (u, v) refer to"),
+                /// Equivalent monostatic range ρ = (R_t + R_r)/2 (m).
+                range_m: f64 => ("m", "equivalent monostatic range ρ = (R_t+R_r)/2"),
+                /// Direction cosine u (face's horizontal axis) in the receiver face.
+                u: f64 => ("", "direction cosine u (receiver face)"),
+                /// Direction cosine v (face-up axis) in the receiver face.
+                v: f64 => ("", "direction cosine v (receiver face)"),
+                /// Observed sum-channel SNR of the strongest primitive of the cluster (dB).
+                snr_db: f64 => ("dB", "observed SNR"),
+                /// Variance of `range_m` (m²).
+                var_range_m2: f64 => ("m^2", "variance of range_m", Positive),
+                /// Variance of `u` (dimensionless, sine space).
+                var_u: f64 => ("", "variance of u", Positive),
+                /// Variance of `v` (dimensionless, sine space).
+                var_v: f64 => ("", "variance of v", Positive),
+                /// Number of primitives clustered into this measurement.
+                n_primitives: u32 => ("", "primitives merged into this measurement"),
+                /// Possibly unresolved targets: set when any primitive of the cluster is merged.
+                merged: bool => ("", "possibly unresolved targets"),
+                /// Truth id of the dominant contributor; `None` for false alarms. Never shown to a tracker.
+                #[serde(skip)]
+                target_hint: Option<String> =>
+                    ("", "truth id of the dominant contributor; null for false alarms (evaluation only)"),
+            }
+        }
+    };
+}
+measurements_table!(crate::record_struct);
+
+crate::label_enum! {
+    /// Track status.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+    #[serde(rename_all = "lowercase")]
+    pub enum TrackStatus {
+        /// Started, not yet confirmed (the default tracker confirms by M-of-N, docs/model.md §6.4).
+        Tentative = "tentative",
+        /// Confirmed: scoring counts a track from its first confirmed row on (docs/design.md §6).
+        Confirmed = "confirmed",
+        /// Ended: the track's last row, written once.
+        Deleted = "deleted",
     }
 }
 
-/// A track's state at an update (or the final `deleted` row).
-///
-/// Serialized (for the test-article protocol) without `run`, which the engine fills in.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TrackRow {
-    /// Monte Carlo run index, 0-based.
-    #[serde(skip)]
-    pub run: u32,
-    /// Time of the state (s since scenario start).
-    pub t_s: f64,
-    /// Track id, unique within a run.
-    pub track_id: u64,
-    /// Track status at this row.
-    pub status: TrackStatus,
-    /// Estimated position, ECEF x (m).
-    pub x_m: f64,
-    /// Estimated position, ECEF y (m).
-    pub y_m: f64,
-    /// Estimated position, ECEF z (m).
-    pub z_m: f64,
-    /// Estimated velocity, ECEF x (m/s).
-    pub vx_mps: f64,
-    /// Estimated velocity, ECEF y (m/s).
-    pub vy_mps: f64,
-    /// Estimated velocity, ECEF z (m/s).
-    pub vz_mps: f64,
-    /// Upper triangle of the 6×6 ECEF position–velocity covariance, row-major (21 values).
-    pub cov: [f64; 21],
-    /// Measurement updates so far.
-    pub n_updates: u32,
-    /// Last measurement used (`MeasurementRow::meas_id`); `None` if none.
-    pub last_meas_id: Option<u64>,
+/// The `tracks` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! tracks_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// A track's state at an update (or the final `deleted` row).
+            ///
+            /// Serialized (for the test-article protocol) without `run`, which the engine fills in.
+            #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+            #[serde(deny_unknown_fields)]
+            pub struct TrackRow / TrackColumns in TRACKS = "tracks":
+                "Track state at each update, plus one row when the track ends (status deleted)." {
+                /// Monte Carlo run index, 0-based.
+                #[serde(skip)]
+                run: u32 => ("", "Monte Carlo run index"),
+                /// Time of the state (s since scenario start).
+                t_s: f64 => ("s", "time of the state", NonNegative),
+                /// Track id, unique within a run.
+                track_id: u64 => ("", "track id, unique within a run"),
+                /// Track status at this row.
+                status: $crate::records::TrackStatus => ("", "tentative, confirmed or deleted"),
+                /// Estimated position, ECEF x (m).
+                x_m: f64 => ("m", "ECEF x position"),
+                /// Estimated position, ECEF y (m).
+                y_m: f64 => ("m", "ECEF y position"),
+                /// Estimated position, ECEF z (m).
+                z_m: f64 => ("m", "ECEF z position"),
+                /// Estimated velocity, ECEF x (m/s).
+                vx_mps: f64 => ("m/s", "ECEF x velocity"),
+                /// Estimated velocity, ECEF y (m/s).
+                vy_mps: f64 => ("m/s", "ECEF y velocity"),
+                /// Estimated velocity, ECEF z (m/s).
+                vz_mps: f64 => ("m/s", "ECEF z velocity"),
+                /// Upper triangle of the 6×6 ECEF position–velocity covariance, row-major (21 values).
+                cov: [f64; 21] => (
+                    "m^2, m^2/s, m^2/s^2",
+                    "upper triangle of the 6×6 ECEF position-velocity covariance, row-major"
+                ),
+                /// Measurement updates so far.
+                n_updates: u32 => ("", "measurement updates so far"),
+                /// Last measurement used (`MeasurementRow::meas_id`); `None` if none.
+                last_meas_id: Option<u64> => ("", "last measurement used; null if none"),
+            }
+        }
+    };
 }
+tracks_table!(crate::record_struct);
 
 /// Every table of one Monte Carlo run, in memory.
 #[derive(Debug, Clone, Default, PartialEq)]

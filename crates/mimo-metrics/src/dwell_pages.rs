@@ -6,12 +6,16 @@
 //! instead ([`crate::dwell_read`]), as is a file whose values break a check.
 
 use crate::dwell_sums::{DwellSums, FilePass, Labels, Rows};
+use mimo_core::records::{DwellColumns, DwellRow};
 use mimo_store::page_columns::{PageFile, PageRowGroup};
 use std::collections::BTreeSet;
 use std::path::Path;
 
+/// The dwells table's column names (from its declaration).
+const D: DwellColumns = DwellRow::COLUMNS;
+
 /// The columns read, in this order.
-const COLUMNS: [&str; 8] = ["run", "radar", "role", "kind", "requested_by", "t_s", "duration_s", "energy_j"];
+const COLUMNS: [&str; 8] = [D.run, D.radar, D.role, D.kind, D.requested_by, D.t_s, D.duration_s, D.energy_j];
 
 /// A utf8 column mapped to label indices; `None` on a string `labels` refuses (or that is not
 /// UTF-8).

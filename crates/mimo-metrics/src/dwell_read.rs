@@ -7,8 +7,12 @@ use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums, FilePass, Labels, Rows, sho
 use crate::frame::Frame;
 use crate::read::Col;
 use arrow::array::Array;
+use mimo_core::records::{DwellColumns, DwellRow};
 use std::collections::BTreeSet;
 use std::path::Path;
+
+/// The dwells table's column names (from its declaration).
+const D: DwellColumns = DwellRow::COLUMNS;
 
 /// One dwells file checked and reduced to its usage sums in one pass, read in slices of
 /// [`DWELL_SLICE_ROWS`] rows; `None` when a check fails or the file cannot be read (the checked
@@ -61,18 +65,18 @@ fn f64s_of(df: &Frame, name: &str, out: &mut Vec<f64>) -> Option<()> {
 
 /// The rows of `df` (a slice of a dwells file, or all of it) checked and added to `pass`.
 pub(crate) fn frame_rows(pass: &mut FilePass<'_>, df: &Frame, bufs: &mut Buffers) -> Option<()> {
-    if df.column("run").ok()?.null_count() > 0 {
+    if df.column(D.run).ok()?.null_count() > 0 {
         return None;
     }
     bufs.run.clear();
-    bufs.run.extend_from_slice(df.u32s("run").ok()?);
-    labels_of(df, "radar", &mut pass.radar, &mut bufs.radar)?;
-    labels_of(df, "role", &mut pass.role, &mut bufs.role)?;
-    labels_of(df, "kind", &mut pass.kind, &mut bufs.kind)?;
-    labels_of(df, "requested_by", &mut pass.requested_by, &mut bufs.by)?;
-    f64s_of(df, "t_s", &mut bufs.t_s)?;
-    f64s_of(df, "duration_s", &mut bufs.duration_s)?;
-    f64s_of(df, "energy_j", &mut bufs.energy_j)?;
+    bufs.run.extend_from_slice(df.u32s(D.run).ok()?);
+    labels_of(df, D.radar, &mut pass.radar, &mut bufs.radar)?;
+    labels_of(df, D.role, &mut pass.role, &mut bufs.role)?;
+    labels_of(df, D.kind, &mut pass.kind, &mut bufs.kind)?;
+    labels_of(df, D.requested_by, &mut pass.requested_by, &mut bufs.by)?;
+    f64s_of(df, D.t_s, &mut bufs.t_s)?;
+    f64s_of(df, D.duration_s, &mut bufs.duration_s)?;
+    f64s_of(df, D.energy_j, &mut bufs.energy_j)?;
     pass.rows(&Rows {
         run: &bufs.run,
         radar: &bufs.radar,
@@ -112,7 +116,7 @@ pub(crate) fn file_sums_in_slices(
     let mut bufs = Buffers::default();
     for first in (0..n_rows).step_by(slice_rows) {
         let len = slice_rows.min(n_rows - first);
-        let df = crate::read::read_file_slice_unchecked("dwells", path, cols, Some((first, len))).ok()?;
+        let df = crate::read::read_file_slice_unchecked(DwellRow::TABLE, path, cols, Some((first, len))).ok()?;
         frame_rows(&mut pass, &df, &mut bufs)?;
     }
     Some(pass.finish())

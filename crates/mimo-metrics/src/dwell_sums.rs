@@ -208,7 +208,7 @@ impl<'r> FilePass<'r> {
     pub(crate) fn new(runs: &'r BTreeSet<u32>, interval_s: f64, slice_rows: usize) -> FilePass<'r> {
         let mut role = Labels::fixed(&Role::LABELS);
         let mut requested_by = Labels::fixed(&Requester::LABELS);
-        let (rx, ta) = (role.of("rx"), requested_by.of("ta"));
+        let (rx, ta) = (role.of(Role::Rx.as_str()), requested_by.of(Requester::Ta.as_str()));
         FilePass {
             runs,
             interval_s,

@@ -7,14 +7,19 @@ use crate::frame::Frame;
 use crate::read::{Check, Col, col as rcol, read_file, read_table_checked};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
-use mimo_core::records::TrackStatus;
+use mimo_core::records::{DwellColumns, DwellRow, TrackColumns, TrackRow, TrackStatus, TruthColumns, TruthRow};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
+
+/// The run tables' column names (from their declarations in `mimo_core::records`).
+const T: TruthColumns = TruthRow::COLUMNS;
+const D: DwellColumns = DwellRow::COLUMNS;
+const K: TrackColumns = TrackRow::COLUMNS;
 
 /// Every column of `table`'s spec (the whole table, each column checked), `run` with `run_check`.
 fn all_columns<'a>(table: &'static str, run_check: Check<'a>) -> Result<Vec<Col<'a>>, MetricsError> {
     let spec = crate::read::spec_of(table)?;
-    Ok(spec.columns.iter().map(|c| rcol(c.name, if c.name == "run" { run_check } else { Check::Any })).collect())
+    Ok(spec.columns.iter().map(|c| rcol(c.name, if c.name == T.run { run_check } else { Check::Any })).collect())
 }
 
 pub(crate) fn vec3s(df: &Frame, names: [&str; 3]) -> Result<Vec<DVec3>, MetricsError> {
@@ -31,14 +36,14 @@ pub(crate) struct Truth {
 }
 
 pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
-    let cols = all_columns("truth", Check::Any)?;
-    let df = read_table_checked("truth", paths, &cols, &crate::rules::check_truth)?;
-    let run = df.u32s("run")?;
-    let t = df.f64s("t_s")?;
-    let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
-    let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
-    let alt = df.f64s("alt_m")?;
-    let targets = df.strs("target")?;
+    let cols = all_columns(TruthRow::TABLE, Check::Any)?;
+    let df = read_table_checked(TruthRow::TABLE, paths, &cols, &crate::rules::check_truth)?;
+    let run = df.u32s(T.run)?;
+    let t = df.f64s(T.t_s)?;
+    let p = vec3s(&df, [T.x_m, T.y_m, T.z_m])?;
+    let v = vec3s(&df, [T.vx_mps, T.vy_mps, T.vz_mps])?;
+    let alt = df.f64s(T.alt_m)?;
+    let targets = df.strs(T.target)?;
 
     let mut names: BTreeSet<&str> = BTreeSet::new();
     let mut last: Option<&str> = None;
@@ -86,13 +91,13 @@ pub(crate) fn load_tracks(
     paths: &[PathBuf],
     runs: &BTreeSet<u32>,
 ) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
-    let cols = all_columns("tracks", Check::RunIn(runs))?;
-    let df = read_table_checked("tracks", paths, &cols, &crate::rules::check_tracks)?;
-    let run = df.u32s("run")?;
-    let id = df.u64s("track_id")?;
-    let t = df.f64s("t_s")?;
-    let p = vec3s(&df, ["x_m", "y_m", "z_m"])?;
-    let v = vec3s(&df, ["vx_mps", "vy_mps", "vz_mps"])?;
+    let cols = all_columns(TrackRow::TABLE, Check::RunIn(runs))?;
+    let df = read_table_checked(TrackRow::TABLE, paths, &cols, &crate::rules::check_tracks)?;
+    let run = df.u32s(K.run)?;
+    let id = df.u64s(K.track_id)?;
+    let t = df.f64s(K.t_s)?;
+    let p = vec3s(&df, [K.x_m, K.y_m, K.z_m])?;
+    let v = vec3s(&df, [K.vx_mps, K.vy_mps, K.vz_mps])?;
     let status = crate::rules::track_statuses(&df)?;
     let rank = crate::rules::track_ranks(&df, &status)?;
 
@@ -151,8 +156,8 @@ pub(crate) fn load_dwell_sums(
 ) -> Result<(DwellSums, BTreeSet<String>), MetricsError> {
     if paths.is_empty() {
         return Err(MetricsError::MissingTable {
-            table: "dwells",
-            path: PathBuf::from("dwells"),
+            table: DwellRow::TABLE,
+            path: PathBuf::from(DwellRow::TABLE),
             detail: "no Parquet files given".into(),
         });
     }
@@ -170,14 +175,14 @@ pub(crate) fn load_dwell_sums(
 fn dwell_cols(runs: &BTreeSet<u32>) -> [Col<'_>; 8] {
     let any = |name| rcol(name, Check::Any);
     [
-        rcol("run", Check::RunIn(runs)),
-        any("radar"),
-        any("role"),
-        any("kind"),
-        any("requested_by"),
-        any("t_s"),
-        any("duration_s"),
-        any("energy_j"),
+        rcol(D.run, Check::RunIn(runs)),
+        any(D.radar),
+        any(D.role),
+        any(D.kind),
+        any(D.requested_by),
+        any(D.t_s),
+        any(D.duration_s),
+        any(D.energy_j),
     ]
 }
 
@@ -185,7 +190,7 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [Col<'_>; 8] {
 /// pass ([`crate::dwell_read::file_sums`]). When any check fails the whole file is read with
 /// every check, whose error names the row and rule.
 fn dwell_file_sums(path: &std::path::Path, runs: &BTreeSet<u32>, interval_s: f64) -> Result<DwellSums, MetricsError> {
-    let n_rows = crate::read::file_rows("dwells", path)?;
+    let n_rows = crate::read::file_rows(DwellRow::TABLE, path)?;
     // A file of run K holds run K alone: the one-pass readers take that run only (any other
     // leaves them to the checked read, which names the row).
     let of_file: BTreeSet<u32>;
@@ -208,19 +213,19 @@ fn dwell_file_sums_whole(
     runs: &BTreeSet<u32>,
     interval_s: f64,
 ) -> Result<DwellSums, MetricsError> {
-    let df = read_file("dwells", path, &dwell_cols(runs))?;
+    let df = read_file(DwellRow::TABLE, path, &dwell_cols(runs))?;
     crate::rules::check_dwells(path, &df)?;
     let mut pass = crate::dwell_sums::FilePass::new(runs, interval_s, df.height());
     if crate::dwell_read::frame_rows(&mut pass, &df, &mut crate::dwell_read::Buffers::default()).is_some() {
         return Ok(pass.finish());
     }
     // Every check passed: only a time too far out for an interval number is left.
-    let t = df.f64s("t_s")?;
+    let t = df.f64s(D.t_s)?;
     let row = t.iter().position(|t| t / interval_s >= 9.0e18).unwrap_or(0);
     Err(MetricsError::InvalidValue {
-        table: "dwells",
+        table: DwellRow::TABLE,
         path: path.to_path_buf(),
-        column: "t_s",
+        column: D.t_s,
         row,
         value: t.get(row).map(|t| t.to_string()).unwrap_or_default(),
         expected: "a time of fewer than 9e18 scoring intervals".into(),

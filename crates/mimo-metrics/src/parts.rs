@@ -16,6 +16,7 @@ use crate::MetricsError;
 use crate::load::{Truth, load_tracks, load_truth};
 use crate::read::{Check, col as rcol, read_file};
 use crate::track_metrics::{RunOutput, TargetTally};
+use mimo_core::records::{TrackRow, TruthRow};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
 
@@ -30,8 +31,9 @@ pub(crate) struct Part {
 
 /// The runs named in one file's `run` column.
 fn file_runs(table: &'static str, path: &std::path::Path) -> Result<BTreeSet<u32>, MetricsError> {
-    let df = read_file(table, path, &[rcol("run", Check::Any)])?;
-    let runs = df.u32s("run")?;
+    let run = TruthRow::COLUMNS.run;
+    let df = read_file(table, path, &[rcol(run, Check::Any)])?;
+    let runs = df.u32s(run)?;
     Ok(runs.iter().copied().collect())
 }
 
@@ -110,8 +112,8 @@ pub(crate) fn split(truth: &[PathBuf], tracks: &[PathBuf]) -> Result<Option<Spli
     if truth.len() < 2 || tracks.is_empty() {
         return Ok(None);
     }
-    let truth_runs = truth.iter().map(|p| file_runs("truth", p)).collect::<Result<Vec<_>, _>>()?;
-    let tracks_runs = tracks.iter().map(|p| file_runs("tracks", p)).collect::<Result<Vec<_>, _>>()?;
+    let truth_runs = truth.iter().map(|p| file_runs(TruthRow::TABLE, p)).collect::<Result<Vec<_>, _>>()?;
+    let tracks_runs = tracks.iter().map(|p| file_runs(TrackRow::TABLE, p)).collect::<Result<Vec<_>, _>>()?;
     Ok(group(truth, &truth_runs, tracks, &tracks_runs)
         .map(|parts| Split { parts, truth_runs: truth_runs.into_iter().flatten().collect() }))
 }

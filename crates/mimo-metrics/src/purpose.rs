@@ -13,6 +13,7 @@ use crate::purpose_rule::{BeamGeometry, LookPart, Purpose, holds_truth};
 use crate::track_metrics::{TruthSample, truth_at};
 use crate::{MetricsError, PurposeUsage, UsageByPurposeRow, UsagePair};
 use glam::DVec3;
+use mimo_core::records::{DwellColumns, DwellKind, DwellRow, Role, TruthColumns, TruthRow};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -53,14 +54,6 @@ pub(crate) struct PurposeInput<'a> {
     pub threads: usize,
 }
 
-/// The role of a part.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Role {
-    Tx,
-    Rx,
-    TxRx,
-}
-
 /// One non-search row of a dwells file.
 #[derive(Debug, Clone)]
 struct Part {
@@ -69,7 +62,7 @@ struct Part {
     group: u64,
     radar: usize,
     role: Role,
-    kind: &'static str,
+    kind: DwellKind,
     t_s: f64,
     duration_s: f64,
     energy_j: f64,
@@ -86,21 +79,27 @@ struct FileRows {
     parts: Vec<Part>,
 }
 
+/// The dwells table's column names (from its declaration).
+const D: DwellColumns = DwellRow::COLUMNS;
+/// The truth table's column names (from its declaration).
+const T: TruthColumns = TruthRow::COLUMNS;
+
+/// The dwells columns read.
 const COLUMNS: [&str; 14] = [
-    "run",
-    "group_id",
-    "radar",
-    "role",
-    "kind",
-    "t_s",
-    "duration_s",
-    "energy_j",
-    "face",
-    "beam_u",
-    "beam_v",
-    "aim_x_m",
-    "aim_y_m",
-    "aim_z_m",
+    D.run,
+    D.group_id,
+    D.radar,
+    D.role,
+    D.kind,
+    D.t_s,
+    D.duration_s,
+    D.energy_j,
+    D.face,
+    D.beam_u,
+    D.beam_v,
+    D.aim_x_m,
+    D.aim_y_m,
+    D.aim_z_m,
 ];
 
 fn interval_of(t_s: f64, interval_s: f64) -> i64 {
@@ -120,30 +119,23 @@ impl FileRows {
 
     /// One batch: search rows summed, other rows kept.
     fn batch(&mut self, b: &Batch<'_>, interval_s: f64) -> Result<(), MetricsError> {
-        let (run, group, face) = (b.u32("run")?, b.u64("group_id")?, b.u8("face")?);
-        let (radar, role, kind) = (b.utf8("radar")?, b.utf8("role")?, b.utf8("kind")?);
-        let (t, dur, energy) = (b.f64("t_s")?, b.f64("duration_s")?, b.f64("energy_j")?);
-        let (bu, bv) = (b.f64("beam_u")?, b.f64("beam_v")?);
-        let (ax, ay, az) = (b.f64("aim_x_m")?, b.f64("aim_y_m")?, b.f64("aim_z_m")?);
+        let (run, group, face) = (b.u32(D.run)?, b.u64(D.group_id)?, b.u8(D.face)?);
+        let (radar, role, kind) = (b.utf8(D.radar)?, b.utf8(D.role)?, b.utf8(D.kind)?);
+        let (t, dur, energy) = (b.f64(D.t_s)?, b.f64(D.duration_s)?, b.f64(D.energy_j)?);
+        let (bu, bv) = (b.f64(D.beam_u)?, b.f64(D.beam_v)?);
+        let (ax, ay, az) = (b.f64(D.aim_x_m)?, b.f64(D.aim_y_m)?, b.f64(D.aim_z_m)?);
         let (run, group, face) = (run.values(), group.values(), face.values());
         let (t, dur, energy) = (t.values(), dur.values(), energy.values());
         let (bu, bv, ax, ay, az) = (bu.values(), bv.values(), ax.values(), ay.values(), az.values());
         for i in 0..b.len() {
-            let role = match role.value(i) {
-                "tx" => Role::Tx,
-                "rx" => Role::Rx,
-                "txrx" => Role::TxRx,
-                other => return Err(b.invalid("role", i, other.to_string(), "tx, rx or txrx")),
+            let Some(role) = Role::parse(role.value(i)) else {
+                return Err(b.invalid(D.role, i, role.value(i).to_string(), "tx, rx or txrx"));
             };
-            let kind = match kind.value(i) {
-                "search" => "search",
-                "confirm" => "confirm",
-                "track" => "track",
-                "mimo" => "mimo",
-                other => return Err(b.invalid("kind", i, other.to_string(), "search, confirm, track or mimo")),
+            let Some(kind) = DwellKind::parse(kind.value(i)) else {
+                return Err(b.invalid(D.kind, i, kind.value(i).to_string(), "search, confirm, track or mimo"));
             };
             let r = self.radar_index(radar.value(i));
-            if kind == "search" {
+            if kind == DwellKind::Search {
                 if role != Role::Rx {
                     let slot = self.sums.entry((run[i], r, interval_of(t[i], interval_s))).or_default();
                     slot[Purpose::Search.index()].add(dur[i], energy[i]);
@@ -174,13 +166,13 @@ type RunTruth = Vec<Vec<TruthSample>>;
 
 /// The truth of `runs` from the truth files.
 fn load_truth(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, RunTruth>, MetricsError> {
-    let cols = ["run", "target", "t_s", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps", "alt_m"];
+    let cols = [T.run, T.target, T.t_s, T.x_m, T.y_m, T.z_m, T.vx_mps, T.vy_mps, T.vz_mps, T.alt_m];
     let mut by_target: BTreeMap<(u32, String), Vec<TruthSample>> = BTreeMap::new();
     for path in paths {
-        for_batches("truth", path, &cols, |b| {
-            let (run, target, t, alt) = (b.u32("run")?, b.utf8("target")?, b.f64("t_s")?, b.f64("alt_m")?);
-            let (x, y, z) = (b.f64("x_m")?, b.f64("y_m")?, b.f64("z_m")?);
-            let (vx, vy, vz) = (b.f64("vx_mps")?, b.f64("vy_mps")?, b.f64("vz_mps")?);
+        for_batches(TruthRow::TABLE, path, &cols, |b| {
+            let (run, target, t, alt) = (b.u32(T.run)?, b.utf8(T.target)?, b.f64(T.t_s)?, b.f64(T.alt_m)?);
+            let (x, y, z) = (b.f64(T.x_m)?, b.f64(T.y_m)?, b.f64(T.z_m)?);
+            let (vx, vy, vz) = (b.f64(T.vx_mps)?, b.f64(T.vy_mps)?, b.f64(T.vz_mps)?);
             let (run, t, alt, x, y, z) = (run.values(), t.values(), alt.values(), x.values(), y.values(), z.values());
             let (vx, vy, vz) = (vx.values(), vy.values(), vz.values());
             for i in (0..b.len()).filter(|&i| runs.contains(&run[i])) {
@@ -256,7 +248,7 @@ fn file_sums(
     truth_files: &BTreeMap<u32, Vec<usize>>,
 ) -> Result<(Vec<String>, FileSums), MetricsError> {
     let mut rows = FileRows::default();
-    for_batches("dwells", path, &COLUMNS, |b| rows.batch(b, input.interval_s))?;
+    for_batches(DwellRow::TABLE, path, &COLUMNS, |b| rows.batch(b, input.interval_s))?;
     let runs: BTreeSet<u32> = rows.parts.iter().map(|p| p.run).collect();
     let files: BTreeSet<usize> = runs.iter().filter_map(|r| truth_files.get(r)).flatten().copied().collect();
     let files: Vec<PathBuf> = files.into_iter().map(|i| input.truth[i].clone()).collect();
@@ -285,8 +277,8 @@ pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, Metr
     // the truth of its own runs.
     let runs_of_file = crate::parallel::parallel(input.truth, input.threads, &|path: &PathBuf| {
         let mut runs = BTreeSet::new();
-        for_batches("truth", path, &["run"], |b| {
-            runs.extend(b.u32("run")?.values().iter().copied());
+        for_batches(TruthRow::TABLE, path, &[T.run], |b| {
+            runs.extend(b.u32(T.run)?.values().iter().copied());
             Ok(())
         })
         .map(|()| runs)

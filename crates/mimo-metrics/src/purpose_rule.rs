@@ -25,6 +25,7 @@
 use glam::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::params::{PatternModel, RadarParams};
+use mimo_core::records::DwellKind;
 use std::collections::BTreeMap;
 
 /// Half-width of the range window the rule takes around the aim point's equivalent range (m):
@@ -32,35 +33,28 @@ use std::collections::BTreeMap;
 /// `w = max(5σ_ρ, 1 km)`), so that a truth counted in it is inside that test article's window.
 pub const RANGE_WINDOW_HALF_M: f64 = 1000.0;
 
-/// What a transmit dwell row was spent on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Purpose {
-    /// Kind `search`, whoever requested it.
-    Search,
-    /// Kind `confirm` holding a truth.
-    ConfirmTrue,
-    /// Kind `confirm` holding none.
-    ConfirmFalse,
-    /// Kind `track` or `mimo` holding a truth.
-    Track,
-    /// Kind `track` or `mimo` holding none (a track following no object).
-    TrackFalse,
+mimo_core::label_enum! {
+    /// What a transmit dwell row was spent on; the labels are the `purpose` column of
+    /// `score_usage_by_purpose` and the keys of `summary.json`.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+    pub enum Purpose {
+        /// Kind `search`, whoever requested it.
+        Search = "search",
+        /// Kind `confirm` holding a truth.
+        ConfirmTrue = "confirm_true",
+        /// Kind `confirm` holding none.
+        ConfirmFalse = "confirm_false",
+        /// Kind `track` or `mimo` holding a truth.
+        Track = "track",
+        /// Kind `track` or `mimo` holding none (a track following no object).
+        TrackFalse = "track_false",
+    }
 }
 
 impl Purpose {
-    /// Every purpose, in table order.
-    pub const ALL: [Purpose; 5] =
-        [Purpose::Search, Purpose::ConfirmTrue, Purpose::ConfirmFalse, Purpose::Track, Purpose::TrackFalse];
-
     /// The name written in tables and JSON.
     pub fn name(self) -> &'static str {
-        match self {
-            Purpose::Search => "search",
-            Purpose::ConfirmTrue => "confirm_true",
-            Purpose::ConfirmFalse => "confirm_false",
-            Purpose::Track => "track",
-            Purpose::TrackFalse => "track_false",
-        }
+        self.as_str()
     }
 
     /// Index in [`Purpose::ALL`].
@@ -69,14 +63,14 @@ impl Purpose {
     }
 
     /// The purpose of a look of `kind` (`confirm`, `track`, `mimo`) that holds a truth or not;
-    /// `None` for `search` (which needs no geometry) or an unknown kind.
-    pub fn of_look(kind: &str, holds_truth: bool) -> Option<Purpose> {
+    /// `None` for `search` (which needs no geometry).
+    pub fn of_look(kind: DwellKind, holds_truth: bool) -> Option<Purpose> {
         match (kind, holds_truth) {
-            ("confirm", true) => Some(Purpose::ConfirmTrue),
-            ("confirm", false) => Some(Purpose::ConfirmFalse),
-            ("track" | "mimo", true) => Some(Purpose::Track),
-            ("track" | "mimo", false) => Some(Purpose::TrackFalse),
-            _ => None,
+            (DwellKind::Confirm, true) => Some(Purpose::ConfirmTrue),
+            (DwellKind::Confirm, false) => Some(Purpose::ConfirmFalse),
+            (DwellKind::Track | DwellKind::Mimo, true) => Some(Purpose::Track),
+            (DwellKind::Track | DwellKind::Mimo, false) => Some(Purpose::TrackFalse),
+            (DwellKind::Search, _) => None,
         }
     }
 }
@@ -282,11 +276,11 @@ mod tests {
 
     #[test]
     fn purposes_of_looks() {
-        assert_eq!(Purpose::of_look("confirm", true), Some(Purpose::ConfirmTrue));
-        assert_eq!(Purpose::of_look("confirm", false), Some(Purpose::ConfirmFalse));
-        assert_eq!(Purpose::of_look("mimo", true), Some(Purpose::Track));
-        assert_eq!(Purpose::of_look("track", false), Some(Purpose::TrackFalse));
-        assert_eq!(Purpose::of_look("search", true), None);
+        assert_eq!(Purpose::of_look(DwellKind::Confirm, true), Some(Purpose::ConfirmTrue));
+        assert_eq!(Purpose::of_look(DwellKind::Confirm, false), Some(Purpose::ConfirmFalse));
+        assert_eq!(Purpose::of_look(DwellKind::Mimo, true), Some(Purpose::Track));
+        assert_eq!(Purpose::of_look(DwellKind::Track, false), Some(Purpose::TrackFalse));
+        assert_eq!(Purpose::of_look(DwellKind::Search, true), None);
         let names: Vec<&str> = Purpose::ALL.iter().map(|p| p.name()).collect();
         assert_eq!(names, ["search", "confirm_true", "confirm_false", "track", "track_false"]);
         assert!(Purpose::ALL.iter().enumerate().all(|(i, p)| p.index() == i));

@@ -216,7 +216,7 @@ fn check_values(
             });
         }
     }
-    if c.name == "run" {
+    if c.name == mimo_core::records::TruthRow::COLUMNS.run {
         mimo_store::checked::check_file_run(path, column.as_ref(), first_row)?;
     }
     Ok(())

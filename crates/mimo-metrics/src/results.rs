@@ -2,112 +2,14 @@
 //! interval) and the summary written to `summary.json` (see the crate docs for each definition).
 
 use crate::{NamedList, ScoreOptions};
+use mimo_store::columns::{Column, ColumnRows, IntoColumn};
 use serde::Serialize;
 
-/// Track metrics of one run at one scoring time (see the crate docs for each definition).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct TrackMetricsRow {
-    /// Monte Carlo run index.
-    pub run: u32,
-    /// Scoring time index k (1-based); `t_s = k · interval_s`.
-    pub k: u32,
-    /// Scoring time since scenario start (s).
-    pub t_s: f64,
-    /// Truths present (inside their sampled span), scorable or not.
-    pub n_truths: u32,
-    /// Scorable truths N: present and seen by at least one radar (docs/design.md §6).
-    pub n_scorable: u32,
-    /// Live (confirmed, not deleted) tracks.
-    pub n_tracks: u32,
-    /// Scorable truths assigned a track A.
-    pub n_assigned: u32,
-    /// Unassigned tracks inside the gate of some scorable truth.
-    pub n_redundant: u32,
-    /// Tracks inside the gate of no present truth.
-    pub n_spurious: u32,
-    /// A / N; null when N = 0.
-    pub completeness: Option<f64>,
-    /// n_redundant / N; null when N = 0.
-    pub redundant_ratio: Option<f64>,
-    /// n_spurious / M; null when M = 0.
-    pub spurious_ratio: Option<f64>,
-    /// Truths assigned at the previous scoring time, scorable and unassigned now.
-    pub breaks: u32,
-    /// Truths assigned now to another track than the one they last had.
-    pub switches: u32,
-    /// Breaks summed up to this time in the run.
-    pub cum_breaks: u32,
-    /// Switches summed up to this time in the run.
-    pub cum_switches: u32,
-    /// Sum of squared position errors over assigned pairs (m^2).
-    pub position_sq_sum_m2: f64,
-    /// Sum of squared velocity errors over assigned pairs (m^2/s^2).
-    pub velocity_sq_sum_m2ps2: f64,
-    /// RMS position error over assigned pairs; null without any (m).
-    pub position_rmse_m: Option<f64>,
-    /// RMS velocity error over assigned pairs; null without any (m/s).
-    pub velocity_rmse_mps: Option<f64>,
-    /// OSPA between scorable truths and live tracks; null when both sets are empty (m).
-    pub ospa_m: Option<f64>,
-    /// GOSPA (alpha = 2); null when both sets are empty (m).
-    pub gospa_m: Option<f64>,
-    /// GOSPA's parts (see [`crate::ospa::OspaGospa`]); null with `gospa_m`.
-    pub gospa_localisation_m: Option<f64>,
-    /// GOSPA's missed truths (each costing c^p / 2).
-    pub gospa_missed: Option<u32>,
-    /// GOSPA's false tracks (each costing c^p / 2).
-    pub gospa_false: Option<u32>,
-}
+mimo_store::score_track_metrics_table!(mimo_store::column_rows);
 
-/// Track metrics at one scoring time averaged over runs.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct TrackMetricsMeanRow {
-    /// Scoring time index, 1-based (t_s = k · interval_s).
-    pub k: u32,
-    /// Scoring time since scenario start (s).
-    pub t_s: f64,
-    /// Runs that reach this scoring time.
-    pub runs: u32,
-    /// Mean scorable truths.
-    pub n_scorable_mean: f64,
-    /// Mean live tracks.
-    pub n_tracks_mean: f64,
-    /// Mean completeness over runs with N > 0.
-    pub completeness: Option<f64>,
-    /// Mean redundant ratio over runs with N > 0.
-    pub redundant_ratio: Option<f64>,
-    /// Mean spurious ratio over runs with M > 0.
-    pub spurious_ratio: Option<f64>,
-    /// Mean cumulative breaks.
-    pub cum_breaks_mean: f64,
-    /// Mean cumulative switches.
-    pub cum_switches_mean: f64,
-    /// Pooled over the assigned pairs of every run at this time.
-    pub position_rmse_m: Option<f64>,
-    /// Velocity RMSE pooled over the runs' assigned pairs (m/s).
-    pub velocity_rmse_mps: Option<f64>,
-    /// Mean OSPA where defined (m).
-    pub ospa_m: Option<f64>,
-    /// Mean GOSPA where defined (m).
-    pub gospa_m: Option<f64>,
-}
+mimo_store::score_track_metrics_mean_table!(mimo_store::column_rows);
 
-/// One scorable truth at one scoring time and the track assigned to it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct AssignmentRow {
-    /// Monte Carlo run index.
-    pub run: u32,
-    /// Scoring time since scenario start (s).
-    pub t_s: f64,
-    /// Truth name, as in the truth table.
-    pub target: String,
-    /// `None` when the truth is unassigned.
-    pub track_id: Option<u64>,
-    /// ‖track position − truth position‖; null when unassigned (m).
-    pub position_error_m: Option<f64>,
-    /// ‖track velocity − truth velocity‖; null when unassigned (m/s).
-    pub velocity_error_mps: Option<f64>,
-}
+mimo_store::score_assignments_table!(mimo_store::column_rows);
 
 /// Usage of one radar in one scoring interval, averaged over runs: the radar and its figures,
 /// which are those a [`UsageTotalRow`] holds for all radars (read them through `Deref`).
@@ -127,60 +29,18 @@ impl std::ops::Deref for UsageRow {
     }
 }
 
-/// Usage in one scoring interval, averaged over runs: of one radar (in a [`UsageRow`]) or of all
-/// radars (`usage_total`, the sums over radars of the [`UsageRow`]s).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct UsageTotalRow {
-    /// Interval index j, 1-based; a dwell belongs to it by its start time.
-    pub interval: u32,
-    /// Interval start (s).
-    pub t_start_s: f64,
-    /// Interval end (s).
-    pub t_end_s: f64,
-    /// Runs averaged.
-    pub runs: u32,
-    /// Mean scorable truths at the interval's scoring time.
-    pub n_scorable_mean: f64,
-    /// Transmit dwell time in the interval, mean over runs (s).
-    pub dwell_time_s: f64,
-    /// Transmitted energy in the interval, mean over runs (J).
-    pub energy_j: f64,
-    /// As dwell_time_s, TA-requested dwells only (s).
-    pub ta_dwell_time_s: f64,
-    /// As energy_j, TA-requested dwells only (J).
-    pub ta_energy_j: f64,
-    /// Dwell time per scorable object (eq. 1 / 5); null where no run has one (s).
-    pub dwell_time_per_object_s: Option<f64>,
-    /// Energy per scorable object (eq. 2 / 6); null where no run has one (J).
-    pub energy_per_object_j: Option<f64>,
-    /// As dwell_time_per_object_s, TA-requested dwells only (s).
-    pub ta_dwell_time_per_object_s: Option<f64>,
-    /// As energy_per_object_j, TA-requested dwells only (J).
-    pub ta_energy_per_object_j: Option<f64>,
-    /// Dwell_time_s summed up to this interval (s).
-    pub cum_dwell_time_s: f64,
-    /// Energy_j summed up to this interval (J).
-    pub cum_energy_j: f64,
-    /// Ta_dwell_time_s summed up to this interval (s).
-    pub cum_ta_dwell_time_s: f64,
-    /// Ta_energy_j summed up to this interval (J).
-    pub cum_ta_energy_j: f64,
+/// The columns of `score_usage` (`mimo_store::score_usage_table!`): the radar, then its figures.
+impl ColumnRows for UsageRow {
+    fn columns_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Vec<Column> {
+        let mut columns = vec![String::column_of(rows, |r| &get(r).radar)];
+        columns.extend(UsageTotalRow::columns_of(rows, |r| &get(r).figures));
+        columns
+    }
 }
 
-/// Sensor totals of one radar over a whole run, averaged over runs (`T[m]`, `E[m]`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RadarUsage {
-    /// Radar id R1…R4.
-    pub radar: String,
-    /// Transmit dwell time (s).
-    pub dwell_time_s: f64,
-    /// Transmitted energy (J).
-    pub energy_j: f64,
-    /// Transmit dwell time of TA-requested dwells (s).
-    pub ta_dwell_time_s: f64,
-    /// Transmitted energy of TA-requested dwells (J).
-    pub ta_energy_j: f64,
-}
+mimo_store::score_usage_total_table!(mimo_store::column_rows);
+
+mimo_store::score_usage_radar_table!(mimo_store::column_rows);
 
 /// Sensor totals of one radar in one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -236,29 +96,7 @@ impl PurposeUsage {
     }
 }
 
-/// Transmit usage of one radar in one scoring interval of one run for one purpose
-/// (`score/usage_by_purpose.parquet`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct UsageByPurposeRow {
-    /// Monte Carlo run index.
-    pub run: u32,
-    /// Interval index j (1-based), covering `[t_start_s, t_end_s)`.
-    pub interval: u32,
-    /// Interval start (s).
-    pub t_start_s: f64,
-    /// Interval end (s).
-    pub t_end_s: f64,
-    /// Radar id R1…R4.
-    pub radar: String,
-    /// `search`, `confirm_true`, `confirm_false`, `track` or `track_false`.
-    pub purpose: String,
-    /// Transmit dwell rows (role tx or txrx) starting in the interval.
-    pub dwells: u32,
-    /// Their dwell time (s).
-    pub dwell_time_s: f64,
-    /// Their energy (J).
-    pub energy_j: f64,
-}
+mimo_store::score_usage_by_purpose_table!(mimo_store::column_rows);
 
 /// `summary.json` `track`.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -14,7 +14,7 @@ use arrow::array::{ArrayRef, AsArray, RecordBatch};
 use arrow::compute::cast;
 use arrow::datatypes::{DataType, Float64Type, UInt64Type};
 use mimo_core::records::{DwellRow, Requester};
-use mimo_metrics::{ScorablePredicate, ScoreInput, ScoreOptions};
+use mimo_metrics::{AssignmentRow, ScorablePredicate, ScoreInput, ScoreOptions, TrackMetricsRow};
 use mimo_store::layout::ScoreDir;
 use mimo_store::schema::TableSpec;
 use mimo_store::score_schema::{self, SCORE_ASSIGNMENTS, SCORE_TRACK_METRICS};
@@ -107,14 +107,15 @@ pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
 
     let tm_f = score.table(&SCORE_TRACK_METRICS);
     let df = read_frame(&tm_f, &score_schema::SCORE_TRACK_METRICS)?;
-    let runs = col_u64(&df, &tm_f, "run")?;
-    let t = col_f64(&df, &tm_f, "t_s")?;
-    let comp = col_f64(&df, &tm_f, "completeness")?;
-    let ns = col_u64(&df, &tm_f, "n_scorable")?;
+    let c = TrackMetricsRow::COLUMNS;
+    let runs = col_u64(&df, &tm_f, c.run)?;
+    let t = col_f64(&df, &tm_f, c.t_s)?;
+    let comp = col_f64(&df, &tm_f, c.completeness)?;
+    let ns = col_u64(&df, &tm_f, c.n_scorable)?;
     let mut rows: Vec<(f64, Option<f64>, u32)> = Vec::new();
     for i in 0..runs.len() {
         if runs[i] == Some(u64::from(run)) {
-            let ti = t[i].ok_or_else(|| bad(&tm_f, format!("column `t_s` is null at row {i}")))?;
+            let ti = t[i].ok_or_else(|| bad(&tm_f, format!("column `{}` is null at row {i}", c.t_s)))?;
             rows.push((ti, comp[i], ns[i].unwrap_or(0) as u32));
         }
     }
@@ -128,10 +129,11 @@ pub fn from_score_dir(dir: &Path, run: u32) -> Result<RunScore, PlotError> {
 
     let as_f = score.table(&SCORE_ASSIGNMENTS);
     let df = read_frame(&as_f, &score_schema::SCORE_ASSIGNMENTS)?;
-    let runs = col_u64(&df, &as_f, "run")?;
-    let t = col_f64(&df, &as_f, "t_s")?;
-    let target = col_str(&df, &as_f, "target")?;
-    let track = col_u64(&df, &as_f, "track_id")?;
+    let c = AssignmentRow::COLUMNS;
+    let runs = col_u64(&df, &as_f, c.run)?;
+    let t = col_f64(&df, &as_f, c.t_s)?;
+    let target = col_str(&df, &as_f, c.target)?;
+    let track = col_u64(&df, &as_f, c.track_id)?;
     for i in 0..runs.len() {
         if let (Some(r), Some(ti), Some(tg), Some(tr)) = (runs[i], t[i], &target[i], track[i])
             && r == u64::from(run)

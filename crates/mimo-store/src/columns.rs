@@ -2,6 +2,7 @@
 //! and score tables): each column is a [`Column`] of values, checked against the table's [`TableSpec`]
 //! (names, order, types and nullability) before anything is written.
 
+use crate::cell::ColumnKind;
 use crate::schema::{ColType, TableSpec};
 use crate::{StoreError, write_batch};
 use arrow::array::{Array, RecordBatch};
@@ -98,6 +99,63 @@ pub fn write_columns(path: &Path, spec: &TableSpec, columns: Vec<Column>) -> Res
     let batch = RecordBatch::try_new(schema, arrays).map_err(|e| StoreError::Arrow(e.to_string()))?;
     write_batch(path, &batch)?;
     Ok(rows as u64)
+}
+
+/// A Rust type a declared table (score or study) gives a column written column by column: its
+/// [`Column`] of the values `get` picks from `rows`.
+pub trait IntoColumn: ColumnKind {
+    /// The column of the values `get` picks from `rows`.
+    fn column_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Column;
+}
+
+macro_rules! into_columns {
+    ($($t:ty => |$v:ident| $variant:ident($e:expr);)*) => {$(
+        impl IntoColumn for $t {
+            fn column_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Column {
+                Column::$variant(rows.iter().map(|r| { let $v = get(r); $e }).collect())
+            }
+        }
+    )*};
+}
+
+into_columns! {
+    u32 => |v| U32(*v);
+    u64 => |v| U64(*v);
+    bool => |v| Bool(*v);
+    Option<u32> => |v| OptU32(*v);
+    Option<u64> => |v| OptU64(*v);
+    f64 => |v| F64(Some(*v));
+    Option<f64> => |v| F64(*v);
+    String => |v| Utf8(Some(v.clone()));
+    Option<String> => |v| Utf8(v.clone());
+}
+
+/// Rows of a declared table written column by column: the columns of its spec, in order.
+pub trait ColumnRows: Sized {
+    /// The columns of the rows `get` picks from `rows`, in the order of the table's spec.
+    fn columns_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Vec<Column>;
+    /// The columns of `rows`.
+    fn columns(rows: &[Self]) -> Vec<Column> {
+        Self::columns_of(rows, |r| r)
+    }
+}
+
+/// The record struct of a declared table (see `mimo_core::table_decl`) and its [`ColumnRows`],
+/// for tables whose rows are assembled at run time and written through [`write_columns`].
+#[macro_export]
+macro_rules! column_rows {
+    (
+        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
+    ) => {
+        $crate::core_crate::record_struct! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
+
+        impl $crate::columns::ColumnRows for $row {
+            fn columns_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Vec<$crate::columns::Column> {
+                vec![$(<$ty as $crate::columns::IntoColumn>::column_of(rows, |r| &get(r).$field)),*]
+            }
+        }
+    };
 }
 
 #[cfg(test)]

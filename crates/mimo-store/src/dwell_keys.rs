@@ -9,11 +9,12 @@
 //! rows asked for, with the same column checks (types, nulls, finite values, categories) on
 //! those rows.
 
+use crate::cell::Cell;
 use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
 use arrow::array::BooleanArray;
 use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
+use mimo_core::records::{DwellColumns, DwellKind, DwellRow, Requester, Role};
 use mimo_core::table_rules::{Key2, runs_match, times_ordered_per_key, unique};
 use parquet::arrow::ProjectionMask;
 use parquet::arrow::arrow_reader::{ParquetRecordBatchReaderBuilder, RowSelection, RowSelectionPolicy};
@@ -55,23 +56,15 @@ impl DwellKeys {
 /// skipped (a skip and a new read cost about as much as decoding a few rows in every column).
 const READ_THROUGH_GAP_ROWS: usize = 16;
 
-const KEY_COLUMNS: [&str; 7] = ["run", "dwell_id", "group_id", "radar", "face", "requested_by", "t_s"];
-/// The columns of a dwells row that are not keys.
-const REST_COLUMNS: [&str; 13] = [
-    "role",
-    "kind",
-    "duration_s",
-    "pulse_width_s",
-    "n_pulses",
-    "peak_power_w",
-    "energy_j",
-    "waveform",
-    "beam_u",
-    "beam_v",
-    "aim_x_m",
-    "aim_y_m",
-    "aim_z_m",
-];
+/// The dwells table's column names (from its declaration).
+const C: DwellColumns = DwellRow::COLUMNS;
+/// The columns [`DwellKeys`] holds.
+const KEY_COLUMNS: [&str; 7] = [C.run, C.dwell_id, C.group_id, C.radar, C.face, C.requested_by, C.t_s];
+
+/// The columns of a dwells row that are not keys, in file order.
+fn rest_columns() -> impl Iterator<Item = &'static str> {
+    DwellRow::COLUMN_NAMES.iter().copied().filter(|c| !KEY_COLUMNS.contains(c))
+}
 
 /// The dwells file opened and its whole schema checked against the table's spec.
 fn open_checked(
@@ -98,13 +91,13 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
         let b = Batch::check_values(&batch, path, spec, k.len())?;
-        k.run.extend(b.u32("run")?);
-        k.dwell_id.extend(b.u64("dwell_id")?);
-        k.group_id.extend(b.u64("group_id")?);
-        k.radar.extend(b.radar("radar")?);
-        k.face.extend(b.u8("face")?);
-        k.requested_by.extend(b.parsed("requested_by", Requester::parse, "radar, ta")?);
-        k.t_s.extend(b.f64("t_s")?);
+        k.run.extend(u32::read(&b, C.run)?);
+        k.dwell_id.extend(u64::read(&b, C.dwell_id)?);
+        k.group_id.extend(u64::read(&b, C.group_id)?);
+        k.radar.extend(RadarId::read(&b, C.radar)?);
+        k.face.extend(u8::read(&b, C.face)?);
+        k.requested_by.extend(Requester::read(&b, C.requested_by)?);
+        k.t_s.extend(f64::read(&b, C.t_s)?);
     }
     // The rules of `invariants` for `DwellRow`, on the same values.
     let to_err = |v: mimo_core::table_rules::Violation| StoreError::BadRow {
@@ -116,8 +109,8 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     if let Some(run) = invariants::file_run(path) {
         runs_match(&k.run, run).map_err(to_err)?;
     }
-    unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), "dwell_id").map_err(to_err)?;
-    times_ordered_per_key(k.run.iter().zip(&k.radar).map(|(&r, &d)| Key2(r, d)), &k.t_s, false, "radar")
+    unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), C.dwell_id).map_err(to_err)?;
+    times_ordered_per_key(k.run.iter().zip(&k.radar).map(|(&r, &d)| Key2(r, d)), &k.t_s, false, C.radar)
         .map_err(to_err)?;
     Ok(k)
 }
@@ -129,7 +122,7 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
 fn read_ranges(path: &Path, rows: &[usize], n_rows: usize) -> Result<Vec<std::ops::Range<usize>>, StoreError> {
     let bad = |row: usize, why: &str| StoreError::BadRow {
         file: path.to_path_buf(),
-        column: "dwell_id",
+        column: C.dwell_id,
         row,
         why: why.to_string(),
     };
@@ -163,7 +156,7 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
     let mut asked = rows.iter().peekable();
     let selection = RowSelection::from_consecutive_ranges(ranges.into_iter(), n_rows);
     // Selectors (skip runs of rows), not a mask over decoded rows: the rows asked for are few.
-    let mask = ProjectionMask::columns(builder.parquet_schema(), REST_COLUMNS);
+    let mask = ProjectionMask::columns(builder.parquet_schema(), rest_columns());
     let reader = builder
         .with_projection(mask)
         .with_row_selection(selection)
@@ -193,12 +186,11 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
         };
         let b = Batch::check_values_at(&batch, path, spec, &rows[out.len()..])?;
         // The checks of `DwellRow::from_batch`, column by column, on the rows read.
-        let role = b.parsed("role", Role::parse, "tx, rx, txrx")?;
-        let kind = b.parsed("kind", DwellKind::parse, "search, confirm, track, mimo")?;
-        let (dur, pw, np) = (b.f64("duration_s")?, b.f64("pulse_width_s")?, b.u32("n_pulses")?);
-        let (pp, e, wf) = (b.f64("peak_power_w")?, b.f64("energy_j")?, b.u32("waveform")?);
-        let (bu, bv) = (b.f64("beam_u")?, b.f64("beam_v")?);
-        let (ax, ay, az) = (b.f64("aim_x_m")?, b.f64("aim_y_m")?, b.f64("aim_z_m")?);
+        let (role, kind) = (Role::read(&b, C.role)?, DwellKind::read(&b, C.kind)?);
+        let (dur, pw, np) = (f64::read(&b, C.duration_s)?, f64::read(&b, C.pulse_width_s)?, u32::read(&b, C.n_pulses)?);
+        let (pp, e, wf) = (f64::read(&b, C.peak_power_w)?, f64::read(&b, C.energy_j)?, u32::read(&b, C.waveform)?);
+        let (bu, bv) = (f64::read(&b, C.beam_u)?, f64::read(&b, C.beam_v)?);
+        let (ax, ay, az) = (f64::read(&b, C.aim_x_m)?, f64::read(&b, C.aim_y_m)?, f64::read(&b, C.aim_z_m)?);
         for i in 0..role.len() {
             let Some(&k) = at.next() else { break };
             out.push(DwellRow {

@@ -22,7 +22,7 @@ pub trait RowInvariants: Sized {
 impl RowInvariants for TruthRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.target.as_str())), &t, true, "target")
+        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.target.as_str())), &t, true, TruthRow::COLUMNS.target)
     }
     fn run_of(row: &Self) -> u32 {
         row.run
@@ -31,9 +31,9 @@ impl RowInvariants for TruthRow {
 
 impl RowInvariants for DwellRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
-        unique(rows.iter().map(|r| Key2(r.run, r.dwell_id)), "dwell_id")?;
+        unique(rows.iter().map(|r| Key2(r.run, r.dwell_id)), DwellRow::COLUMNS.dwell_id)?;
         let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.radar)), &t, false, "radar")
+        times_ordered_per_key(rows.iter().map(|r| Key2(r.run, r.radar)), &t, false, DwellRow::COLUMNS.radar)
     }
     fn run_of(row: &Self) -> u32 {
         row.run
@@ -60,7 +60,7 @@ impl RowInvariants for PrimitiveRow {
 
 impl RowInvariants for MeasurementRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
-        unique(rows.iter().map(|r| Key2(r.run, r.meas_id)), "meas_id")
+        unique(rows.iter().map(|r| Key2(r.run, r.meas_id)), MeasurementRow::COLUMNS.meas_id)
     }
     fn run_of(row: &Self) -> u32 {
         row.run

@@ -2,9 +2,13 @@
 //!
 //! The only crate that touches Arrow and Parquet. It owns:
 //!
-//! * [`schema`]: every table's columns (name, type, unit, meaning), defined once. The Arrow
-//!   schemas, the `schemas/*.json` files and the readers' checks derive from it.
-//! * [`rows`]: row records ⇄ Arrow record batches.
+//! * [`schema`]: the table specs (name, type, unit, meaning, rule of each column). The run
+//!   tables are declared once in `mimo_core::records` and the score tables in [`score_schema`];
+//!   [`run_tables`] and [`score_schema`] expand those declarations into specs ([`cell`]: what a
+//!   Rust type is on disk). The Arrow schemas, the `schemas/*.json` files and the readers' checks
+//!   derive from the specs.
+//! * [`rows`]: row records ⇄ Arrow record batches (the conversions generated in [`run_tables`]);
+//!   [`columns`]: tables written column by column (score and study tables).
 //! * Parquet I/O ([`write_table`], [`read_table`], [`read_table_dir`]): files are written to a
 //!   temporary name and renamed, carry the table name and schema version in their key-value
 //!   metadata, and are byte-identical for identical rows (no timestamps, row groups of
@@ -25,6 +29,7 @@
 
 #![warn(missing_docs)]
 
+pub mod cell;
 pub mod challenge_schema;
 pub mod checked;
 pub mod columns;
@@ -39,11 +44,16 @@ pub mod page_columns;
 pub mod recognise;
 pub mod rows;
 pub mod run_sink;
+pub mod run_tables;
 pub mod run_window;
 pub mod rundir;
 pub mod schema;
 pub mod score_schema;
 pub mod table_writer;
+
+/// `mimo-core`, for the table generators' expansions in other crates.
+#[doc(hidden)]
+pub use mimo_core as core_crate;
 
 use arrow::array::RecordBatch;
 use parquet::arrow::ArrowWriter;

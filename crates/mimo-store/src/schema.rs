@@ -6,7 +6,6 @@
 //! these specs, so they cannot drift apart; a test fails when `schemas/` and the code disagree.
 
 use arrow::datatypes::{DataType, Field, Schema};
-use mimo_core::records::{DwellKind, Requester, Role, TrackStatus};
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -126,11 +125,22 @@ pub(crate) const fn opt(name: &'static str, ty: ColType, unit: &'static str, des
     ColumnSpec { name, ty, nullable: true, unit, description, rule: default_rule(ty) }
 }
 
-impl ColumnSpec {
-    /// The same column with the rule `rule`.
-    pub(crate) const fn with(self, rule: Rule) -> ColumnSpec {
-        ColumnSpec { rule, ..self }
+/// The columns of `parts`, in order, as one list of `N` columns (a compile error when `N` is not
+/// their count): a table whose columns open with shared ones (the study tables' identifying
+/// columns) lists them once.
+pub(crate) const fn join<const N: usize>(parts: &[&[ColumnSpec]]) -> [ColumnSpec; N] {
+    let mut out = [RUN; N];
+    let (mut n, mut p) = (0, 0);
+    while p < parts.len() {
+        let mut i = 0;
+        while i < parts[p].len() {
+            out[n] = parts[p][i];
+            (n, i) = (n + 1, i + 1);
+        }
+        p += 1;
     }
+    assert!(n == N, "join: the parts do not hold N columns");
+    out
 }
 
 /// One table.
@@ -185,155 +195,7 @@ use ColType::*;
 
 const RUN: ColumnSpec = col("run", U32, "", "Monte Carlo run index");
 
-/// `truth`: one row per target per truth sample (docs/design.md §3).
-pub const TRUTH: TableSpec = TableSpec {
-    name: "truth",
-    description: "One row per target per truth sample (default 10 Hz).",
-    columns: &[
-        RUN,
-        col("t_s", F64, "s", "time since scenario start").with(Rule::NonNegative),
-        col("target", Utf8, "", "target id (F-1…F-4, A, B, C in the standard scenarios)"),
-        col("x_m", F64, "m", "ECEF x position"),
-        col("y_m", F64, "m", "ECEF y position"),
-        col("z_m", F64, "m", "ECEF z position"),
-        col("vx_mps", F64, "m/s", "ECEF x velocity"),
-        col("vy_mps", F64, "m/s", "ECEF y velocity"),
-        col("vz_mps", F64, "m/s", "ECEF z velocity"),
-        col("lat_deg", F64, "deg", "WGS-84 geodetic latitude"),
-        col("lon_deg", F64, "deg", "WGS-84 geodetic longitude"),
-        col("alt_m", F64, "m", "height above the WGS-84 ellipsoid"),
-        col("rcs_m2", F64, "m^2", "mean radar cross-section"),
-    ],
-};
-
-/// `dwells`: one row per radar's part in one dwell (docs/design.md §3).
-pub const DWELLS: TableSpec = TableSpec {
-    name: "dwells",
-    description: "One row per radar's part in one dwell; the radars of one MIMO dwell share group_id.",
-    columns: &[
-        RUN,
-        col("dwell_id", U64, "", "id of this radar's part in the dwell, unique within a run"),
-        col("group_id", U64, "", "id shared by all radars of one (MIMO) dwell"),
-        col("radar", Utf8, "", "radar id R1…R4").with(Rule::RadarId),
-        col("role", Utf8, "", "tx, rx or txrx").with(Rule::OneOf(&Role::LABELS)),
-        col("kind", Utf8, "", "search, confirm, track or mimo").with(Rule::OneOf(&DwellKind::LABELS)),
-        col("requested_by", Utf8, "", "radar (own background search) or ta (test article)")
-            .with(Rule::OneOf(&Requester::LABELS)),
-        col("t_s", F64, "s", "dwell start time").with(Rule::NonNegative),
-        col("duration_s", F64, "s", "timeline occupancy τ_dwell").with(Rule::NonNegative),
-        col("pulse_width_s", F64, "s", "pulse width τ_pw"),
-        col("n_pulses", U32, "", "pulses integrated coherently"),
-        col("peak_power_w", F64, "W", "peak transmit power"),
-        col("energy_j", F64, "J", "emitted energy peak_power_w·pulse_width_s·n_pulses (0 for rx)")
-            .with(Rule::NonNegative),
-        col("waveform", U32, "", "orthogonal waveform (code) index transmitted"),
-        col("face", U8, "", "array face used (0-based)"),
-        col("beam_u", F64, "", "beam steering direction cosine u in the face frame"),
-        col("beam_v", F64, "", "beam steering direction cosine v in the face frame"),
-        col("aim_x_m", F64, "m", "aim point ECEF x"),
-        col("aim_y_m", F64, "m", "aim point ECEF y"),
-        col("aim_z_m", F64, "m", "aim point ECEF z"),
-    ],
-};
-
-/// `voltages`: complex voltages per receive channel, range cell and dwell; written only with
-/// `--record voltages` (docs/design.md §3).
-pub const VOLTAGES: TableSpec = TableSpec {
-    name: "voltages",
-    description: "Complex voltages per receive channel per range cell per dwell (only with --record voltages); noise is CN(0,1).",
-    columns: &[
-        RUN,
-        col("dwell_id", U64, "", "receiver's dwell part"),
-        col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
-        col("tx", Utf8, "", "transmitting radar (matched filter)").with(Rule::RadarId),
-        col("range_cell", I64, "", "cell index k, ρ_k = k·δs"),
-        col("range_m", F64, "m", "equivalent monostatic range ρ = R_B/2 of the cell"),
-        col("sum_i", F64, "", "sum channel in-phase (√SNR units)"),
-        col("sum_q", F64, "", "sum channel quadrature"),
-        col("az_i", F64, "", "azimuth-difference channel in-phase"),
-        col("az_q", F64, "", "azimuth-difference channel quadrature"),
-        col("el_i", F64, "", "elevation-difference channel in-phase"),
-        col("el_q", F64, "", "elevation-difference channel quadrature"),
-    ],
-};
-
-/// `primitives`: one row per threshold crossing after ML monopulse (docs/design.md §3).
-pub const PRIMITIVES: TableSpec = TableSpec {
-    name: "primitives",
-    description: "One row per threshold crossing (local maximum) after ML monopulse DOA.",
-    columns: &[
-        RUN,
-        col("dwell_id", U64, "", "receiver's dwell part"),
-        col("t_s", F64, "s", "dwell time").with(Rule::NonNegative),
-        col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
-        col("tx", Utf8, "", "transmitting radar").with(Rule::RadarId),
-        col("rx_face", U8, "", "receiver face the (u, v) refer to"),
-        col("range_cell", I64, "", "peak cell index"),
-        col("range_m", F64, "m", "centroided equivalent monostatic range ρ = R_B/2"),
-        col("u", F64, "", "estimated direction cosine u (receiver face)"),
-        col("v", F64, "", "estimated direction cosine v (receiver face)"),
-        col("snr_db", F64, "dB", "observed sum-channel SNR over the cells used"),
-        col("eta_q", F64, "", "imaginary-part monopulse statistic T (χ²₂ for one target)"),
-        col("merged", Bool, "", "flagged as possibly unresolved (merged) targets"),
-        col("beam_u", F64, "", "receiver beam steering u"),
-        col("beam_v", F64, "", "receiver beam steering v"),
-        col("var_range_m2", F64, "m^2", "variance of range_m").with(Rule::Positive),
-        col("var_u", F64, "", "variance of u").with(Rule::Positive),
-        col("var_v", F64, "", "variance of v").with(Rule::Positive),
-        opt("target_hint", Utf8, "", "truth id of the dominant contributor (evaluation only); null for false alarms"),
-    ],
-};
-
-/// `measurements`: one row per clustered, centroided detection (docs/design.md §3).
-pub const MEASUREMENTS: TableSpec = TableSpec {
-    name: "measurements",
-    description: "One row per clustered, centroided detection handed to trackers.",
-    columns: &[
-        RUN,
-        col("meas_id", U64, "", "measurement id, unique within a run"),
-        col("dwell_id", U64, "", "receiver's dwell part"),
-        col("t_s", F64, "s", "dwell time").with(Rule::NonNegative),
-        col("rx", Utf8, "", "receiving radar").with(Rule::RadarId),
-        col("tx", Utf8, "", "transmitting radar").with(Rule::RadarId),
-        col("rx_face", U8, "", "receiver face the (u, v) refer to"),
-        col("range_m", F64, "m", "equivalent monostatic range ρ = (R_t+R_r)/2"),
-        col("u", F64, "", "direction cosine u (receiver face)"),
-        col("v", F64, "", "direction cosine v (receiver face)"),
-        col("snr_db", F64, "dB", "observed SNR"),
-        col("var_range_m2", F64, "m^2", "variance of range_m").with(Rule::Positive),
-        col("var_u", F64, "", "variance of u").with(Rule::Positive),
-        col("var_v", F64, "", "variance of v").with(Rule::Positive),
-        col("n_primitives", U32, "", "primitives merged into this measurement"),
-        col("merged", Bool, "", "possibly unresolved targets"),
-        opt("target_hint", Utf8, "", "truth id of the dominant contributor; null for false alarms (evaluation only)"),
-    ],
-};
-
-/// `tracks`: track state at each update, plus one row when a track ends (docs/design.md §3).
-pub const TRACKS: TableSpec = TableSpec {
-    name: "tracks",
-    description: "Track state at each update, plus one row when the track ends (status deleted).",
-    columns: &[
-        RUN,
-        col("t_s", F64, "s", "time of the state").with(Rule::NonNegative),
-        col("track_id", U64, "", "track id, unique within a run"),
-        col("status", Utf8, "", "tentative, confirmed or deleted").with(Rule::OneOf(&TrackStatus::LABELS)),
-        col("x_m", F64, "m", "ECEF x position"),
-        col("y_m", F64, "m", "ECEF y position"),
-        col("z_m", F64, "m", "ECEF z position"),
-        col("vx_mps", F64, "m/s", "ECEF x velocity"),
-        col("vy_mps", F64, "m/s", "ECEF y velocity"),
-        col("vz_mps", F64, "m/s", "ECEF z velocity"),
-        col(
-            "cov",
-            Cov21,
-            "m^2, m^2/s, m^2/s^2",
-            "upper triangle of the 6×6 ECEF position-velocity covariance, row-major",
-        ),
-        col("n_updates", U32, "", "measurement updates so far"),
-        opt("last_meas_id", U64, "", "last measurement used; null if none"),
-    ],
-};
+pub use crate::run_tables::{DWELLS, MEASUREMENTS, PRIMITIVES, TRACKS, TRUTH, VOLTAGES};
 
 // ---- Study tables (docs/studies.md): per cell and Monte Carlo run, or per cell. ----
 
@@ -379,27 +241,26 @@ macro_rules! study_tables {
         /// The identifying columns opening every study table.
         pub(crate) const STUDY_IDS: [ColumnSpec; STUDY_ID_COLUMNS] = study_ids!();
 
-        const STUDY_RESULTS_COLUMNS: &[ColumnSpec] = &[
-            STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
-            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11],
-            RUN,
-            col("seed", U64, "", "master seed of the run"),
-            $(opt($name, F64, $unit, $desc),)*
-            opt("failure", Utf8, "", "why the run failed; null when it completed"),
-        ];
+        const STUDY_RESULTS_COLUMNS: [ColumnSpec; STUDY_ID_COLUMNS + 3 + STUDY_METRICS.len()] = join(&[
+            &STUDY_IDS,
+            &[RUN, col("seed", U64, "", "master seed of the run")],
+            &[$(opt($name, F64, $unit, $desc)),*],
+            &[opt("failure", Utf8, "", "why the run failed; null when it completed")],
+        ]);
 
-        const STUDY_SUMMARY_COLUMNS: &[ColumnSpec] = &[
-            STUDY_IDS[0], STUDY_IDS[1], STUDY_IDS[2], STUDY_IDS[3], STUDY_IDS[4], STUDY_IDS[5], STUDY_IDS[6], STUDY_IDS[7],
-            STUDY_IDS[8], STUDY_IDS[9], STUDY_IDS[10], STUDY_IDS[11],
-            col("runs", U32, "", "Monte Carlo runs of the cell"),
-            col("failed", U32, "", "runs that failed"),
-            opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
-            $(
+        const STUDY_SUMMARY_COLUMNS: [ColumnSpec; STUDY_ID_COLUMNS + 3 + 3 * STUDY_METRICS.len()] = join(&[
+            &STUDY_IDS,
+            &[
+                col("runs", U32, "", "Monte Carlo runs of the cell"),
+                col("failed", U32, "", "runs that failed"),
+                opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
+            ],
+            &[$(
                 opt(concat!($name, "_mean"), F64, $unit, concat!("mean over completed runs where defined: ", $desc)),
                 opt(concat!($name, "_ci_lo"), F64, $unit, "lower end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range); null with fewer than 2 values"),
                 opt(concat!($name, "_ci_hi"), F64, $unit, "upper end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range)"),
-            )*
-        ];
+            )*],
+        ]);
     };
 }
 
@@ -440,46 +301,37 @@ pub const STUDY_RESULTS: TableSpec = TableSpec {
     name: "study_results",
     description: "A study's results: one row per cell (method, scenario, stress point) and Monte Carlo run; \
                   byte-deterministic for a plan and seed.",
-    columns: STUDY_RESULTS_COLUMNS,
+    columns: &STUDY_RESULTS_COLUMNS,
 };
 
 /// `DIR/costs.parquet` of a study: timings, which differ from machine to machine.
 pub const STUDY_COSTS: TableSpec = TableSpec {
     name: "study_costs",
     description: "A study's computing costs: one row per cell and Monte Carlo run (machine-dependent).",
-    columns: &[
-        STUDY_IDS[0],
-        STUDY_IDS[1],
-        STUDY_IDS[2],
-        STUDY_IDS[3],
-        STUDY_IDS[4],
-        STUDY_IDS[5],
-        STUDY_IDS[6],
-        STUDY_IDS[7],
-        STUDY_IDS[8],
-        STUDY_IDS[9],
-        STUDY_IDS[10],
-        STUDY_IDS[11],
-        RUN,
-        col("seed", U64, "", "master seed of the run"),
-        col("duration_s", F64, "s", "simulated seconds of the run"),
-        col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
-        col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
-        col("wall_s", F64, "s", "wall time of the run, simulation to score"),
-        opt(
-            "kf_cycle_s",
-            F64,
-            "s",
-            "CPU time of one reference EKF predict + update cycle (6-state, 3-D measurement) on the machine \
+    columns: &join::<20>(&[
+        &STUDY_IDS,
+        &[
+            RUN,
+            col("seed", U64, "", "master seed of the run"),
+            col("duration_s", F64, "s", "simulated seconds of the run"),
+            col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
+            col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
+            col("wall_s", F64, "s", "wall time of the run, simulation to score"),
+            opt(
+                "kf_cycle_s",
+                F64,
+                "s",
+                "CPU time of one reference EKF predict + update cycle (6-state, 3-D measurement) on the machine \
              that ran the item, the median of repeats measured when the study started; null in a record without one",
-        ),
-        opt(
-            "ta_cpu_kfu",
-            F64,
-            "",
-            "ta_cpu_s / kf_cycle_s: the test article's compute in reference Kalman-filter cycles",
-        ),
-    ],
+            ),
+            opt(
+                "ta_cpu_kfu",
+                F64,
+                "",
+                "ta_cpu_s / kf_cycle_s: the test article's compute in reference Kalman-filter cycles",
+            ),
+        ],
+    ]),
 };
 
 /// `DIR/summary.parquet` of a study: one row per cell, the Monte Carlo mean and 95 % confidence
@@ -487,7 +339,7 @@ pub const STUDY_COSTS: TableSpec = TableSpec {
 pub const STUDY_SUMMARY: TableSpec = TableSpec {
     name: "study_summary",
     description: "A study's summary: one row per cell with the mean and 95 % confidence interval of each metric.",
-    columns: STUDY_SUMMARY_COLUMNS,
+    columns: &STUDY_SUMMARY_COLUMNS,
 };
 
 /// Every table, in pipeline order.

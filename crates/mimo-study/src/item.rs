@@ -10,7 +10,7 @@ use crate::grid::Cell;
 use crate::plan::Plan;
 use crate::record::{ItemCosts, ItemRecord, RecordError, record_path};
 use crate::run_usage::RunUsage;
-use mimo_metrics::{MetricsError, Score, ScoreInput, ScoreOptions};
+use mimo_metrics::{MetricsError, Purpose, Score, ScoreInput, ScoreOptions};
 use mimo_sim::World;
 use mimo_store::StoreError;
 use mimo_store::layout::RunDir;
@@ -110,14 +110,7 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
         ("ta_energy_per_object_j", per_object(3)),
         ("ta_dwell_time_per_object_s", per_object(2)),
     ];
-    let by = &r.by_purpose;
-    let purposes = [
-        ("search", by.search),
-        ("confirm_true", by.confirm_true),
-        ("confirm_false", by.confirm_false),
-        ("track", by.track),
-        ("track_false", by.track_false),
-    ];
+    let purposes = Purpose::ALL.map(|p| (p.as_str(), r.by_purpose.get(p)));
     for (name, pair) in purposes {
         m.insert(format!("energy_{name}_j"), Some(pair.energy_j));
         m.insert(format!("dwell_time_{name}_s"), Some(pair.dwell_time_s));

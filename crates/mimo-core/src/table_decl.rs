@@ -1,0 +1,132 @@
+//! How a table is declared once (docs/architecture.md, "Tables").
+//!
+//! A table's declaration is a `macro_rules!` macro that hands its one column list to a generator
+//! macro (the "callback" style of arrow-rs' and rerun's schema code), through
+//! [`table_decl!`](crate::table_decl), which parses the grammar below once. The declaration names the
+//! record struct, the columns' field names (which are the column names), Rust types, units,
+//! meanings and any rule stricter than the type's default. Each crate expands it with its own
+//! generator:
+//!
+//! * here, [`record_struct!`](crate::record_struct) makes the record struct, its
+//!   `COLUMNS` (a struct of the column names, one field per column, so readers name a column
+//!   through the declaration) and `COLUMN_NAMES` (in file order);
+//! * in `mimo-store`, the spec (`TableSpec`: names, types, nullability, units, rules,
+//!   descriptions) and the Arrow conversions both ways.
+//!
+//! The declaration's grammar, which every generator accepts:
+//!
+//! ```text
+//! /// docs of the record struct
+//! #[derive(..)]
+//! pub struct RowType / ColumnNamesType in SPEC_CONST = "table_name": "table description" {
+//!     /// docs of the field
+//!     field_name: RustType => ("unit", "description" [, RuleOverride]),
+//!     …
+//! }
+//! ```
+//!
+//! Enumerations stored as labels are declared once by [`label_enum!`](crate::label_enum): the
+//! variants with their on-disk labels, from which come `LABELS`, `as_str` and `parse`.
+
+/// Parse a table declaration (the grammar of the [module docs](self)) and hand it to the
+/// generator `$gen` in one normal form, which every generator matches:
+///
+/// ```text
+/// [struct attributes] Row Columns SPEC "table" "description"
+///     [[field attributes] field (Type) ("unit", "description" [, Rule])…]
+/// ```
+#[macro_export]
+macro_rules! table_decl {
+    (
+        $gen:path;
+        $(#[$smeta:meta])*
+        pub struct $row:ident / $cols:ident in $spec:ident = $table:literal : $tdesc:literal {
+            $(
+                $(#[$fmeta:meta])*
+                $field:ident : $ty:ty => ($unit:literal, $desc:literal $(, $rule:ident)?)
+            ),* $(,)?
+        }
+    ) => {
+        $gen! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
+    };
+}
+
+/// Make the record struct of a table declaration (see the [module docs](self)), with its
+/// column names.
+#[macro_export]
+macro_rules! record_struct {
+    (
+        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
+    ) => {
+        $(#[$smeta])*
+        pub struct $row {
+            $(
+                $(#[$fmeta])*
+                #[doc = concat!("\n\nColumn `", stringify!($field), "` (unit \"", $unit, "\"): ", $desc, ".")]
+                pub $field: $ty,
+            )*
+        }
+
+        #[doc = concat!("The column names of the `", $table, "` table, one field per column, in file order.")]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub struct $cols {
+            $(
+                #[doc = concat!("`", stringify!($field), "`: ", $desc)]
+                pub $field: &'static str,
+            )*
+        }
+
+        impl $row {
+            /// The table's name: its directory in a run directory and its `mimo.table` metadata.
+            pub const TABLE: &'static str = $table;
+            /// The table's column names, one field per column.
+            pub const COLUMNS: $cols = $cols { $($field: stringify!($field)),* };
+            /// The table's column names in file order.
+            pub const COLUMN_NAMES: &'static [&'static str] = &[$(stringify!($field)),*];
+        }
+    };
+}
+
+/// Declare an enumeration stored as labels: the enum, its variants' on-disk labels in
+/// declaration order (`LABELS`), `as_str` and `parse`.
+#[macro_export]
+macro_rules! label_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident {
+            $(
+                $(#[$vmeta:meta])*
+                $variant:ident = $label:literal
+            ),* $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        pub enum $name {
+            $(
+                $(#[$vmeta])*
+                $variant,
+            )*
+        }
+
+        impl $name {
+            /// Every on-disk label, in declaration order (the values the table's column may hold).
+            pub const LABELS: [&'static str; [$($label),*].len()] = [$($label),*];
+            /// Every variant, in declaration order (the order of [`Self::LABELS`]).
+            pub const ALL: [$name; [$($label),*].len()] = [$($name::$variant),*];
+            /// The on-disk label.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $($name::$variant => $label,)*
+                }
+            }
+            /// The value whose label is `s`; `None` for any string not in [`Self::LABELS`].
+            pub fn parse(s: &str) -> Option<$name> {
+                match s {
+                    $($label => Some($name::$variant),)*
+                    _ => None,
+                }
+            }
+        }
+    };
+}
