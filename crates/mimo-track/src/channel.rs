@@ -92,8 +92,13 @@ impl MultiTargetTracker {
             None => {
                 // The hard path (GNN, partners) still sees every track, as its rules ask.
                 (table, caches) = reached::widen(table, caches, &gated.rows, all_ids.len());
-                let claimed =
-                    self.hard_updates(ctx, Hypotheses { list, ids: &all_ids, table: &table }, &mut caches, updated, excused);
+                let claimed = self.hard_updates(
+                    ctx,
+                    Hypotheses { list, ids: &all_ids, table: &table },
+                    &mut caches,
+                    updated,
+                    excused,
+                );
                 (all_ids, claimed)
             }
         };
