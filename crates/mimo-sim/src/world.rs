@@ -98,14 +98,18 @@ impl World {
     pub fn radar_targets_into<'w>(&'w self, t_s: f64, out: &mut Vec<mimo_radar::Target<'w>>) {
         out.clear();
         let trajectories = self.trajectories();
-        for (i, t) in self.scenario.targets.iter().enumerate() {
-            out.push(mimo_radar::Target {
-                id: t.id.as_str(),
-                index: i as u32,
-                pos_ecef: trajectories.position_at(i, t_s),
-                rcs_m2: trajectories.rcs_m2(i),
-                pol: t.polarimetry,
-            });
+        out.extend((0..self.scenario.targets.len()).map(|i| self.radar_target(trajectories, i, t_s)));
+    }
+
+    /// Target `i` at `t_s` as the radar model takes it.
+    fn radar_target<'w>(&'w self, trajectories: &Trajectories, i: usize, t_s: f64) -> mimo_radar::Target<'w> {
+        let t = &self.scenario.targets[i];
+        mimo_radar::Target {
+            id: t.id.as_str(),
+            index: i as u32,
+            pos_ecef: trajectories.position_at(i, t_s),
+            rcs_m2: trajectories.rcs_m2(i),
+            pol: t.polarimetry,
         }
     }
 
@@ -126,18 +130,11 @@ impl World {
         };
         out.clear();
         let trajectories = self.trajectories();
-        for (i, (t, b)) in self.scenario.targets.iter().zip(balls).enumerate() {
+        for (i, b) in balls.iter().enumerate() {
             let ball = mimo_radar::quiet::TargetBall { center_ecef: b.center_ecef, radius_m: b.radius_m };
-            if !reach.may_reach(ball) {
-                continue;
+            if reach.may_reach(ball) {
+                out.push(self.radar_target(trajectories, i, t_s));
             }
-            out.push(mimo_radar::Target {
-                id: t.id.as_str(),
-                index: i as u32,
-                pos_ecef: trajectories.position_at(i, t_s),
-                rcs_m2: trajectories.rcs_m2(i),
-                pol: t.polarimetry,
-            });
         }
     }
 
