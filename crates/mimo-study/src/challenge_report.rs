@@ -33,12 +33,18 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
     let pct = 100.0 * COMPLETENESS_REQUIRED;
     let _ = writeln!(o, "## The challenge: {pct} % track completeness for the least energy\n");
     if c.families.iter().all(|f| f.knob.is_none()) {
-        let _ = writeln!(
+        let _ = write!(
             o,
             "No method sweeps a knob (a `[[methods]]` entry with `sweep`), so no family has a curve to cross \
-             {pct} % on: the energy at {pct} % is not defined here. Where each method stops holding {pct} % under \
-             stress is in \"Where each method fails\" below.\n"
+             {pct} % on: the energy at {pct} % is not defined here."
         );
+        if !plan.axes.is_empty() {
+            let _ = write!(
+                o,
+                " Where each method stops holding {pct} % under stress is in \"Where each method fails\" below."
+            );
+        }
+        let _ = writeln!(o, "\n");
         return o;
     }
     let _ = writeln!(

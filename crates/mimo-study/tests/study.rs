@@ -179,6 +179,10 @@ fn a_failing_method_is_recorded_and_the_others_finish() {
     assert_eq!(column(&summary, "method"), vec![Some("crashes".into()), Some("works".into())]);
     let report = std::fs::read_to_string(out.join("report.md")).expect("report");
     assert!(report.contains("## Failed runs") && report.contains("crashes / scenario 1"), "{report}");
+    // No knob is swept and no axis stressed: the challenge section says the energy at 98 % is
+    // undefined, and points to no failure-point section the report does not have.
+    assert!(report.contains("No method sweeps a knob"), "{report}");
+    assert!(!report.contains("Where each method fails"), "{report}");
     // A failed run's partial tables stay for a post-mortem; a completed run's went once scored.
     assert!(out.join("runs/method=crashes/scenario=1/truth/run-0000.parquet").is_file());
     assert!(!out.join("runs/method=works/scenario=1/truth").exists());
