@@ -41,6 +41,17 @@ pub struct DwellKeys {
 }
 
 impl DwellKeys {
+    /// Empty columns with room for `n_rows` rows (a file's claimed count: room is taken only
+    /// while it can be had, and columns grow past it as rows come).
+    fn with_capacity(n_rows: usize) -> DwellKeys {
+        let mut k = DwellKeys::default();
+        let _ = (k.run.try_reserve_exact(n_rows), k.dwell_id.try_reserve_exact(n_rows));
+        let _ = (k.group_id.try_reserve_exact(n_rows), k.radar.try_reserve_exact(n_rows));
+        let _ = (k.face.try_reserve_exact(n_rows), k.requested_by.try_reserve_exact(n_rows));
+        let _ = k.t_s.try_reserve_exact(n_rows);
+        k
+    }
+
     /// Number of rows.
     pub fn len(&self) -> usize {
         self.run.len()
@@ -83,11 +94,14 @@ fn parquet_err(path: &Path) -> impl Fn(parquet::errors::ParquetError) -> StoreEr
 }
 
 /// Read the key columns of every row of one dwells file and check the table's rules on them.
+/// The columns are sized once from the file's row count, so a re-run holds them and nothing
+/// beside them.
 pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     let (builder, spec) = open_checked(path)?;
+    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
     let mask = ProjectionMask::columns(builder.parquet_schema(), KEY_COLUMNS);
     let reader = builder.with_projection(mask).build().map_err(parquet_err(path))?;
-    let mut k = DwellKeys::default();
+    let mut k = DwellKeys::with_capacity(n_rows);
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
         let b = Batch::check_values(&batch, path, spec, k.len())?;
@@ -109,10 +123,33 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     if let Some(run) = invariants::file_run(path) {
         runs_match(&k.run, run).map_err(to_err)?;
     }
-    unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), C.dwell_id).map_err(to_err)?;
+    ids_unique(&k).map_err(to_err)?;
     times_ordered_per_key(k.run.iter().zip(&k.radar).map(|(&r, &d)| Key2(r, d)), &k.t_s, false, C.radar)
         .map_err(to_err)?;
     Ok(k)
+}
+
+/// The rule that (`run`, `dwell_id`) is unique, at four bytes a row: file positions sorted by
+/// key and neighbours compared. A repeat is named by [`unique`], the rule's own check, so the
+/// message is `read_table`'s.
+fn ids_unique(k: &DwellKeys) -> Result<(), mimo_core::table_rules::Violation> {
+    let n = k.len().min(k.dwell_id.len());
+    let key = |i: usize| (k.run[i], k.dwell_id[i]);
+    if (1..n).all(|i| key(i - 1) < key(i)) {
+        return Ok(());
+    }
+    let repeats = match u32::try_from(n) {
+        Ok(n32) => {
+            let mut order: Vec<u32> = (0..n32).collect();
+            order.sort_unstable_by_key(|&i| key(i as usize));
+            order.windows(2).any(|w| key(w[0] as usize) == key(w[1] as usize))
+        }
+        Err(_) => true,
+    };
+    if repeats {
+        unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), C.dwell_id)?;
+    }
+    Ok(())
 }
 
 /// The file positions `rows` (of a file of `n_rows` rows) as ranges to read; a short gap between
