@@ -124,8 +124,8 @@ impl Rerun<'_> {
             run: k,
             keys: key_columns(&store_keys),
             load: &mut load,
-            primitives: &prims,
-            measurements: &meas,
+            primitives: prims,
+            measurements: meas,
             from: self.from,
         };
         let stats =

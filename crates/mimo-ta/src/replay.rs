@@ -21,7 +21,6 @@ use mimo_sim::engine::{Engine, EngineError, first_meas_id};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Subscription};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
-use std::collections::{BTreeMap, HashMap};
 
 /// What a re-run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -206,6 +205,8 @@ pub fn replay(
     let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
         Ok(at.iter().map(|&i| dwells[i].clone()).collect())
     };
+    let primitives = primitives.iter().filter(|p| p.run == run).cloned().collect();
+    let measurements = measurements.iter().filter(|m| m.run == run).cloned().collect();
     let recording = Recording { run, keys: keys.view(), load: &mut load, primitives, measurements, from };
     replay_selected(world, cfg, ta, recording, sink)
 }
@@ -218,10 +219,10 @@ pub struct Recording<'r, 'l> {
     pub keys: DwellKeyColumns<'r>,
     /// The loader of whole dwells rows, asked once for the rows of the groups delivered.
     pub load: &'r mut DwellLoader<'l>,
-    /// The primitives table's rows.
-    pub primitives: &'r [PrimitiveRow],
-    /// The measurements table's rows.
-    pub measurements: &'r [MeasurementRow],
+    /// The primitives table's rows (rows of other runs are dropped).
+    pub primitives: Vec<PrimitiveRow>,
+    /// The measurements table's rows (rows of other runs are dropped).
+    pub measurements: Vec<MeasurementRow>,
     /// What the re-run starts from.
     pub from: ReplayFrom,
 }
@@ -238,7 +239,7 @@ pub fn replay_selected(
 ) -> Result<ReplayStats, ReplayError> {
     let Recording { run, keys, load, primitives, measurements, from } = rec;
     let parts = Parts::of_run(world, keys, run)?;
-    let (mut meas_by_group, mut prims_by_group) = by_group(&parts, run, primitives, measurements, from, sink)?;
+    let (meas_by_group, prims_by_group) = by_group(&parts, run, primitives, measurements, from, sink)?;
 
     let start = Engine::start_info(world, run, cfg, false);
     let mut stats = ReplayStats::default();
@@ -268,9 +269,9 @@ pub fn replay_selected(
         let t_mid = g.t_s + 0.5 * g.duration_s;
         let group_rows = ks.filter_map(|k| row_at(parts.part_row(k)));
         let reports = part_reports(world, group_rows, t_mid)?;
-        let mut ms = meas_by_group.remove(&gid).unwrap_or_default();
+        let mut ms = meas_by_group.take(gid);
         ms.iter_mut().for_each(|m| m.target_hint = None);
-        let mut ps = if sub.primitives { prims_by_group.remove(&gid).unwrap_or_default() } else { Vec::new() };
+        let mut ps = if sub.primitives { prims_by_group.take(gid) } else { Vec::new() };
         ps.iter_mut().for_each(|p| p.target_hint = None);
         stats.dwells += 1;
         stats.measurements += ms.len() as u64;
@@ -401,7 +402,7 @@ impl<'k> Parts<'k> {
     /// requester, start, duration and aim are its first part's.
     fn wanted_groups(
         &self,
-        meas_by_group: &HashMap<u64, Vec<MeasurementRow>>,
+        meas_by_group: &GroupedRows<MeasurementRow>,
         sub: &Subscription,
     ) -> Vec<(u64, std::ops::Range<usize>)> {
         let keys = self.keys;
@@ -413,7 +414,7 @@ impl<'k> Parts<'k> {
             while end < self.len() && keys.group_id[self.part_row(end)] == first.group_id {
                 end += 1;
             }
-            let n_meas = meas_by_group.get(&first.group_id).map_or(0, Vec::len);
+            let n_meas = meas_by_group.group(first.group_id).len();
             if sub.wants(first.requested_by, n_meas) {
                 wanted_parts.push((first.group_id, k..end));
             }
@@ -423,50 +424,93 @@ impl<'k> Parts<'k> {
     }
 }
 
+/// One run's rows of a table by dwell group: each row beside its group, ordered by group and in
+/// file order within a group, in one vector (no vector per group).
+struct GroupedRows<R> {
+    /// (group_id, row), by group.
+    rows: Vec<(u64, R)>,
+}
+
+impl<R: Clone> GroupedRows<R> {
+    /// Rows tagged with their groups, ordered by group (a stable sort: file order within one).
+    fn of(mut rows: Vec<(u64, R)>) -> GroupedRows<R> {
+        if !rows.windows(2).all(|w| w[0].0 <= w[1].0) {
+            rows.sort_by_key(|r| r.0);
+        }
+        GroupedRows { rows }
+    }
+
+    /// The rows of group `gid`.
+    fn group(&self, gid: u64) -> &[(u64, R)] {
+        let lo = self.rows.partition_point(|r| r.0 < gid);
+        let hi = lo + self.rows[lo..].partition_point(|r| r.0 == gid);
+        &self.rows[lo..hi]
+    }
+
+    /// A copy of the rows of group `gid`.
+    fn take(&self, gid: u64) -> Vec<R> {
+        self.group(gid).iter().map(|r| r.1.clone()).collect()
+    }
+
+    /// The groups that have rows, ascending, each with its rows.
+    fn groups(&self) -> impl Iterator<Item = (u64, &[(u64, R)])> {
+        self.rows.chunk_by(|a, b| a.0 == b.0).map(|g| (g[0].0, g))
+    }
+}
+
+/// The run's rows of `rows` tagged with their groups; a row of a dwell the run lacks is refused,
+/// naming `table`.
+fn tag_groups<R>(
+    parts: &Parts<'_>,
+    rows: Vec<R>,
+    of: impl Fn(&R) -> (u32, u64),
+    run: u32,
+    table: &'static str,
+) -> Result<Vec<(u64, R)>, ReplayError> {
+    let mut tagged = Vec::with_capacity(rows.iter().filter(|r| of(r).0 == run).count());
+    for r in rows.into_iter().filter(|r| of(r).0 == run) {
+        let dwell_id = of(&r).1;
+        let gid = parts.group_of(dwell_id).ok_or(ReplayError::UnknownDwell { table, dwell_id })?;
+        tagged.push((gid, r));
+    }
+    Ok(tagged)
+}
+
 /// Measurements by group, and primitives by group.
-type ByGroup = (HashMap<u64, Vec<MeasurementRow>>, BTreeMap<u64, Vec<PrimitiveRow>>);
+type ByGroup = (GroupedRows<MeasurementRow>, GroupedRows<PrimitiveRow>);
 
 /// The run's measurements (recorded, or re-formed from primitives and sent to `sink`) and
 /// primitives, per group.
 fn by_group(
     parts: &Parts<'_>,
     run: u32,
-    primitives: &[PrimitiveRow],
-    measurements: &[MeasurementRow],
+    primitives: Vec<PrimitiveRow>,
+    measurements: Vec<MeasurementRow>,
     from: ReplayFrom,
     sink: &mut dyn RunSink,
 ) -> Result<ByGroup, ReplayError> {
-    let mut meas_by_group: HashMap<u64, Vec<MeasurementRow>> = HashMap::new();
-    let mut prims_by_group: BTreeMap<u64, Vec<PrimitiveRow>> = BTreeMap::new();
-    for p in primitives.iter().filter(|p| p.run == run) {
-        let gid = parts
-            .group_of(p.dwell_id)
-            .ok_or(ReplayError::UnknownDwell { table: "primitives", dwell_id: p.dwell_id })?;
-        prims_by_group.entry(gid).or_default().push(p.clone());
-    }
-    match from {
+    let prims = GroupedRows::of(tag_groups(parts, primitives, |p| (p.run, p.dwell_id), run, "primitives")?);
+    let meas = match from {
         ReplayFrom::Measurements => {
-            for m in measurements.iter().filter(|m| m.run == run) {
-                let gid = parts
-                    .group_of(m.dwell_id)
-                    .ok_or(ReplayError::UnknownDwell { table: "measurements", dwell_id: m.dwell_id })?;
-                meas_by_group.entry(gid).or_default().push(m.clone());
-            }
+            GroupedRows::of(tag_groups(parts, measurements, |m| (m.run, m.dwell_id), run, "measurements")?)
         }
         ReplayFrom::Primitives => {
-            let mut all = Vec::new();
-            for (gid, ps) in &prims_by_group {
-                let ms = mimo_radar::measurements_from_primitives(ps, first_meas_id(*gid));
-                all.extend(ms.iter().cloned());
-                meas_by_group.insert(*gid, ms);
+            drop(measurements);
+            let mut tagged = Vec::new();
+            for (gid, ps) in prims.groups() {
+                let ps: Vec<PrimitiveRow> = ps.iter().map(|p| p.1.clone()).collect();
+                let ms = mimo_radar::measurements_from_primitives(&ps, first_meas_id(gid));
+                tagged.extend(ms.into_iter().map(|m| (gid, m)));
             }
+            let mut all: Vec<MeasurementRow> = tagged.iter().map(|m| m.1.clone()).collect();
             all.sort_by_key(|m| m.meas_id);
             if !all.is_empty() {
                 sink.measurements(all)?;
             }
+            GroupedRows::of(tagged)
         }
-    }
-    Ok((meas_by_group, prims_by_group))
+    };
+    Ok((meas, prims))
 }
 
 /// Whole dwells rows at the positions `needed`, checked to be one per position.
