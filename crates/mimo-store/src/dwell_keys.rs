@@ -338,6 +338,29 @@ mod tests {
         assert_eq!(got, want);
     }
 
+    /// Ids a few rows out of place (as dwells are written in end order) pass the rule on unique
+    /// ids; a repeat far from its first row is named as `read_table` names it.
+    #[test]
+    fn ids_out_of_place_are_unique_and_a_far_repeat_is_named() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let mut rows: Vec<DwellRow> = (0..3000).map(row).collect();
+        for i in (0..2990).step_by(7) {
+            let (a, b) = (rows[i].dwell_id, rows[i + 3].dwell_id);
+            (rows[i].dwell_id, rows[i + 3].dwell_id) = (b, a);
+        }
+        crate::write_table(&path, &rows).expect("write");
+        let k = read_dwell_keys(&path).expect("unique ids out of place");
+        assert_eq!(k.dwell_id, rows.iter().map(|r| r.dwell_id).collect::<Vec<_>>());
+        rows[2900].dwell_id = rows[15].dwell_id;
+        rows[2950].dwell_id = rows[10].dwell_id;
+        crate::write_table(&path, &rows).expect("write");
+        let a = read_dwell_keys(&path).expect_err("repeated id").to_string();
+        let b = crate::read_table::<DwellRow>(&path).expect_err("repeated id").to_string();
+        assert_eq!(a, b);
+        assert!(a.contains("row 2900"), "{a}");
+    }
+
     /// The keys pass refuses what `read_table` refuses, with the same message.
     #[test]
     fn keys_check_the_table_rules() {

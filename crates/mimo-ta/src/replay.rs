@@ -17,10 +17,13 @@ use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Requester, Role, TrackRow};
 use mimo_core::sink::{RunSink, SinkError};
 use mimo_core::time::SimTime;
-use mimo_sim::engine::{Engine, EngineError, first_meas_id};
+use mimo_sim::engine::{Engine, EngineError};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Subscription};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
+
+mod grouped;
+use grouped::{GroupedRows, by_group};
 
 /// What a re-run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -269,9 +272,9 @@ pub fn replay_selected(
         let t_mid = g.t_s + 0.5 * g.duration_s;
         let group_rows = ks.filter_map(|k| row_at(parts.part_row(k)));
         let reports = part_reports(world, group_rows, t_mid)?;
-        let mut ms = meas_by_group.take(gid);
+        let mut ms = meas_by_group.cloned(gid);
         ms.iter_mut().for_each(|m| m.target_hint = None);
-        let mut ps = if sub.primitives { prims_by_group.take(gid) } else { Vec::new() };
+        let mut ps = if sub.primitives { prims_by_group.cloned(gid) } else { Vec::new() };
         ps.iter_mut().for_each(|p| p.target_hint = None);
         stats.dwells += 1;
         stats.measurements += ms.len() as u64;
@@ -424,95 +427,6 @@ impl<'k> Parts<'k> {
     }
 }
 
-/// One run's rows of a table by dwell group: each row beside its group, ordered by group and in
-/// file order within a group, in one vector (no vector per group).
-struct GroupedRows<R> {
-    /// (group_id, row), by group.
-    rows: Vec<(u64, R)>,
-}
-
-impl<R: Clone> GroupedRows<R> {
-    /// Rows tagged with their groups, ordered by group (a stable sort: file order within one).
-    fn of(mut rows: Vec<(u64, R)>) -> GroupedRows<R> {
-        if !rows.windows(2).all(|w| w[0].0 <= w[1].0) {
-            rows.sort_by_key(|r| r.0);
-        }
-        GroupedRows { rows }
-    }
-
-    /// The rows of group `gid`.
-    fn group(&self, gid: u64) -> &[(u64, R)] {
-        let lo = self.rows.partition_point(|r| r.0 < gid);
-        let hi = lo + self.rows[lo..].partition_point(|r| r.0 == gid);
-        &self.rows[lo..hi]
-    }
-
-    /// A copy of the rows of group `gid`.
-    fn take(&self, gid: u64) -> Vec<R> {
-        self.group(gid).iter().map(|r| r.1.clone()).collect()
-    }
-
-    /// The groups that have rows, ascending, each with its rows.
-    fn groups(&self) -> impl Iterator<Item = (u64, &[(u64, R)])> {
-        self.rows.chunk_by(|a, b| a.0 == b.0).map(|g| (g[0].0, g))
-    }
-}
-
-/// The run's rows of `rows` tagged with their groups; a row of a dwell the run lacks is refused,
-/// naming `table`.
-fn tag_groups<R>(
-    parts: &Parts<'_>,
-    rows: Vec<R>,
-    of: impl Fn(&R) -> (u32, u64),
-    run: u32,
-    table: &'static str,
-) -> Result<Vec<(u64, R)>, ReplayError> {
-    let mut tagged = Vec::with_capacity(rows.iter().filter(|r| of(r).0 == run).count());
-    for r in rows.into_iter().filter(|r| of(r).0 == run) {
-        let dwell_id = of(&r).1;
-        let gid = parts.group_of(dwell_id).ok_or(ReplayError::UnknownDwell { table, dwell_id })?;
-        tagged.push((gid, r));
-    }
-    Ok(tagged)
-}
-
-/// Measurements by group, and primitives by group.
-type ByGroup = (GroupedRows<MeasurementRow>, GroupedRows<PrimitiveRow>);
-
-/// The run's measurements (recorded, or re-formed from primitives and sent to `sink`) and
-/// primitives, per group.
-fn by_group(
-    parts: &Parts<'_>,
-    run: u32,
-    primitives: Vec<PrimitiveRow>,
-    measurements: Vec<MeasurementRow>,
-    from: ReplayFrom,
-    sink: &mut dyn RunSink,
-) -> Result<ByGroup, ReplayError> {
-    let prims = GroupedRows::of(tag_groups(parts, primitives, |p| (p.run, p.dwell_id), run, "primitives")?);
-    let meas = match from {
-        ReplayFrom::Measurements => {
-            GroupedRows::of(tag_groups(parts, measurements, |m| (m.run, m.dwell_id), run, "measurements")?)
-        }
-        ReplayFrom::Primitives => {
-            drop(measurements);
-            let mut tagged = Vec::new();
-            for (gid, ps) in prims.groups() {
-                let ps: Vec<PrimitiveRow> = ps.iter().map(|p| p.1.clone()).collect();
-                let ms = mimo_radar::measurements_from_primitives(&ps, first_meas_id(gid));
-                tagged.extend(ms.into_iter().map(|m| (gid, m)));
-            }
-            let mut all: Vec<MeasurementRow> = tagged.iter().map(|m| m.1.clone()).collect();
-            all.sort_by_key(|m| m.meas_id);
-            if !all.is_empty() {
-                sink.measurements(all)?;
-            }
-            GroupedRows::of(tagged)
-        }
-    };
-    Ok((meas, prims))
-}
-
 /// Whole dwells rows at the positions `needed`, checked to be one per position.
 fn load_rows(load: &mut DwellLoader<'_>, needed: &[usize]) -> Result<Vec<DwellRow>, ReplayError> {
     let full = load(needed).map_err(ReplayError::DwellRows)?;
@@ -558,22 +472,50 @@ fn part_reports<'a>(
 mod tests {
     use super::*;
 
-    /// Keys built from columns are the keys of the rows the columns came from.
+    /// A hand-made run: rows in file order with ids out of place, groups not numbered in id
+    /// order, a part of another run; plus the ships-only world of standard scenario 7.
+    fn hand_made() -> (World, OwnedKeyColumns) {
+        let mut s = mimo_scenario::load_standard(7).expect("standard scenario");
+        s.duration_s = 10.0;
+        let world = World::ships_only(s);
+        // (run, dwell_id, group_id) by file row.
+        let rows = [(3, 12, 5), (3, 10, 7), (4, 11, 1), (3, 11, 5), (3, 14, 2), (3, 13, 7), (3, 15, 9)];
+        let n = rows.len();
+        let keys = OwnedKeyColumns {
+            run: rows.iter().map(|r| r.0).collect(),
+            dwell_id: rows.iter().map(|r| r.1).collect(),
+            group_id: rows.iter().map(|r| r.2).collect(),
+            radar: vec![RadarId(0); n],
+            face: vec![0; n],
+            requested_by: vec![Requester::Radar; n],
+        };
+        (world, keys)
+    }
+
+    /// The run's parts come in dwell_id order, group order puts each group's parts together in
+    /// dwell_id order, and a dwell id finds its group; the other run's part is left out.
     #[test]
-    fn keys_from_columns_are_the_rows_keys() {
-        let keys = [
-            DwellKey { run: 2, dwell_id: 7, group_id: 3, radar: RadarId(1), face: 2, requested_by: Requester::Radar },
-            DwellKey { run: 2, dwell_id: 9, group_id: 4, radar: RadarId(0), face: 0, requested_by: Requester::Ta },
-        ];
-        let built = DwellKey::from_columns(
-            &keys.map(|k| k.run),
-            &keys.map(|k| k.dwell_id),
-            &keys.map(|k| k.group_id),
-            &keys.map(|k| k.radar),
-            &keys.map(|k| k.face),
-            &keys.map(|k| k.requested_by),
-        );
-        assert_eq!(built, keys.to_vec());
-        assert!(DwellKey::from_columns(&[1], &[], &[], &[], &[], &[]).is_empty());
+    fn parts_in_id_order_and_in_group_order() {
+        let (world, keys) = hand_made();
+        let parts = Parts::of_run(&world, keys.view(), 3).expect("parts");
+        // File rows of ids 10, 11, 12, 13, 14, 15 (row 2 is run 4's).
+        assert_eq!(parts.rows, vec![1, 3, 0, 5, 4, 6]);
+        let by_group: Vec<(u64, u64)> =
+            (0..parts.len()).map(|k| parts.part_row(k)).map(|i| (keys.group_id[i], keys.dwell_id[i])).collect();
+        assert_eq!(by_group, vec![(2, 14), (5, 11), (5, 12), (7, 10), (7, 13), (9, 15)]);
+        assert_eq!([10, 11, 15, 16].map(|id| parts.group_of(id)), [Some(7), Some(5), Some(9), None]);
+        let meas = GroupedRows::<MeasurementRow> { rows: Vec::new() };
+        let all = Subscription { dwells: mimo_sim::messages::DwellFilter::All, ..Subscription::default() };
+        let groups: Vec<(u64, std::ops::Range<usize>)> = parts.wanted_groups(&meas, &all);
+        assert_eq!(groups, vec![(2, 0..1), (5, 1..3), (7, 3..5), (9, 5..6)]);
+        // Numbered in id order, no group order is built.
+        let (mut ids, mut bad_face) = (keys.clone(), keys.clone());
+        ids.group_id = ids.dwell_id.clone();
+        assert!(Parts::of_run(&world, ids.view(), 3).expect("parts").by_group.is_none());
+        bad_face.face[4] = 9;
+        match Parts::of_run(&world, bad_face.view(), 3) {
+            Err(ReplayError::UnknownFace { dwell_id: 14, face: 9, .. }) => {}
+            other => panic!("expected an unknown face, got {:?}", other.map(|p| p.rows)),
+        }
     }
 }
