@@ -79,7 +79,8 @@ pub(super) fn by_group(
         }
         ReplayFrom::Primitives => {
             drop(measurements);
-            let mut tagged = Vec::new();
+            // A group's primitives form at most as many measurements: room taken once.
+            let mut tagged = Vec::with_capacity(prims.rows.len());
             for (gid, ps) in prims.groups() {
                 let ps: Vec<PrimitiveRow> = ps.iter().map(|p| p.1.clone()).collect();
                 let ms = mimo_radar::measurements_from_primitives(&ps, first_meas_id(gid));
