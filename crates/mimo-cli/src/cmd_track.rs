@@ -9,7 +9,7 @@ use mimo_store::layout::RunDir;
 use mimo_store::manifest::{Manifest, TableFile, TrackerInfo};
 use mimo_store::run_sink::ParquetRunSink;
 use mimo_store::rundir::RunDirWriter;
-use mimo_ta::replay::{DwellKey, Recording, ReplayError, ReplayFrom, replay_selected};
+use mimo_ta::replay::{DwellKeyColumns, Recording, ReplayError, ReplayFrom, replay_selected};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -56,9 +56,16 @@ pub fn scenario_of(run_dir: &Path, m: &Manifest) -> Result<Scenario, CliError> {
     Ok(s)
 }
 
-/// The replay's keys of the store's key columns.
-fn dwell_keys(k: &mimo_store::dwell_keys::DwellKeys) -> Vec<DwellKey> {
-    DwellKey::from_columns(&k.run, &k.dwell_id, &k.group_id, &k.radar, &k.face, &k.requested_by)
+/// The store's key columns as the replay's keys (a view: the columns are held once).
+fn key_columns(k: &mimo_store::dwell_keys::DwellKeys) -> DwellKeyColumns<'_> {
+    DwellKeyColumns {
+        run: &k.run,
+        dwell_id: &k.dwell_id,
+        group_id: &k.group_id,
+        radar: &k.radar,
+        face: &k.face,
+        requested_by: &k.requested_by,
+    }
 }
 
 /// `--from`, and the table it reads.
@@ -102,7 +109,6 @@ impl Rerun<'_> {
         // The dwells' keys first; whole rows only for the groups the test article is sent.
         let dwells_file = self.input.table_file("dwells", k);
         let store_keys = mimo_store::dwell_keys::read_dwell_keys(&dwells_file)?;
-        let keys = dwell_keys(&store_keys);
         let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
             Ok(mimo_store::dwell_keys::read_dwell_rows(&dwells_file, &store_keys, at)?)
         };
@@ -116,10 +122,10 @@ impl Rerun<'_> {
         let mut sink = ParquetRunSink::for_rerun(self.writer, k, self.from == ReplayFrom::Primitives)?;
         let recording = Recording {
             run: k,
-            keys: &keys,
+            keys: key_columns(&store_keys),
             load: &mut load,
-            primitives: &prims,
-            measurements: &meas,
+            primitives: prims,
+            measurements: meas,
             from: self.from,
         };
         let stats =

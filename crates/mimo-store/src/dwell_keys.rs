@@ -5,7 +5,8 @@
 //! [`read_dwell_keys`], decodes the columns that decide which rows those are (run, ids, radar,
 //! face, requester) and `t_s`, for every row, and checks the table's rules on them
 //! (docs/design.md §7: unique `dwell_id`, times ordered per radar, one run per file) exactly as
-//! [`crate::read_table`] does. The second, [`read_dwell_rows`], decodes whole rows only for the
+//! [`crate::read_table`] does; it keeps the key columns only (about 23 bytes a row, sized once
+//! from the file's row count). The second, [`read_dwell_rows`], decodes whole rows only for the
 //! rows asked for, with the same column checks (types, nulls, finite values, categories) on
 //! those rows.
 
@@ -36,11 +37,19 @@ pub struct DwellKeys {
     pub face: Vec<u8>,
     /// `requested_by`.
     pub requested_by: Vec<Requester>,
-    /// `t_s` (s).
-    pub t_s: Vec<f64>,
 }
 
 impl DwellKeys {
+    /// Empty columns with room for `n_rows` rows (a file's claimed count: room is taken only
+    /// while it can be had, and columns grow past it as rows come).
+    fn with_capacity(n_rows: usize) -> DwellKeys {
+        let mut k = DwellKeys::default();
+        let _ = (k.run.try_reserve_exact(n_rows), k.dwell_id.try_reserve_exact(n_rows));
+        let _ = (k.group_id.try_reserve_exact(n_rows), k.radar.try_reserve_exact(n_rows));
+        let _ = (k.face.try_reserve_exact(n_rows), k.requested_by.try_reserve_exact(n_rows));
+        k
+    }
+
     /// Number of rows.
     pub fn len(&self) -> usize {
         self.run.len()
@@ -59,7 +68,10 @@ const READ_THROUGH_GAP_ROWS: usize = 16;
 /// The dwells table's column names (from its declaration).
 const C: DwellColumns = DwellRow::COLUMNS;
 /// The columns [`DwellKeys`] holds.
-const KEY_COLUMNS: [&str; 7] = [C.run, C.dwell_id, C.group_id, C.radar, C.face, C.requested_by, C.t_s];
+const KEY_COLUMNS: [&str; 6] = [C.run, C.dwell_id, C.group_id, C.radar, C.face, C.requested_by];
+/// The columns the first pass reads: the keys, and `t_s` for the rule on times (checked, then
+/// dropped: the second pass reads it again for the rows asked for).
+const FIRST_PASS_COLUMNS: [&str; 7] = [C.run, C.dwell_id, C.group_id, C.radar, C.face, C.requested_by, C.t_s];
 
 /// The columns of a dwells row that are not keys, in file order.
 fn rest_columns() -> impl Iterator<Item = &'static str> {
@@ -83,11 +95,16 @@ fn parquet_err(path: &Path) -> impl Fn(parquet::errors::ParquetError) -> StoreEr
 }
 
 /// Read the key columns of every row of one dwells file and check the table's rules on them.
+/// The columns are sized once from the file's row count, so a re-run holds them and nothing
+/// beside them.
 pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     let (builder, spec) = open_checked(path)?;
-    let mask = ProjectionMask::columns(builder.parquet_schema(), KEY_COLUMNS);
+    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
+    let mask = ProjectionMask::columns(builder.parquet_schema(), FIRST_PASS_COLUMNS);
     let reader = builder.with_projection(mask).build().map_err(parquet_err(path))?;
-    let mut k = DwellKeys::default();
+    let mut k = DwellKeys::with_capacity(n_rows);
+    let mut t_s: Vec<f64> = Vec::new();
+    let _ = t_s.try_reserve_exact(n_rows);
     for batch in reader {
         let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
         let b = Batch::check_values(&batch, path, spec, k.len())?;
@@ -97,7 +114,7 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
         k.radar.extend(RadarId::read(&b, C.radar)?);
         k.face.extend(u8::read(&b, C.face)?);
         k.requested_by.extend(Requester::read(&b, C.requested_by)?);
-        k.t_s.extend(f64::read(&b, C.t_s)?);
+        t_s.extend(f64::read(&b, C.t_s)?);
     }
     // The rules of `invariants` for `DwellRow`, on the same values.
     let to_err = |v: mimo_core::table_rules::Violation| StoreError::BadRow {
@@ -109,10 +126,33 @@ pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
     if let Some(run) = invariants::file_run(path) {
         runs_match(&k.run, run).map_err(to_err)?;
     }
-    unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), C.dwell_id).map_err(to_err)?;
-    times_ordered_per_key(k.run.iter().zip(&k.radar).map(|(&r, &d)| Key2(r, d)), &k.t_s, false, C.radar)
+    ids_unique(&k).map_err(to_err)?;
+    times_ordered_per_key(k.run.iter().zip(&k.radar).map(|(&r, &d)| Key2(r, d)), &t_s, false, C.radar)
         .map_err(to_err)?;
     Ok(k)
+}
+
+/// The rule that (`run`, `dwell_id`) is unique, at four bytes a row: file positions sorted by
+/// key and neighbours compared. A repeat is named by [`unique`], the rule's own check, so the
+/// message is `read_table`'s.
+fn ids_unique(k: &DwellKeys) -> Result<(), mimo_core::table_rules::Violation> {
+    let n = k.len().min(k.dwell_id.len());
+    let key = |i: usize| (k.run[i], k.dwell_id[i]);
+    if (1..n).all(|i| key(i - 1) < key(i)) {
+        return Ok(());
+    }
+    let repeats = match u32::try_from(n) {
+        Ok(n32) => {
+            let mut order: Vec<u32> = (0..n32).collect();
+            order.sort_unstable_by_key(|&i| key(i as usize));
+            order.windows(2).any(|w| key(w[0] as usize) == key(w[1] as usize))
+        }
+        Err(_) => true,
+    };
+    if repeats {
+        unique(k.run.iter().zip(&k.dwell_id).map(|(&r, &d)| Key2(r, d)), C.dwell_id)?;
+    }
+    Ok(())
 }
 
 /// The file positions `rows` (of a file of `n_rows` rows) as ranges to read; a short gap between
@@ -186,7 +226,7 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
         };
         let b = Batch::check_values_at(&batch, path, spec, &rows[out.len()..])?;
         // The checks of `DwellRow::from_batch`, column by column, on the rows read.
-        let (role, kind) = (Role::read(&b, C.role)?, DwellKind::read(&b, C.kind)?);
+        let (role, kind, t) = (Role::read(&b, C.role)?, DwellKind::read(&b, C.kind)?, f64::read(&b, C.t_s)?);
         let (dur, pw, np) = (f64::read(&b, C.duration_s)?, f64::read(&b, C.pulse_width_s)?, u32::read(&b, C.n_pulses)?);
         let (pp, e, wf) = (f64::read(&b, C.peak_power_w)?, f64::read(&b, C.energy_j)?, u32::read(&b, C.waveform)?);
         let (bu, bv) = (f64::read(&b, C.beam_u)?, f64::read(&b, C.beam_v)?);
@@ -201,7 +241,7 @@ pub fn read_dwell_rows(path: &Path, keys: &DwellKeys, rows: &[usize]) -> Result<
                 role: role[i],
                 kind: kind[i],
                 requested_by: keys.requested_by[k],
-                t_s: keys.t_s[k],
+                t_s: t[i],
                 duration_s: dur[i],
                 pulse_width_s: pw[i],
                 n_pulses: np[i],
@@ -267,8 +307,8 @@ mod tests {
         assert_eq!(k.len(), rows.len());
         for (i, r) in rows.iter().enumerate() {
             assert_eq!(
-                (k.run[i], k.dwell_id[i], k.group_id[i], k.radar[i], k.face[i], k.requested_by[i], k.t_s[i]),
-                (r.run, r.dwell_id, r.group_id, r.radar, r.face, r.requested_by, r.t_s)
+                (k.run[i], k.dwell_id[i], k.group_id[i], k.radar[i], k.face[i], k.requested_by[i]),
+                (r.run, r.dwell_id, r.group_id, r.radar, r.face, r.requested_by)
             );
         }
         let pick: Vec<usize> = vec![0, 1, 2, 7, 1000, 1001, crate::ROW_GROUP_ROWS - 1, crate::ROW_GROUP_ROWS + 5];
@@ -296,6 +336,29 @@ mod tests {
         let got = read_dwell_rows(&path, &k, &pick).expect("rows");
         let want: Vec<DwellRow> = pick.iter().map(|&i| rows[i].clone()).collect();
         assert_eq!(got, want);
+    }
+
+    /// Ids a few rows out of place (as dwells are written in end order) pass the rule on unique
+    /// ids; a repeat far from its first row is named as `read_table` names it.
+    #[test]
+    fn ids_out_of_place_are_unique_and_a_far_repeat_is_named() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("run-0000.parquet");
+        let mut rows: Vec<DwellRow> = (0..3000).map(row).collect();
+        for i in (0..2990).step_by(7) {
+            let (a, b) = (rows[i].dwell_id, rows[i + 3].dwell_id);
+            (rows[i].dwell_id, rows[i + 3].dwell_id) = (b, a);
+        }
+        crate::write_table(&path, &rows).expect("write");
+        let k = read_dwell_keys(&path).expect("unique ids out of place");
+        assert_eq!(k.dwell_id, rows.iter().map(|r| r.dwell_id).collect::<Vec<_>>());
+        rows[2900].dwell_id = rows[15].dwell_id;
+        rows[2950].dwell_id = rows[10].dwell_id;
+        crate::write_table(&path, &rows).expect("write");
+        let a = read_dwell_keys(&path).expect_err("repeated id").to_string();
+        let b = crate::read_table::<DwellRow>(&path).expect_err("repeated id").to_string();
+        assert_eq!(a, b);
+        assert!(a.contains("row 2900"), "{a}");
     }
 
     /// The keys pass refuses what `read_table` refuses, with the same message.

@@ -17,11 +17,13 @@ use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, Requester, Role, TrackRow};
 use mimo_core::sink::{RunSink, SinkError};
 use mimo_core::time::SimTime;
-use mimo_sim::engine::{Engine, EngineError, first_meas_id};
+use mimo_sim::engine::{Engine, EngineError};
 use mimo_sim::messages::{DwellReport, PartReport, Reply, Subscription};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_sim::{EngineConfig, World};
-use std::collections::{BTreeMap, HashMap};
+
+mod grouped;
+use grouped::{GroupedRows, by_group};
 
 /// What a re-run starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,44 +97,92 @@ pub struct DwellKey {
     pub requested_by: Requester,
 }
 
-impl DwellKey {
-    /// The key of a whole row.
-    pub fn of(d: &DwellRow) -> DwellKey {
+/// The dwells table's key columns, one value per row in each (a longer column's extra values are
+/// ignored). A view: the reader's columns are the replay's keys, held once.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct DwellKeyColumns<'a> {
+    /// `run`.
+    pub run: &'a [u32],
+    /// `dwell_id`.
+    pub dwell_id: &'a [u64],
+    /// `group_id`.
+    pub group_id: &'a [u64],
+    /// `radar`.
+    pub radar: &'a [RadarId],
+    /// `face`.
+    pub face: &'a [u8],
+    /// `requested_by`.
+    pub requested_by: &'a [Requester],
+}
+
+impl DwellKeyColumns<'_> {
+    /// Number of rows (the shortest column's length).
+    pub fn len(&self) -> usize {
+        [
+            self.run.len(),
+            self.dwell_id.len(),
+            self.group_id.len(),
+            self.radar.len(),
+            self.face.len(),
+            self.requested_by.len(),
+        ]
+        .into_iter()
+        .min()
+        .unwrap_or(0)
+    }
+
+    /// No rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The key of row `i` (`i < len()`).
+    pub fn get(&self, i: usize) -> DwellKey {
         DwellKey {
-            run: d.run,
-            dwell_id: d.dwell_id,
-            group_id: d.group_id,
-            radar: d.radar,
-            face: d.face,
-            requested_by: d.requested_by,
+            run: self.run[i],
+            dwell_id: self.dwell_id[i],
+            group_id: self.group_id[i],
+            radar: self.radar[i],
+            face: self.face[i],
+            requested_by: self.requested_by[i],
+        }
+    }
+}
+
+/// Key columns built from whole rows (for [`replay`], which is given the rows).
+#[derive(Debug, Clone, Default, PartialEq)]
+struct OwnedKeyColumns {
+    run: Vec<u32>,
+    dwell_id: Vec<u64>,
+    group_id: Vec<u64>,
+    radar: Vec<RadarId>,
+    face: Vec<u8>,
+    requested_by: Vec<Requester>,
+}
+
+impl OwnedKeyColumns {
+    /// The key columns of `rows`.
+    fn of(rows: &[DwellRow]) -> OwnedKeyColumns {
+        OwnedKeyColumns {
+            run: rows.iter().map(|d| d.run).collect(),
+            dwell_id: rows.iter().map(|d| d.dwell_id).collect(),
+            group_id: rows.iter().map(|d| d.group_id).collect(),
+            radar: rows.iter().map(|d| d.radar).collect(),
+            face: rows.iter().map(|d| d.face).collect(),
+            requested_by: rows.iter().map(|d| d.requested_by).collect(),
         }
     }
 
-    /// The keys of the dwells table's key columns, row by row (the columns have one length; a
-    /// longer column's extra values are ignored). Built here, in an optimised crate, since a
-    /// replay does it for every row of the table.
-    pub fn from_columns(
-        run: &[u32],
-        dwell_id: &[u64],
-        group_id: &[u64],
-        radar: &[RadarId],
-        face: &[u8],
-        requested_by: &[Requester],
-    ) -> Vec<DwellKey> {
-        let n = [run.len(), dwell_id.len(), group_id.len(), radar.len(), face.len(), requested_by.len()]
-            .into_iter()
-            .min()
-            .unwrap_or(0);
-        (0..n)
-            .map(|i| DwellKey {
-                run: run[i],
-                dwell_id: dwell_id[i],
-                group_id: group_id[i],
-                radar: radar[i],
-                face: face[i],
-                requested_by: requested_by[i],
-            })
-            .collect()
+    /// The columns as a view.
+    fn view(&self) -> DwellKeyColumns<'_> {
+        DwellKeyColumns {
+            run: &self.run,
+            dwell_id: &self.dwell_id,
+            group_id: &self.group_id,
+            radar: &self.radar,
+            face: &self.face,
+            requested_by: &self.requested_by,
+        }
     }
 }
 
@@ -154,11 +204,13 @@ pub fn replay(
     from: ReplayFrom,
     sink: &mut dyn RunSink,
 ) -> Result<ReplayStats, ReplayError> {
-    let keys: Vec<DwellKey> = dwells.iter().map(DwellKey::of).collect();
+    let keys = OwnedKeyColumns::of(dwells);
     let mut load = |at: &[usize]| -> Result<Vec<DwellRow>, Box<dyn std::error::Error + Send + Sync>> {
         Ok(at.iter().map(|&i| dwells[i].clone()).collect())
     };
-    let recording = Recording { run, keys: &keys, load: &mut load, primitives, measurements, from };
+    let primitives = primitives.iter().filter(|p| p.run == run).cloned().collect();
+    let measurements = measurements.iter().filter(|m| m.run == run).cloned().collect();
+    let recording = Recording { run, keys: keys.view(), load: &mut load, primitives, measurements, from };
     replay_selected(world, cfg, ta, recording, sink)
 }
 
@@ -166,14 +218,14 @@ pub fn replay(
 pub struct Recording<'r, 'l> {
     /// The run re-run.
     pub run: u32,
-    /// The dwells table's keys, every row.
-    pub keys: &'r [DwellKey],
+    /// The dwells table's key columns, every row.
+    pub keys: DwellKeyColumns<'r>,
     /// The loader of whole dwells rows, asked once for the rows of the groups delivered.
     pub load: &'r mut DwellLoader<'l>,
-    /// The primitives table's rows.
-    pub primitives: &'r [PrimitiveRow],
-    /// The measurements table's rows.
-    pub measurements: &'r [MeasurementRow],
+    /// The primitives table's rows (rows of other runs are dropped).
+    pub primitives: Vec<PrimitiveRow>,
+    /// The measurements table's rows (rows of other runs are dropped).
+    pub measurements: Vec<MeasurementRow>,
     /// What the re-run starts from.
     pub from: ReplayFrom,
 }
@@ -190,7 +242,7 @@ pub fn replay_selected(
 ) -> Result<ReplayStats, ReplayError> {
     let Recording { run, keys, load, primitives, measurements, from } = rec;
     let parts = Parts::of_run(world, keys, run)?;
-    let (mut meas_by_group, mut prims_by_group) = by_group(&parts, run, primitives, measurements, from, sink)?;
+    let (meas_by_group, prims_by_group) = by_group(&parts, run, primitives, measurements, from, sink)?;
 
     let start = Engine::start_info(world, run, cfg, false);
     let mut stats = ReplayStats::default();
@@ -199,32 +251,30 @@ pub fn replay_selected(
     taker.take(reply, &mut stats, sink)?;
     let sub = ta.subscription();
 
-    let by_group = parts.group_order();
-    let wanted_parts = parts.wanted_groups(&by_group, &meas_by_group, &sub);
-    let rows = parts.rows;
-    // Whole rows of the wanted groups' parts only, by position in `keys`.
+    let wanted_parts = parts.wanted_groups(&meas_by_group, &sub);
+    // Whole rows of the wanted groups' parts only, by position in the keys.
     let mut needed: Vec<usize> =
-        wanted_parts.iter().flat_map(|(_, parts)| by_group[parts.clone()].iter().map(|&k| rows[k as usize])).collect();
+        wanted_parts.iter().flat_map(|(_, ks)| ks.clone().map(|k| parts.part_row(k))).collect();
     needed.sort_unstable();
     needed.dedup();
     let full = load_rows(load, &needed)?;
     let row_at = |i: usize| needed.binary_search(&i).ok().map(|p| &full[p]);
     let mut wanted: Vec<(SimTime, u64, std::ops::Range<usize>)> = Vec::with_capacity(wanted_parts.len());
-    for (gid, parts) in wanted_parts {
-        let Some(first) = row_at(rows[by_group[parts.start] as usize]) else { continue };
+    for (gid, ks) in wanted_parts {
+        let Some(first) = row_at(parts.part_row(ks.start)) else { continue };
         let t_end = SimTime::from_secs(first.t_s).plus_secs(first.duration_s);
-        wanted.push((t_end, gid, parts));
+        wanted.push((t_end, gid, ks));
     }
     // Delivery order of the engine: end time, then group id.
     wanted.sort_by_key(|w| (w.0, w.1));
-    for (end, gid, parts) in wanted {
-        let Some(g) = row_at(rows[by_group[parts.start] as usize]) else { continue };
+    for (end, gid, ks) in wanted {
+        let Some(g) = row_at(parts.part_row(ks.start)) else { continue };
         let t_mid = g.t_s + 0.5 * g.duration_s;
-        let group_rows = by_group[parts].iter().filter_map(|&i| row_at(rows[i as usize]));
+        let group_rows = ks.filter_map(|k| row_at(parts.part_row(k)));
         let reports = part_reports(world, group_rows, t_mid)?;
-        let mut ms = meas_by_group.remove(&gid).unwrap_or_default();
+        let mut ms = meas_by_group.cloned(gid);
         ms.iter_mut().for_each(|m| m.target_hint = None);
-        let mut ps = if sub.primitives { prims_by_group.remove(&gid).unwrap_or_default() } else { Vec::new() };
+        let mut ps = if sub.primitives { prims_by_group.cloned(gid) } else { Vec::new() };
         ps.iter_mut().for_each(|p| p.target_hint = None);
         stats.dwells += 1;
         stats.measurements += ms.len() as u64;
@@ -281,24 +331,32 @@ impl Taker {
     }
 }
 
-/// The run's dwell parts in dwell_id order, as positions in the keys.
+/// The run's dwell parts in dwell_id order, as positions in the keys, and their order by group.
+/// Four bytes a part beside the keys (eight when groups are not numbered in dwell_id order).
 struct Parts<'k> {
-    /// The dwells table's keys, every row.
-    keys: &'k [DwellKey],
+    /// The dwells table's key columns, every row.
+    keys: DwellKeyColumns<'k>,
     /// Positions in `keys` of the run's parts, in dwell_id order (equal ids keep file order).
-    rows: Vec<usize>,
+    rows: Vec<u32>,
+    /// Indices into `rows` ordered by (group_id, dwell_id), when that is not `rows`' own order.
+    by_group: Option<Vec<u32>>,
 }
 
 impl<'k> Parts<'k> {
     /// The run's parts, each checked to name a face its ship has (cheaply, for every part; frames
     /// are computed only for the groups delivered).
-    fn of_run(world: &World, keys: &'k [DwellKey], run: u32) -> Result<Parts<'k>, ReplayError> {
-        let mut by_id: Vec<(u64, usize)> =
-            (0..keys.len()).filter(|&i| keys[i].run == run).map(|i| (keys[i].dwell_id, i)).collect();
-        mimo_core::nearly_sorted::sort_nearly_sorted(&mut by_id);
-        let rows: Vec<usize> = by_id.into_iter().map(|(_, i)| i).collect();
+    fn of_run(world: &World, keys: DwellKeyColumns<'k>, run: u32) -> Result<Parts<'k>, ReplayError> {
+        let n = keys.len();
+        if u32::try_from(n).is_err() {
+            return Err(ReplayError::DwellRows(format!("{n} dwells rows: more than one run can hold").into()));
+        }
+        let mut rows: Vec<u32> = (0..n as u32).filter(|&i| keys.run[i as usize] == run).collect();
+        // Ids come a few rows out of place (docs/design.md §3); the sort runs over them.
+        if !rows.windows(2).all(|w| keys.dwell_id[w[0] as usize] <= keys.dwell_id[w[1] as usize]) {
+            rows.sort_unstable_by_key(|&i| (keys.dwell_id[i as usize], i));
+        }
         for &i in &rows {
-            let d = &keys[i];
+            let d = keys.get(i as usize);
             let n_faces = world.scenario.ships.get(d.radar.index()).map_or(0, |s| s.radar.face_azimuths_deg.len());
             if usize::from(d.face) >= n_faces {
                 return Err(ReplayError::UnknownFace {
@@ -308,44 +366,58 @@ impl<'k> Parts<'k> {
                 });
             }
         }
-        Ok(Parts { keys, rows })
+        let by_group = Self::group_order(keys, &rows);
+        Ok(Parts { keys, rows, by_group })
     }
 
     /// The group of a dwell id (binary search), if the run has that dwell.
     fn group_of(&self, dwell_id: u64) -> Option<u64> {
         let keys = self.keys;
-        self.rows.binary_search_by_key(&dwell_id, |&i| keys[i].dwell_id).ok().map(|k| keys[self.rows[k]].group_id)
+        let at = self.rows.binary_search_by_key(&dwell_id, |&i| keys.dwell_id[i as usize]).ok()?;
+        Some(keys.group_id[self.rows[at] as usize])
     }
 
-    /// Part indices ordered by (group_id, dwell_id), so each group's parts are contiguous and in
-    /// dwell_id order. Groups are usually numbered in dwell_id order already: then no sort is needed.
-    fn group_order(&self) -> Vec<u32> {
-        let (keys, rows) = (self.keys, &self.rows);
-        let mut by_group: Vec<u32> = (0..rows.len() as u32).collect();
-        if !rows.windows(2).all(|w| keys[w[0]].group_id <= keys[w[1]].group_id) {
-            by_group.sort_by_key(|&k| (keys[rows[k as usize]].group_id, keys[rows[k as usize]].dwell_id));
+    /// Indices into `rows` ordered by (group_id, dwell_id), so each group's parts are contiguous
+    /// and in dwell_id order; none when groups are numbered in dwell_id order already (the usual
+    /// case: `rows` is that order).
+    fn group_order(keys: DwellKeyColumns<'_>, rows: &[u32]) -> Option<Vec<u32>> {
+        let group = |i: u32| keys.group_id[i as usize];
+        if rows.windows(2).all(|w| group(w[0]) <= group(w[1])) {
+            return None;
         }
-        by_group
+        let mut by_group: Vec<u32> = (0..rows.len() as u32).collect();
+        by_group.sort_by_key(|&k| (group(rows[k as usize]), keys.dwell_id[rows[k as usize] as usize]));
+        Some(by_group)
     }
 
-    /// The groups the subscription wants, as runs of `by_group`. A group's kind, requester,
-    /// start, duration and aim are its first part's.
+    /// Number of parts.
+    fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// The position in the keys of the `k`-th part in group order.
+    fn part_row(&self, k: usize) -> usize {
+        let at = self.by_group.as_ref().map_or(k, |o| o[k] as usize);
+        self.rows[at] as usize
+    }
+
+    /// The groups the subscription wants, as ranges of parts in group order. A group's kind,
+    /// requester, start, duration and aim are its first part's.
     fn wanted_groups(
         &self,
-        by_group: &[u32],
-        meas_by_group: &HashMap<u64, Vec<MeasurementRow>>,
+        meas_by_group: &GroupedRows<MeasurementRow>,
         sub: &Subscription,
     ) -> Vec<(u64, std::ops::Range<usize>)> {
-        let (keys, rows) = (self.keys, &self.rows);
+        let keys = self.keys;
         let mut wanted_parts = Vec::new();
         let mut k = 0;
-        while k < by_group.len() {
-            let first = &keys[rows[by_group[k] as usize]];
+        while k < self.len() {
+            let first = keys.get(self.part_row(k));
             let mut end = k + 1;
-            while end < by_group.len() && keys[rows[by_group[end] as usize]].group_id == first.group_id {
+            while end < self.len() && keys.group_id[self.part_row(end)] == first.group_id {
                 end += 1;
             }
-            let n_meas = meas_by_group.get(&first.group_id).map_or(0, Vec::len);
+            let n_meas = meas_by_group.group(first.group_id).len();
             if sub.wants(first.requested_by, n_meas) {
                 wanted_parts.push((first.group_id, k..end));
             }
@@ -353,52 +425,6 @@ impl<'k> Parts<'k> {
         }
         wanted_parts
     }
-}
-
-/// Measurements by group, and primitives by group.
-type ByGroup = (HashMap<u64, Vec<MeasurementRow>>, BTreeMap<u64, Vec<PrimitiveRow>>);
-
-/// The run's measurements (recorded, or re-formed from primitives and sent to `sink`) and
-/// primitives, per group.
-fn by_group(
-    parts: &Parts<'_>,
-    run: u32,
-    primitives: &[PrimitiveRow],
-    measurements: &[MeasurementRow],
-    from: ReplayFrom,
-    sink: &mut dyn RunSink,
-) -> Result<ByGroup, ReplayError> {
-    let mut meas_by_group: HashMap<u64, Vec<MeasurementRow>> = HashMap::new();
-    let mut prims_by_group: BTreeMap<u64, Vec<PrimitiveRow>> = BTreeMap::new();
-    for p in primitives.iter().filter(|p| p.run == run) {
-        let gid = parts
-            .group_of(p.dwell_id)
-            .ok_or(ReplayError::UnknownDwell { table: "primitives", dwell_id: p.dwell_id })?;
-        prims_by_group.entry(gid).or_default().push(p.clone());
-    }
-    match from {
-        ReplayFrom::Measurements => {
-            for m in measurements.iter().filter(|m| m.run == run) {
-                let gid = parts
-                    .group_of(m.dwell_id)
-                    .ok_or(ReplayError::UnknownDwell { table: "measurements", dwell_id: m.dwell_id })?;
-                meas_by_group.entry(gid).or_default().push(m.clone());
-            }
-        }
-        ReplayFrom::Primitives => {
-            let mut all = Vec::new();
-            for (gid, ps) in &prims_by_group {
-                let ms = mimo_radar::measurements_from_primitives(ps, first_meas_id(*gid));
-                all.extend(ms.iter().cloned());
-                meas_by_group.insert(*gid, ms);
-            }
-            all.sort_by_key(|m| m.meas_id);
-            if !all.is_empty() {
-                sink.measurements(all)?;
-            }
-        }
-    }
-    Ok((meas_by_group, prims_by_group))
 }
 
 /// Whole dwells rows at the positions `needed`, checked to be one per position.
@@ -446,22 +472,50 @@ fn part_reports<'a>(
 mod tests {
     use super::*;
 
-    /// Keys built from columns are the keys of the rows the columns came from.
+    /// A hand-made run: rows in file order with ids out of place, groups not numbered in id
+    /// order, a part of another run; plus the ships-only world of standard scenario 7.
+    fn hand_made() -> (World, OwnedKeyColumns) {
+        let mut s = mimo_scenario::load_standard(7).expect("standard scenario");
+        s.duration_s = 10.0;
+        let world = World::ships_only(s);
+        // (run, dwell_id, group_id) by file row.
+        let rows = [(3, 12, 5), (3, 10, 7), (4, 11, 1), (3, 11, 5), (3, 14, 2), (3, 13, 7), (3, 15, 9)];
+        let n = rows.len();
+        let keys = OwnedKeyColumns {
+            run: rows.iter().map(|r| r.0).collect(),
+            dwell_id: rows.iter().map(|r| r.1).collect(),
+            group_id: rows.iter().map(|r| r.2).collect(),
+            radar: vec![RadarId(0); n],
+            face: vec![0; n],
+            requested_by: vec![Requester::Radar; n],
+        };
+        (world, keys)
+    }
+
+    /// The run's parts come in dwell_id order, group order puts each group's parts together in
+    /// dwell_id order, and a dwell id finds its group; the other run's part is left out.
     #[test]
-    fn keys_from_columns_are_the_rows_keys() {
-        let keys = [
-            DwellKey { run: 2, dwell_id: 7, group_id: 3, radar: RadarId(1), face: 2, requested_by: Requester::Radar },
-            DwellKey { run: 2, dwell_id: 9, group_id: 4, radar: RadarId(0), face: 0, requested_by: Requester::Ta },
-        ];
-        let built = DwellKey::from_columns(
-            &keys.map(|k| k.run),
-            &keys.map(|k| k.dwell_id),
-            &keys.map(|k| k.group_id),
-            &keys.map(|k| k.radar),
-            &keys.map(|k| k.face),
-            &keys.map(|k| k.requested_by),
-        );
-        assert_eq!(built, keys.to_vec());
-        assert!(DwellKey::from_columns(&[1], &[], &[], &[], &[], &[]).is_empty());
+    fn parts_in_id_order_and_in_group_order() {
+        let (world, keys) = hand_made();
+        let parts = Parts::of_run(&world, keys.view(), 3).expect("parts");
+        // File rows of ids 10, 11, 12, 13, 14, 15 (row 2 is run 4's).
+        assert_eq!(parts.rows, vec![1, 3, 0, 5, 4, 6]);
+        let by_group: Vec<(u64, u64)> =
+            (0..parts.len()).map(|k| parts.part_row(k)).map(|i| (keys.group_id[i], keys.dwell_id[i])).collect();
+        assert_eq!(by_group, vec![(2, 14), (5, 11), (5, 12), (7, 10), (7, 13), (9, 15)]);
+        assert_eq!([10, 11, 15, 16].map(|id| parts.group_of(id)), [Some(7), Some(5), Some(9), None]);
+        let meas = GroupedRows::<MeasurementRow> { rows: Vec::new() };
+        let all = Subscription { dwells: mimo_sim::messages::DwellFilter::All, ..Subscription::default() };
+        let groups: Vec<(u64, std::ops::Range<usize>)> = parts.wanted_groups(&meas, &all);
+        assert_eq!(groups, vec![(2, 0..1), (5, 1..3), (7, 3..5), (9, 5..6)]);
+        // Numbered in id order, no group order is built.
+        let (mut ids, mut bad_face) = (keys.clone(), keys.clone());
+        ids.group_id = ids.dwell_id.clone();
+        assert!(Parts::of_run(&world, ids.view(), 3).expect("parts").by_group.is_none());
+        bad_face.face[4] = 9;
+        match Parts::of_run(&world, bad_face.view(), 3) {
+            Err(ReplayError::UnknownFace { dwell_id: 14, face: 9, .. }) => {}
+            other => panic!("expected an unknown face, got {:?}", other.map(|p| p.rows)),
+        }
     }
 }
