@@ -32,6 +32,11 @@
 //! `PageStats` for a float column a reader may filter on). They change the file's bytes, never
 //! its columns or values; the record struct ignores them.
 //!
+//! A field's type may stand for several columns (in `mimo-store`, a type whose
+//! `ColumnKind::GROUP` lists them: the study tables' identifying columns and metrics); its
+//! columns then take the field's place, `COLUMNS` holds the field's name and `COLUMN_NAMES`
+//! (made by `mimo_store::column_rows!` for such tables) the group's columns.
+//!
 //! `..path::to_fragment,` splices columns shared by several tables (the study tables' identifying
 //! columns) in place: the fragment is a macro that takes `[head] [fields before] [fields after]`
 //! and hands `table_decl!` back `head { before, its columns, after }`, so a shared column is

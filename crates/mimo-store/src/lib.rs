@@ -369,3 +369,38 @@ pub fn read_table_dir<R: TableRow>(run_dir: &Path, table: &str) -> Result<Vec<R>
 pub fn run_file_name(run: u32) -> String {
     format!("run-{run:04}.parquet")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use parquet::basic::Encoding;
+    use parquet::file::properties::EnabledStatistics;
+    use parquet::schema::types::ColumnPath;
+
+    /// The writer's settings per column come from the storage tags of the file's table.
+    #[test]
+    fn writer_settings_follow_the_declared_storage() {
+        let col = |n: &str| ColumnPath::from(n);
+        let dwells = writer_props(&schema::DWELLS.arrow_schema());
+        assert_eq!(dwells.encoding(&col("dwell_id")), Some(Encoding::DELTA_BINARY_PACKED));
+        assert_eq!(dwells.encoding(&col("aim_x_m")), Some(Encoding::BYTE_STREAM_SPLIT));
+        assert_eq!(dwells.encoding(&col("energy_j")), None);
+        assert_eq!(dwells.statistics_enabled(&col("t_s")), EnabledStatistics::Page);
+        assert_eq!(dwells.statistics_enabled(&col("energy_j")), EnabledStatistics::None);
+        assert_eq!(dwells.statistics_enabled(&col("run")), EnabledStatistics::Page);
+        let zstd = dwells.compression(&col("energy_j"));
+        assert!(matches!(zstd, Compression::ZSTD(_)));
+        let truth = writer_props(&schema::TRUTH.arrow_schema());
+        assert_eq!(truth.compression(&col("x_m")), Compression::UNCOMPRESSED);
+        assert_eq!(truth.compression(&col("t_s")), zstd);
+        // Storage is declared per table: `range_m` of the voltages is compressed, of the
+        // measurements not.
+        let voltages = writer_props(&schema::VOLTAGES.arrow_schema());
+        assert_eq!(voltages.compression(&col("range_m")), zstd);
+        let measurements = writer_props(&schema::MEASUREMENTS.arrow_schema());
+        assert_eq!(measurements.compression(&col("range_m")), Compression::UNCOMPRESSED);
+        // A schema of no known table takes the defaults, whatever its column names.
+        let unknown = arrow::datatypes::Schema::new(schema::DWELLS.arrow_schema().fields().clone());
+        assert_eq!(writer_props(&unknown).encoding(&col("dwell_id")), None);
+    }
+}

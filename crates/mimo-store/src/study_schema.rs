@@ -228,3 +228,84 @@ crate::core_crate::table_decl! { crate::column_table;
         estimates: MetricEstimates => ("", "every metric of STUDY_METRICS: its mean, ci_lo and ci_hi columns"),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::challenge_schema::{STUDY_CHALLENGE, StudyChallengeRow};
+    use crate::columns::write_rows;
+    use crate::failure_point_schema::{STUDY_FAILURE_POINTS, StudyFailurePointRow};
+    use arrow::array::{Array, AsArray};
+    use arrow::datatypes::Float64Type;
+
+    fn names(spec: &crate::schema::TableSpec) -> Vec<&'static str> {
+        spec.columns.iter().map(|c| c.name).collect()
+    }
+
+    /// A group field stands for its columns, in order, in the spec and in `COLUMN_NAMES`.
+    #[test]
+    fn group_fields_expand_to_their_columns() {
+        assert_eq!(StudyResultsRow::COLUMN_NAMES, names(&STUDY_RESULTS));
+        assert_eq!(StudySummaryRow::COLUMN_NAMES, names(&STUDY_SUMMARY));
+        assert_eq!(StudyChallengeRow::COLUMN_NAMES, names(&STUDY_CHALLENGE));
+        assert_eq!(StudyFailurePointRow::COLUMN_NAMES, names(&STUDY_FAILURE_POINTS));
+        let m = STUDY_METRICS.len();
+        assert_eq!(STUDY_RESULTS.columns.len(), STUDY_ID_COLUMNS + 2 + m + 1);
+        assert_eq!(STUDY_SUMMARY.columns.len(), STUDY_ID_COLUMNS + 3 + 3 * m);
+        assert_eq!(&names(&STUDY_RESULTS)[..5], ["method", "family", "knob", "knob_value", "scenario"]);
+        assert_eq!(names(&STUDY_RESULTS)[STUDY_ID_COLUMNS - 1], "raid_targets");
+        assert_eq!(names(&STUDY_RESULTS)[STUDY_ID_COLUMNS + 2], STUDY_METRICS[0].0);
+        let last = STUDY_METRICS[m - 1].0;
+        assert_eq!(names(&STUDY_SUMMARY)[STUDY_ID_COLUMNS + 3 * m + 2], format!("{last}_ci_hi"));
+        assert_eq!(names(&STUDY_FAILURE_POINTS)[4..6], ["scenario", "axis"]);
+        assert_eq!(names(&STUDY_CHALLENGE)[3..5], ["scenario", "swept"]);
+    }
+
+    /// Summary rows written through their declaration read back column by column.
+    #[test]
+    fn summary_rows_round_trip() {
+        let row = |k: f64| StudySummaryRow {
+            ids: StudyIds {
+                method: StudyMethod {
+                    method: "m@2".into(),
+                    family: "m".into(),
+                    knob: Some("x".into()),
+                    knob_value: Some(k),
+                },
+                scenario: "7".into(),
+                point: StudyPoint {
+                    swept: None,
+                    rcs_offset_db: None,
+                    pfa: Some(1e-6 * k),
+                    formation_spacing_scale: None,
+                    peak_power_offset_db: None,
+                    search_pulses: None,
+                    raid_targets: None,
+                },
+            },
+            runs: 4,
+            failed: 0,
+            failure: None,
+            estimates: MetricEstimates(
+                (0..STUDY_METRICS.len()).map(|i| (Some(i as f64), None, Some(k + i as f64))).collect(),
+            ),
+        };
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join("summary.parquet");
+        assert_eq!(write_rows(&path, &[row(1.0), row(2.0)]).expect("write"), 2);
+        let f = std::fs::File::open(&path).expect("open");
+        let b = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(f)
+            .expect("reader")
+            .build()
+            .expect("build")
+            .next()
+            .expect("a batch")
+            .expect("batch");
+        let f64s = |name: &str| b.column_by_name(name).expect(name).as_primitive::<Float64Type>().clone();
+        assert_eq!(f64s("pfa").values().to_vec(), vec![1e-6, 2e-6]);
+        assert_eq!(f64s("switches_mean").values().to_vec(), vec![4.0, 4.0]);
+        assert_eq!(f64s("switches_ci_hi").values().to_vec(), vec![5.0, 6.0]);
+        assert_eq!(f64s("switches_ci_lo").null_count(), 2);
+        assert_eq!(b.column_by_name("rcs_offset_db").expect("rcs").null_count(), 2);
+    }
+}
