@@ -232,11 +232,22 @@ macro_rules! column_table {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::study_schema::{STUDY_COSTS, STUDY_ID_COLUMNS};
     use arrow::array::AsArray;
-    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+
+    /// The first record batch of the Parquet file at `path`.
+    pub(crate) fn first_batch(path: &Path) -> RecordBatch {
+        let f = std::fs::File::open(path).expect("open");
+        parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(f)
+            .expect("reader")
+            .build()
+            .expect("build")
+            .next()
+            .expect("a batch")
+            .expect("batch")
+    }
 
     fn ids(n: usize) -> Vec<Column> {
         // method, family, knob, knob_value, scenario, swept, then the five axes.
@@ -263,14 +274,7 @@ mod tests {
             cols.push(Column::F64(vec![Some(x), Some(x + 1.0)]));
         }
         assert_eq!(write_columns(&path, &STUDY_COSTS, cols.clone()).expect("write"), 2);
-        let f = std::fs::File::open(&path).expect("open");
-        let batch = ParquetRecordBatchReaderBuilder::try_new(f)
-            .expect("reader")
-            .build()
-            .expect("build")
-            .next()
-            .expect("a batch")
-            .expect("batch");
+        let batch = first_batch(&path);
         assert_eq!(batch.num_rows(), 2);
         let wall = batch.column_by_name("wall_s").expect("wall_s").as_primitive::<arrow::datatypes::Float64Type>();
         assert_eq!(wall.values().to_vec(), vec![4.0, 5.0]);

@@ -137,7 +137,8 @@ study_metrics![
 #[derive(Debug, Clone, PartialEq)]
 pub struct MetricValues(pub Vec<Option<f64>>);
 
-/// A metric's Monte Carlo estimate: the mean and the lower and upper end of its 95 % interval.
+/// A figure with its 95 % interval: (mean or value, lower end, upper end), each null when
+/// undefined; in the summary, a metric's Monte Carlo mean and confidence interval.
 pub type Estimate = (Option<f64>, Option<f64>, Option<f64>);
 
 /// One estimate per metric of [`STUDY_METRICS`], in its order: the metric columns of a summary
@@ -293,14 +294,7 @@ mod tests {
         let dir = tempfile::tempdir().expect("tmp");
         let path = dir.path().join("summary.parquet");
         assert_eq!(write_rows(&path, &[row(1.0), row(2.0)]).expect("write"), 2);
-        let f = std::fs::File::open(&path).expect("open");
-        let b = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(f)
-            .expect("reader")
-            .build()
-            .expect("build")
-            .next()
-            .expect("a batch")
-            .expect("batch");
+        let b = crate::columns::tests::first_batch(&path);
         let f64s = |name: &str| b.column_by_name(name).expect(name).as_primitive::<Float64Type>().clone();
         assert_eq!(f64s("pfa").values().to_vec(), vec![1e-6, 2e-6]);
         assert_eq!(f64s("switches_mean").values().to_vec(), vec![4.0, 4.0]);

@@ -15,6 +15,7 @@ use mimo_store::challenge_schema::{
 };
 use mimo_store::columns::write_rows;
 use mimo_store::layout::StudyDir;
+use mimo_store::study_schema::Estimate;
 use std::path::Path;
 
 /// A family on one scenario at one stress point, with its figures.
@@ -132,7 +133,7 @@ pub fn ratio_rows(plan: &Plan, cells: &[Cell], rows: &[FamilyRow]) -> Vec<RatioR
 
 /// The figures of a row at 98 %: (knob, energy, dwell time, power), each figure with its
 /// interval; all null when the crossing is not defined.
-fn at_98(r: &FamilyRow) -> (Option<f64>, [(Option<f64>, Option<f64>, Option<f64>); 3]) {
+fn at_98(r: &FamilyRow) -> (Option<f64>, [Estimate; 3]) {
     match r.challenge.at.as_ref() {
         Ok(a) => (a.0, [a.1, a.2, a.3].map(|w| (Some(w.0), w.1, w.2))),
         Err(_) => (None, [(None, None, None); 3]),
