@@ -54,6 +54,8 @@ pub mod schema;
 pub mod score_schema;
 pub mod study_schema;
 pub mod table_writer;
+#[doc(hidden)]
+pub mod testing;
 
 /// `mimo-core`, for the table generators' expansions in other crates.
 #[doc(hidden)]
