@@ -22,25 +22,25 @@ macro_rules! truth_table {
                 /// Monte Carlo run index, 0-based.
                 run: u32 => ("", "Monte Carlo run index"),
                 /// Sample time since scenario start (s).
-                t_s: f64 => ("s", "time since scenario start", NonNegative),
+                t_s: f64 => ("s", "time since scenario start", NonNegative) as Split + PageStats,
                 /// Target id (`F-1`…`F-4`, `A`, `B`, `C` in the standard scenarios).
                 target: String => ("", "target id (F-1…F-4, A, B, C in the standard scenarios)"),
                 /// Target position, ECEF x (m).
-                x_m: f64 => ("m", "ECEF x position"),
+                x_m: f64 => ("m", "ECEF x position") as Uncompressed,
                 /// Target position, ECEF y (m).
-                y_m: f64 => ("m", "ECEF y position"),
+                y_m: f64 => ("m", "ECEF y position") as Uncompressed,
                 /// Target position, ECEF z (m).
-                z_m: f64 => ("m", "ECEF z position"),
+                z_m: f64 => ("m", "ECEF z position") as Uncompressed,
                 /// Target velocity, ECEF x (m/s).
-                vx_mps: f64 => ("m/s", "ECEF x velocity"),
+                vx_mps: f64 => ("m/s", "ECEF x velocity") as Uncompressed,
                 /// Target velocity, ECEF y (m/s).
-                vy_mps: f64 => ("m/s", "ECEF y velocity"),
+                vy_mps: f64 => ("m/s", "ECEF y velocity") as Uncompressed,
                 /// Target velocity, ECEF z (m/s).
-                vz_mps: f64 => ("m/s", "ECEF z velocity"),
+                vz_mps: f64 => ("m/s", "ECEF z velocity") as Uncompressed,
                 /// Target WGS-84 geodetic latitude (deg).
-                lat_deg: f64 => ("deg", "WGS-84 geodetic latitude"),
+                lat_deg: f64 => ("deg", "WGS-84 geodetic latitude") as Uncompressed,
                 /// Target WGS-84 geodetic longitude (deg, east positive).
-                lon_deg: f64 => ("deg", "WGS-84 geodetic longitude"),
+                lon_deg: f64 => ("deg", "WGS-84 geodetic longitude") as Uncompressed,
                 /// Target height above the WGS-84 ellipsoid (m).
                 alt_m: f64 => ("m", "height above the WGS-84 ellipsoid"),
                 /// Mean radar cross-section (m²).
@@ -113,9 +113,9 @@ macro_rules! dwells_table {
                 /// Monte Carlo run index, 0-based.
                 run: u32 => ("", "Monte Carlo run index"),
                 /// Unique within a run per (dwell, radar) part.
-                dwell_id: u64 => ("", "id of this radar's part in the dwell, unique within a run"),
+                dwell_id: u64 => ("", "id of this radar's part in the dwell, unique within a run") as Delta,
                 /// Shared by all radars of one (MIMO) dwell; equals `dwell_id` of the first part.
-                group_id: u64 => ("", "id shared by all radars of one (MIMO) dwell"),
+                group_id: u64 => ("", "id shared by all radars of one (MIMO) dwell") as Delta,
                 /// The radar this part belongs to (`R1`…`R4` on disk).
                 radar: $crate::ids::RadarId => ("", "radar id R1…R4"),
                 /// Whether this radar transmits, receives or both in the dwell.
@@ -125,7 +125,7 @@ macro_rules! dwells_table {
                 /// Who asked for the dwell: the radar's background search or the test article.
                 requested_by: $crate::records::Requester => ("", "radar (own background search) or ta (test article)"),
                 /// Start time (s).
-                t_s: f64 => ("s", "dwell start time", NonNegative),
+                t_s: f64 => ("s", "dwell start time", NonNegative) as Split + PageStats,
                 /// Time the radar's timeline is occupied, τ_dwell (s).
                 duration_s: f64 => ("s", "timeline occupancy τ_dwell", NonNegative),
                 /// Pulse width τ_pw (s).
@@ -145,11 +145,11 @@ macro_rules! dwells_table {
                 /// Beam steering direction cosine v (face-up axis) in the face frame.
                 beam_v: f64 => ("", "beam steering direction cosine v in the face frame"),
                 /// Aim point (ECEF, m).
-                aim_x_m: f64 => ("m", "aim point ECEF x"),
+                aim_x_m: f64 => ("m", "aim point ECEF x") as Split,
                 /// Aim point, ECEF y (m).
-                aim_y_m: f64 => ("m", "aim point ECEF y"),
+                aim_y_m: f64 => ("m", "aim point ECEF y") as Split,
                 /// Aim point, ECEF z (m).
-                aim_z_m: f64 => ("m", "aim point ECEF z"),
+                aim_z_m: f64 => ("m", "aim point ECEF z") as Split,
             }
         }
     };
@@ -170,7 +170,7 @@ macro_rules! voltages_table {
                 /// Monte Carlo run index, 0-based.
                 run: u32 => ("", "Monte Carlo run index"),
                 /// The receiver's dwell part (`DwellRow::dwell_id`).
-                dwell_id: u64 => ("", "receiver's dwell part"),
+                dwell_id: u64 => ("", "receiver's dwell part") as Delta,
                 /// Receiving radar.
                 rx: $crate::ids::RadarId => ("", "receiving radar"),
                 /// Transmitting radar whose waveform this channel's matched filter is for.
@@ -213,9 +213,9 @@ macro_rules! primitives_table {
                 #[serde(skip)]
                 run: u32 => ("", "Monte Carlo run index"),
                 /// The receiver's dwell part.
-                dwell_id: u64 => ("", "receiver's dwell part"),
+                dwell_id: u64 => ("", "receiver's dwell part") as Delta,
                 /// Dwell mid-time, when truth was evaluated (s since scenario start).
-                t_s: f64 => ("s", "dwell time", NonNegative),
+                t_s: f64 => ("s", "dwell time", NonNegative) as Split + PageStats,
                 /// Receiving radar.
                 rx: $crate::ids::RadarId => ("", "receiving radar"),
                 /// Transmitting radar (equal to `rx` for the monostatic channel).
@@ -225,15 +225,15 @@ macro_rules! primitives_table {
                 /// Peak cell index.
                 range_cell: i64 => ("", "peak cell index"),
                 /// Centroided equivalent monostatic range ρ = R_B/2 (m).
-                range_m: f64 => ("m", "centroided equivalent monostatic range ρ = R_B/2"),
+                range_m: f64 => ("m", "centroided equivalent monostatic range ρ = R_B/2") as Uncompressed,
                 /// Estimated direction cosine u (face's horizontal axis) in the receiver face.
-                u: f64 => ("", "estimated direction cosine u (receiver face)"),
+                u: f64 => ("", "estimated direction cosine u (receiver face)") as Uncompressed,
                 /// Estimated direction cosine v (face-up axis) in the receiver face.
-                v: f64 => ("", "estimated direction cosine v (receiver face)"),
+                v: f64 => ("", "estimated direction cosine v (receiver face)") as Uncompressed,
                 /// Observed sum-channel SNR S = Σ|Σ_k|² over the cells used (dB).
-                snr_db: f64 => ("dB", "observed sum-channel SNR over the cells used"),
+                snr_db: f64 => ("dB", "observed sum-channel SNR over the cells used") as Uncompressed,
                 /// Imaginary-part statistic T = η_Qa²/var_a + η_Qe²/var_e (χ²₂ for one target).
-                eta_q: f64 => ("", "imaginary-part monopulse statistic T (χ²₂ for one target)"),
+                eta_q: f64 => ("", "imaginary-part monopulse statistic T (χ²₂ for one target)") as Uncompressed,
                 /// Flagged as possibly two unresolved targets in one beam and cell (docs/model.md §2.7).
                 merged: bool => ("", "flagged as possibly unresolved (merged) targets"),
                 /// Beam steering direction of the receiver (sine space), so the monopulse ratio can be
@@ -244,9 +244,9 @@ macro_rules! primitives_table {
                 /// Variances of this primitive's estimates, from the observed SNR (docs/model.md §2.6, §4.6).
                 var_range_m2: f64 => ("m^2", "variance of range_m", Positive),
                 /// Variance of `u` (dimensionless, sine space).
-                var_u: f64 => ("", "variance of u", Positive),
+                var_u: f64 => ("", "variance of u", Positive) as Uncompressed,
                 /// Variance of `v` (dimensionless, sine space).
-                var_v: f64 => ("", "variance of v", Positive),
+                var_v: f64 => ("", "variance of v", Positive) as Uncompressed,
                 /// Truth id of the dominant contributor (evaluation only).
                 #[serde(skip)]
                 target_hint: Option<String> =>
@@ -273,11 +273,11 @@ macro_rules! measurements_table {
                 #[serde(skip)]
                 run: u32 => ("", "Monte Carlo run index"),
                 /// Measurement id, unique within a run; ids of dwell group `g` start at `g << 12`.
-                meas_id: u64 => ("", "measurement id, unique within a run"),
+                meas_id: u64 => ("", "measurement id, unique within a run") as Delta,
                 /// The receiver's dwell part (`DwellRow::dwell_id`).
-                dwell_id: u64 => ("", "receiver's dwell part"),
+                dwell_id: u64 => ("", "receiver's dwell part") as Delta,
                 /// Dwell mid-time, when truth was evaluated (s since scenario start).
-                t_s: f64 => ("s", "dwell time", NonNegative),
+                t_s: f64 => ("s", "dwell time", NonNegative) as Split + PageStats,
                 /// Receiving radar.
                 rx: $crate::ids::RadarId => ("", "receiving radar"),
                 /// Transmitting radar (equal to `rx` for a monostatic measurement).
@@ -285,19 +285,19 @@ macro_rules! measurements_table {
                 /// Receiver face the (u, v) refer to (0-based).
                 rx_face: u8 => ("", "receiver face the (u, v) refer to"),
                 /// Equivalent monostatic range ρ = (R_t + R_r)/2 (m).
-                range_m: f64 => ("m", "equivalent monostatic range ρ = (R_t+R_r)/2"),
+                range_m: f64 => ("m", "equivalent monostatic range ρ = (R_t+R_r)/2") as Uncompressed,
                 /// Direction cosine u (face's horizontal axis) in the receiver face.
-                u: f64 => ("", "direction cosine u (receiver face)"),
+                u: f64 => ("", "direction cosine u (receiver face)") as Uncompressed,
                 /// Direction cosine v (face-up axis) in the receiver face.
-                v: f64 => ("", "direction cosine v (receiver face)"),
+                v: f64 => ("", "direction cosine v (receiver face)") as Uncompressed,
                 /// Observed sum-channel SNR of the strongest primitive of the cluster (dB).
-                snr_db: f64 => ("dB", "observed SNR"),
+                snr_db: f64 => ("dB", "observed SNR") as Uncompressed,
                 /// Variance of `range_m` (m²).
                 var_range_m2: f64 => ("m^2", "variance of range_m", Positive),
                 /// Variance of `u` (dimensionless, sine space).
-                var_u: f64 => ("", "variance of u", Positive),
+                var_u: f64 => ("", "variance of u", Positive) as Uncompressed,
                 /// Variance of `v` (dimensionless, sine space).
-                var_v: f64 => ("", "variance of v", Positive),
+                var_v: f64 => ("", "variance of v", Positive) as Uncompressed,
                 /// Number of primitives clustered into this measurement.
                 n_primitives: u32 => ("", "primitives merged into this measurement"),
                 /// Possibly unresolved targets: set when any primitive of the cluster is merged.
@@ -342,7 +342,7 @@ macro_rules! tracks_table {
                 #[serde(skip)]
                 run: u32 => ("", "Monte Carlo run index"),
                 /// Time of the state (s since scenario start).
-                t_s: f64 => ("s", "time of the state", NonNegative),
+                t_s: f64 => ("s", "time of the state", NonNegative) as Split + PageStats,
                 /// Track id, unique within a run.
                 track_id: u64 => ("", "track id, unique within a run"),
                 /// Track status at this row.

@@ -20,9 +20,32 @@
 //! #[derive(..)]
 //! pub struct RowType / ColumnNamesType in SPEC_CONST = "table_name": "table description" {
 //!     /// docs of the field
-//!     field_name: RustType => ("unit", "description" [, RuleOverride]),
+//!     field_name: RustType => ("unit", "description" [, RuleOverride]) [as Storage [+ Storage]…],
+//!     ..$crate::fragment_macro,
 //!     …
 //! }
+//! ```
+//!
+//! `as Storage` tags say how the column is stored, beyond its type: the variants of
+//! `mimo_store::schema::Storage` (`Delta` for ids counting up row by row, `Split` for floats
+//! whose values are nearly all distinct, `Uncompressed` for values the compressor cannot shrink,
+//! `PageStats` for a float column a reader may filter on). They change the file's bytes, never
+//! its columns or values; the record struct ignores them.
+//!
+//! A field's type may stand for several columns (in `mimo-store`, a type whose
+//! `ColumnKind::GROUP` lists them: the study tables' identifying columns and metrics); its
+//! columns then take the field's place, `COLUMNS` holds the field's name and `COLUMN_NAMES`
+//! (made by `mimo_store::column_rows!` for such tables) the group's columns.
+//!
+//! `..path::to_fragment,` splices columns shared by several tables (the study tables' identifying
+//! columns) in place: the fragment is a macro that takes `[head] [fields before] [fields after]`
+//! and hands `table_decl!` back `head { before, its columns, after }`, so a shared column is
+//! declared once, in its fragment. A fragment is a `#[macro_export]` macro of one rule:
+//!
+//! ```text
+//! ([$($head:tt)*] [$($before:tt)*] [$($after:tt)*]) => {
+//!     $crate::core_crate::table_decl! { $($head)* { $($before)* column: Type => ("unit", "description"), … $($after)* } }
+//! };
 //! ```
 //!
 //! Enumerations stored as labels are declared once by [`label_enum!`](crate::label_enum): the
@@ -33,31 +56,58 @@
 ///
 /// ```text
 /// [struct attributes] Row Columns SPEC "table" "description"
-///     [[field attributes] field (Type) ("unit", "description" [, Rule])…]
+///     [[field attributes] field (Type) ("unit", "description" [, Rule]) [Storage…]…]
 /// ```
 #[macro_export]
 macro_rules! table_decl {
+    // A fragment marker: hand the fields before it and after it to the fragment.
+    (@splice [$($head:tt)*] [$($done:tt)*] .. $frag:path , $($rest:tt)*) => {
+        $frag! { [$($head)*] [$($done)*] [$($rest)*] }
+    };
+    // A field before the first marker: carry it over.
+    (
+        @splice [$($head:tt)*] [$($done:tt)*]
+        $(#[$fmeta:meta])* $field:ident : $ty:ty => $spec:tt $(as $tag:ident $(+ $more:ident)*)? , $($rest:tt)*
+    ) => {
+        $crate::table_decl! {
+            @splice [$($head)*] [$($done)* $(#[$fmeta])* $field : $ty => $spec $(as $tag $(+ $more)*)? ,] $($rest)*
+        }
+    };
     (
         $gen:path;
         $(#[$smeta:meta])*
         pub struct $row:ident / $cols:ident in $spec:ident = $table:literal : $tdesc:literal {
             $(
                 $(#[$fmeta:meta])*
-                $field:ident : $ty:ty => ($unit:literal, $desc:literal $(, $rule:ident)?)
+                $field:ident : $ty:ty => ($unit:literal, $desc:literal $(, $rule:ident)?) $(as $tag:ident $(+ $more:ident)*)?
             ),* $(,)?
         }
     ) => {
-        $gen! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
+        $gen! {
+            [$(#[$smeta])*] $row $cols $spec $table $tdesc
+            [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?) [$($tag $($more)*)?])*]
+        }
+    };
+    // A declaration with fragment markers: splice them first.
+    (
+        $gen:path;
+        $(#[$smeta:meta])*
+        pub struct $row:ident / $cols:ident in $spec:ident = $table:literal : $tdesc:literal { $($body:tt)* }
+    ) => {
+        $crate::table_decl! {
+            @splice [$gen; $(#[$smeta])* pub struct $row / $cols in $spec = $table : $tdesc] [] $($body)*
+        }
     };
 }
 
 /// Make the record struct of a table declaration (see the [module docs](self)), with its
-/// column names.
+/// column names. `@struct` makes all but `COLUMN_NAMES`, for a generator whose fields may stand
+/// for several columns (`mimo_store`'s study tables).
 #[macro_export]
 macro_rules! record_struct {
     (
-        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
-        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
+        @struct [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?) [$($tag:ident)*])*]
     ) => {
         $(#[$smeta])*
         pub struct $row {
@@ -82,6 +132,18 @@ macro_rules! record_struct {
             pub const TABLE: &'static str = $table;
             /// The table's column names, one field per column.
             pub const COLUMNS: $cols = $cols { $($field: stringify!($field)),* };
+        }
+    };
+    (
+        [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?) [$($tag:ident)*])*]
+    ) => {
+        $crate::record_struct! {
+            @struct [$(#[$smeta])*] $row $cols $spec $table $tdesc
+            [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?) [$($tag)*])*]
+        }
+
+        impl $row {
             /// The table's column names in file order.
             pub const COLUMN_NAMES: &'static [&'static str] = &[$(stringify!($field)),*];
         }

@@ -5,7 +5,7 @@
 
 use crate::StoreError;
 use crate::rows::Batch;
-use crate::schema::{ColType, Rule};
+use crate::schema::{ColType, ColumnSpec, Rule};
 use arrow::array::{
     ArrayRef, BooleanArray, FixedSizeListArray, Float64Array, Int64Array, StringArray, UInt8Array, UInt32Array,
     UInt64Array,
@@ -23,6 +23,14 @@ pub trait ColumnKind {
     const NULLABLE: bool = false;
     /// What every value must be unless the declaration says more.
     const RULE: Rule = Rule::Any;
+    /// For a type that stands for several columns (the study tables' metrics), those columns:
+    /// the field's own name, unit and description give way to theirs.
+    const GROUP: Option<&'static [ColumnSpec]> = None;
+    /// How many columns a field of the type is.
+    const WIDTH: usize = match Self::GROUP {
+        Some(group) => group.len(),
+        None => 1,
+    };
 }
 
 /// A Rust type stored as one column of a run table: its Arrow array and its checked decoding.

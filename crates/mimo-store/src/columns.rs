@@ -108,6 +108,19 @@ pub trait IntoColumn: ColumnKind {
     fn column_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Column;
 }
 
+/// A Rust type a declared table gives a field: its column ([`IntoColumn`]) or, for a group
+/// type ([`ColumnKind::GROUP`]), its columns.
+pub trait IntoColumns: ColumnKind {
+    /// Append the column(s) of the values `get` picks from `rows` to `out`.
+    fn push_columns<R>(rows: &[R], get: impl Fn(&R) -> &Self, out: &mut Vec<Column>);
+}
+
+impl<T: IntoColumn> IntoColumns for T {
+    fn push_columns<R>(rows: &[R], get: impl Fn(&R) -> &Self, out: &mut Vec<Column>) {
+        out.push(T::column_of(rows, get));
+    }
+}
+
 macro_rules! into_columns {
     ($($t:ty => |$v:ident| $variant:ident($e:expr);)*) => {$(
         impl IntoColumn for $t {
@@ -140,30 +153,101 @@ pub trait ColumnRows: Sized {
     }
 }
 
-/// The record struct of a declared table (see `mimo_core::table_decl`) and its [`ColumnRows`],
-/// for tables whose rows are assembled at run time and written through [`write_columns`].
+/// Rows of a declared table whose spec is known where the rows are (the study tables).
+pub trait ColumnTable: ColumnRows {
+    /// The table's spec.
+    const SPEC: TableSpec;
+}
+
+/// Write `rows` of a declared table as one Parquet file, atomically ([`write_columns`]).
+/// Returns the number of rows.
+pub fn write_rows<R: ColumnTable>(path: &Path, rows: &[R]) -> Result<u64, StoreError> {
+    write_columns(path, &R::SPEC, R::columns(rows))
+}
+
+/// The record struct of a declared table (see `mimo_core::table_decl`), its column names
+/// (`COLUMN_NAMES`, a group field's columns included) and its [`ColumnRows`], for tables whose
+/// rows are assembled at run time and written through [`write_columns`].
 #[macro_export]
 macro_rules! column_rows {
     (
         [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
-        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?) [$($tag:ident)*])*]
     ) => {
-        $crate::core_crate::record_struct! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
+        $crate::core_crate::record_struct! {
+            @struct [$(#[$smeta])*] $row $cols $spec $table $tdesc
+            [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?) [$($tag)*])*]
+        }
+
+        impl $row {
+            /// The table's column names in file order.
+            pub const COLUMN_NAMES: &'static [&'static str] = &$crate::schema::column_names::<
+                { 0 $(+ <$ty as $crate::cell::ColumnKind>::WIDTH)* },
+            >(&$crate::declared_columns!([$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?) [$($tag)*])*]));
+        }
 
         impl $crate::columns::ColumnRows for $row {
             fn columns_of<R>(rows: &[R], get: impl Fn(&R) -> &Self) -> Vec<$crate::columns::Column> {
-                vec![$(<$ty as $crate::columns::IntoColumn>::column_of(rows, |r| &get(r).$field)),*]
+                let mut out = Vec::new();
+                $(<$ty as $crate::columns::IntoColumns>::push_columns(rows, |r| &get(r).$field, &mut out);)*
+                out
             }
         }
     };
 }
 
+/// The spec, record struct, column names and columns of a declared group of columns several
+/// study tables share (the identifying columns), which a table's row holds as one field: the
+/// group's [`ColumnKind::GROUP`] is its spec's columns.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! column_group {
+    ([$($smeta:tt)*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal [$($fields:tt)*]) => {
+        $crate::table_spec! { [$($smeta)*] $row $cols $spec $table $tdesc [$($fields)*] }
+        $crate::column_rows! { [$($smeta)*] $row $cols $spec $table $tdesc [$($fields)*] }
+        impl $crate::cell::ColumnKind for $row {
+            const TY: $crate::schema::ColType = $crate::schema::ColType::Utf8;
+            const GROUP: Option<&'static [$crate::schema::ColumnSpec]> = Some($spec.columns);
+        }
+        impl $crate::columns::IntoColumns for $row {
+            fn push_columns<R>(rows: &[R], get: impl Fn(&R) -> &Self, out: &mut Vec<$crate::columns::Column>) {
+                out.extend(<Self as $crate::columns::ColumnRows>::columns_of(rows, get));
+            }
+        }
+    };
+}
+
+/// The spec, record struct, column names and [`ColumnTable`] of a declared table written column
+/// by column whose declaration lives in this crate (the study tables).
+#[macro_export]
+#[doc(hidden)]
+macro_rules! column_table {
+    ([$($smeta:tt)*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal [$($fields:tt)*]) => {
+        $crate::table_spec! { [$($smeta)*] $row $cols $spec $table $tdesc [$($fields)*] }
+        $crate::column_rows! { [$($smeta)*] $row $cols $spec $table $tdesc [$($fields)*] }
+        impl $crate::columns::ColumnTable for $row {
+            const SPEC: $crate::schema::TableSpec = $spec;
+        }
+    };
+}
+
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
-    use crate::schema::{STUDY_COSTS, STUDY_ID_COLUMNS};
+    use crate::study_schema::{STUDY_COSTS, STUDY_ID_COLUMNS};
     use arrow::array::AsArray;
-    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+
+    /// The first record batch of the Parquet file at `path`.
+    pub(crate) fn first_batch(path: &Path) -> RecordBatch {
+        let f = std::fs::File::open(path).expect("open");
+        parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(f)
+            .expect("reader")
+            .build()
+            .expect("build")
+            .next()
+            .expect("a batch")
+            .expect("batch")
+    }
 
     fn ids(n: usize) -> Vec<Column> {
         // method, family, knob, knob_value, scenario, swept, then the five axes.
@@ -190,14 +274,7 @@ mod tests {
             cols.push(Column::F64(vec![Some(x), Some(x + 1.0)]));
         }
         assert_eq!(write_columns(&path, &STUDY_COSTS, cols.clone()).expect("write"), 2);
-        let f = std::fs::File::open(&path).expect("open");
-        let batch = ParquetRecordBatchReaderBuilder::try_new(f)
-            .expect("reader")
-            .build()
-            .expect("build")
-            .next()
-            .expect("a batch")
-            .expect("batch");
+        let batch = first_batch(&path);
         assert_eq!(batch.num_rows(), 2);
         let wall = batch.column_by_name("wall_s").expect("wall_s").as_primitive::<arrow::datatypes::Float64Type>();
         assert_eq!(wall.values().to_vec(), vec![4.0, 5.0]);

@@ -2,13 +2,16 @@
 //!
 //! The only crate that touches Arrow and Parquet. It owns:
 //!
-//! * [`schema`]: the table specs (name, type, unit, meaning, rule of each column). The run
-//!   tables are declared once in `mimo_core::records` and the score tables in [`score_schema`];
-//!   [`run_tables`] and [`score_schema`] expand those declarations into specs ([`cell`]: what a
-//!   Rust type is on disk). The Arrow schemas, the `schemas/*.json` files and the readers' checks
-//!   derive from the specs.
+//! * [`schema`]: the table specs (name, type, unit, meaning, rule and storage of each column).
+//!   Every table is declared once (`mimo_core::table_decl`): the run tables in
+//!   `mimo_core::records`, the score tables in [`score_schema`], the study tables in
+//!   [`study_schema`], [`challenge_schema`] and [`failure_point_schema`]; [`run_tables`],
+//!   [`score_schema`] and the study modules expand those declarations into specs ([`cell`]: what
+//!   a Rust type is on disk). The Arrow schemas, the `schemas/*.json` files, the readers' checks
+//!   and the Parquet writer's per-column settings derive from the specs.
 //! * [`rows`]: row records ⇄ Arrow record batches (the conversions generated in [`run_tables`]);
-//!   [`columns`]: tables written column by column (score and study tables).
+//!   [`columns`]: tables written column by column (score and study tables, their conversions
+//!   generated from their declarations too).
 //! * Parquet I/O ([`write_table`], [`read_table`], [`read_table_dir`]): files are written to a
 //!   temporary name and renamed, carry the table name and schema version in their key-value
 //!   metadata, and are byte-identical for identical rows (no timestamps, row groups of
@@ -49,6 +52,7 @@ pub mod run_window;
 pub mod rundir;
 pub mod schema;
 pub mod score_schema;
+pub mod study_schema;
 pub mod table_writer;
 #[doc(hidden)]
 pub mod testing;
@@ -192,39 +196,6 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> StoreError + '_ {
     move |source| StoreError::Io { path: path.to_path_buf(), source }
 }
 
-/// Columns that count up row by row (ids): delta-encoded, a byte or two per row.
-const DELTA_COLUMNS: &[&str] = &["dwell_id", "group_id", "meas_id", "primitive_id"];
-/// Floating-point columns whose values are nearly all distinct (times, aim points): stored with
-/// the byte-stream split, so that the compressor sees their slowly varying high bytes together.
-const SPLIT_COLUMNS: &[&str] = &["t_s", "aim_x_m", "aim_y_m", "aim_z_m"];
-
-/// Columns whose values zstd cannot shrink (measured: their compressed pages were as large as
-/// the plain ones): written uncompressed, which costs the writer nothing and the file a few bytes
-/// of frame headers less. `(table, column)`.
-const PLAIN_COLUMNS: &[(&str, &str)] = &[
-    ("truth", "x_m"),
-    ("truth", "y_m"),
-    ("truth", "z_m"),
-    ("truth", "vx_mps"),
-    ("truth", "vy_mps"),
-    ("truth", "vz_mps"),
-    ("truth", "lat_deg"),
-    ("truth", "lon_deg"),
-    ("measurements", "range_m"),
-    ("measurements", "u"),
-    ("measurements", "v"),
-    ("measurements", "snr_db"),
-    ("measurements", "var_u"),
-    ("measurements", "var_v"),
-    ("primitives", "range_m"),
-    ("primitives", "u"),
-    ("primitives", "v"),
-    ("primitives", "snr_db"),
-    ("primitives", "eta_q"),
-    ("primitives", "var_u"),
-    ("primitives", "var_v"),
-];
-
 /// The zstd level of every table's pages: −5, one of zstd's fast levels (valid levels run from
 /// −131 072 to 22). Against level 1 (the Parquet writer's default) it takes 5.5 % fewer
 /// instructions to simulate scenario 7 and 3 % fewer to score it, for 9 % more bytes
@@ -234,20 +205,22 @@ const ZSTD_LEVEL: i32 = -5;
 /// Writer properties for a table of `schema`: fixed so that identical rows give identical bytes.
 ///
 /// The physical encoding only (docs/design.md §3: the columns and their logical types are the
-/// contract): zstd pages at a fast level ([`ZSTD_LEVEL`]), except the columns zstd cannot shrink
-/// ([`PLAIN_COLUMNS`]); no dictionary on any column, the covariance's list items included
-/// (interning each value costs the writer more than zstd spends on the plain values, which it
-/// compresses nearly as well: the few distinct strings of `radar`, `kind`, … are runs zstd folds
-/// away); page statistics (min/max) only on the integer columns and `t_s`, the columns a reader
-/// may filter on (no reader of mimo uses them; computing them for every float was 2 % of
-/// `mimo simulate`); delta encoding for ids, the byte-stream split for distinct floats, plain
-/// values for every other number (docs/decisions/0019-plain-values-no-dictionaries.md,
-/// docs/decisions/0025-no-float-page-statistics.md). Every Parquet reader
-/// (polars, pyarrow, DuckDB, arrow-rs) reads them.
+/// contract): zstd pages at a fast level ([`ZSTD_LEVEL`]); no dictionary on any column, the
+/// covariance's list items included (interning each value costs the writer more than zstd spends
+/// on the plain values, which it compresses nearly as well: the few distinct strings of `radar`,
+/// `kind`, … are runs zstd folds away); page statistics (min/max) only on the integer columns,
+/// plain values for every number; and per column what its table's declaration says of its
+/// storage ([`schema::Storage`], found by the table name in `schema`'s metadata): delta encoding
+/// for ids, the byte-stream split for distinct floats, no compression where zstd cannot shrink the
+/// values, page statistics on the float columns a reader may filter on (no reader of mimo uses
+/// them; computing them for every float was 2 % of `mimo simulate`)
+/// (docs/decisions/0019-plain-values-no-dictionaries.md,
+/// docs/decisions/0025-no-float-page-statistics.md). Every Parquet reader (polars, pyarrow,
+/// DuckDB, arrow-rs) reads them.
 pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
-    use arrow::datatypes::DataType;
     use parquet::file::properties::EnabledStatistics;
-    let table = schema.metadata().get(schema::META_TABLE).map(String::as_str).unwrap_or_default();
+    use schema::Storage;
+    let spec = schema.metadata().get(schema::META_TABLE).and_then(|t| schema::table(t));
     let mut b = WriterProperties::builder()
         .set_compression(Compression::ZSTD(parquet::basic::ZstdLevel::try_new(ZSTD_LEVEL).unwrap_or_default()))
         .set_created_by(format!("mimo {}", env!("CARGO_PKG_VERSION")))
@@ -258,33 +231,29 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
     for field in schema.fields() {
         let name = field.name().as_str();
         let path = parquet::schema::types::ColumnPath::from(name);
-        let encoding = if DELTA_COLUMNS.contains(&name) {
-            Some(parquet::basic::Encoding::DELTA_BINARY_PACKED)
-        } else if SPLIT_COLUMNS.contains(&name) {
-            Some(parquet::basic::Encoding::BYTE_STREAM_SPLIT)
-        } else {
-            None
-        };
-        let integer = matches!(
-            field.data_type(),
-            DataType::UInt8
-                | DataType::UInt32
-                | DataType::UInt64
-                | DataType::Int32
-                | DataType::Int64
-                | DataType::Boolean
-        );
-        if integer || name == "t_s" {
+        let storage = spec.and_then(|s| s.columns.iter().find(|c| c.name == name)).map_or(&[][..], |c| c.storage);
+        if is_integer(field.data_type()) || storage.contains(&Storage::PageStats) {
             b = b.set_column_statistics_enabled(path.clone(), EnabledStatistics::Page);
         }
-        if PLAIN_COLUMNS.iter().any(|&(t, c)| t == table && c == name) {
+        if storage.contains(&Storage::Uncompressed) {
             b = b.set_column_compression(path.clone(), Compression::UNCOMPRESSED);
         }
-        if let Some(e) = encoding {
-            b = b.set_column_encoding(path, e);
+        if storage.contains(&Storage::Delta) {
+            b = b.set_column_encoding(path, parquet::basic::Encoding::DELTA_BINARY_PACKED);
+        } else if storage.contains(&Storage::Split) {
+            b = b.set_column_encoding(path, parquet::basic::Encoding::BYTE_STREAM_SPLIT);
         }
     }
     b.build()
+}
+
+/// Whether a column of `ty` is an integer (or flag) column, which has page statistics.
+fn is_integer(ty: &arrow::datatypes::DataType) -> bool {
+    use arrow::datatypes::DataType;
+    matches!(
+        ty,
+        DataType::UInt8 | DataType::UInt32 | DataType::UInt64 | DataType::Int32 | DataType::Int64 | DataType::Boolean
+    )
 }
 
 /// Most rows per data page. The Parquet writer's default cuts a page at 1 MiB or 20 000 rows,
@@ -401,4 +370,39 @@ pub fn read_table_dir<R: TableRow>(run_dir: &Path, table: &str) -> Result<Vec<R>
 /// File name of run `k`'s file of a table: `run-0000.parquet` (paths: [`layout::RunDir`]).
 pub fn run_file_name(run: u32) -> String {
     format!("run-{run:04}.parquet")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use parquet::basic::Encoding;
+    use parquet::file::properties::EnabledStatistics;
+    use parquet::schema::types::ColumnPath;
+
+    /// The writer's settings per column come from the storage tags of the file's table.
+    #[test]
+    fn writer_settings_follow_the_declared_storage() {
+        let col = |n: &str| ColumnPath::from(n);
+        let dwells = writer_props(&schema::DWELLS.arrow_schema());
+        assert_eq!(dwells.encoding(&col("dwell_id")), Some(Encoding::DELTA_BINARY_PACKED));
+        assert_eq!(dwells.encoding(&col("aim_x_m")), Some(Encoding::BYTE_STREAM_SPLIT));
+        assert_eq!(dwells.encoding(&col("energy_j")), None);
+        assert_eq!(dwells.statistics_enabled(&col("t_s")), EnabledStatistics::Page);
+        assert_eq!(dwells.statistics_enabled(&col("energy_j")), EnabledStatistics::None);
+        assert_eq!(dwells.statistics_enabled(&col("run")), EnabledStatistics::Page);
+        let zstd = dwells.compression(&col("energy_j"));
+        assert!(matches!(zstd, Compression::ZSTD(_)));
+        let truth = writer_props(&schema::TRUTH.arrow_schema());
+        assert_eq!(truth.compression(&col("x_m")), Compression::UNCOMPRESSED);
+        assert_eq!(truth.compression(&col("t_s")), zstd);
+        // Storage is declared per table: `range_m` of the voltages is compressed, of the
+        // measurements not.
+        let voltages = writer_props(&schema::VOLTAGES.arrow_schema());
+        assert_eq!(voltages.compression(&col("range_m")), zstd);
+        let measurements = writer_props(&schema::MEASUREMENTS.arrow_schema());
+        assert_eq!(measurements.compression(&col("range_m")), Compression::UNCOMPRESSED);
+        // A schema of no known table takes the defaults, whatever its column names.
+        let unknown = arrow::datatypes::Schema::new(schema::DWELLS.arrow_schema().fields().clone());
+        assert_eq!(writer_props(&unknown).encoding(&col("dwell_id")), None);
+    }
 }

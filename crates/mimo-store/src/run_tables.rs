@@ -17,28 +17,41 @@ macro_rules! column_rule {
     };
 }
 
+/// The columns of a declaration's fields (see `mimo_core::table_decl`), as an array expression:
+/// each field's column ([`ColumnSpec`](crate::schema::ColumnSpec): type, nullability and default
+/// rule from its Rust type, [`crate::cell::ColumnKind`]), or its type's group of columns.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! declared_columns {
+    ([$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?) [$($tag:ident)*])*]) => {
+        $crate::schema::flatten::<{ 0 $(+ <$ty as $crate::cell::ColumnKind>::WIDTH)* }>(&[$((
+            <$ty as $crate::cell::ColumnKind>::GROUP,
+            $crate::schema::ColumnSpec {
+                name: stringify!($field),
+                ty: <$ty as $crate::cell::ColumnKind>::TY,
+                nullable: <$ty as $crate::cell::ColumnKind>::NULLABLE,
+                unit: $unit,
+                description: $desc,
+                rule: $crate::column_rule!($ty $(, $rule)?),
+                storage: &[$($crate::schema::Storage::$tag),*],
+            },
+        )),*])
+    };
+}
+
 /// The spec of a table declaration (see `mimo_core::table_decl`): a `pub const` named by the
 /// declaration.
 #[macro_export]
 macro_rules! table_spec {
     (
         [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
-        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
+        [$($fields:tt)*]
     ) => {
         #[doc = concat!("`", $table, "`: ", $tdesc)]
         pub const $spec: $crate::schema::TableSpec = $crate::schema::TableSpec {
             name: $table,
             description: $tdesc,
-            columns: &[$(
-                $crate::schema::ColumnSpec {
-                    name: stringify!($field),
-                    ty: <$ty as $crate::cell::ColumnKind>::TY,
-                    nullable: <$ty as $crate::cell::ColumnKind>::NULLABLE,
-                    unit: $unit,
-                    description: $desc,
-                    rule: $crate::column_rule!($ty $(, $rule)?),
-                }
-            ),*],
+            columns: &$crate::declared_columns!([$($fields)*]),
         };
     };
 }
@@ -48,9 +61,12 @@ macro_rules! table_spec {
 macro_rules! run_table {
     (
         [$(#[$smeta:meta])*] $row:ident $cols:ident $spec:ident $table:literal $tdesc:literal
-        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?))*]
+        [$([$(#[$fmeta:meta])*] $field:ident ($ty:ty) ($unit:literal, $desc:literal $(, $rule:ident)?) [$($tag:ident)*])*]
     ) => {
-        $crate::table_spec! { [$(#[$smeta])*] $row $cols $spec $table $tdesc [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?))*] }
+        $crate::table_spec! {
+            [$(#[$smeta])*] $row $cols $spec $table $tdesc
+            [$([$(#[$fmeta])*] $field ($ty) ($unit, $desc $(, $rule)?) [$($tag)*])*]
+        }
 
         impl $crate::rows::TableRow for $row {
             const SPEC: $crate::schema::TableSpec = $spec;

@@ -91,6 +91,25 @@ pub enum Rule {
     Covariance,
 }
 
+/// How a column is stored beyond its type (a column's `as` tags in its table's declaration,
+/// `mimo_core::table_decl`): the Parquet writer's settings for it ([`crate::writer_props`]).
+/// They change a file's bytes, never its columns or values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Storage {
+    /// Ids that count up row by row: delta-encoded, a byte or two per row.
+    Delta,
+    /// Floats whose values are nearly all distinct (times, aim points): the byte-stream split,
+    /// so that the compressor sees their slowly varying high bytes together.
+    Split,
+    /// Values zstd cannot shrink (measured: their compressed pages were as large as the plain
+    /// ones): written uncompressed, which costs the writer nothing and the file a few bytes of
+    /// frame headers less.
+    Uncompressed,
+    /// A float column a reader may filter on (times): min/max statistics per page, which every
+    /// integer column has anyway.
+    PageStats,
+}
+
 /// One column.
 #[derive(Debug, Clone, Copy)]
 pub struct ColumnSpec {
@@ -106,40 +125,49 @@ pub struct ColumnSpec {
     pub description: &'static str,
     /// What every (non-null) value must be.
     pub rule: Rule,
+    /// How it is stored beyond its type (none: the table's defaults).
+    pub storage: &'static [Storage],
 }
 
-/// The rule a column of type `ty` has unless it says more.
-const fn default_rule(ty: ColType) -> Rule {
-    match ty {
-        ColType::F64 => Rule::Finite,
-        ColType::Cov21 => Rule::Covariance,
-        _ => Rule::Any,
-    }
-}
+/// A column that is none yet: what [`flatten`] fills its output with before it writes it.
+const NO_COLUMN: ColumnSpec =
+    ColumnSpec { name: "", ty: ColType::U8, nullable: false, unit: "", description: "", rule: Rule::Any, storage: &[] };
 
-pub(crate) const fn col(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
-    ColumnSpec { name, ty, nullable: false, unit, description, rule: default_rule(ty) }
-}
-
-pub(crate) const fn opt(name: &'static str, ty: ColType, unit: &'static str, description: &'static str) -> ColumnSpec {
-    ColumnSpec { name, ty, nullable: true, unit, description, rule: default_rule(ty) }
-}
-
-/// The columns of `parts`, in order, as one list of `N` columns (a compile error when `N` is not
-/// their count): a table whose columns open with shared ones (the study tables' identifying
-/// columns) lists them once.
-pub(crate) const fn join<const N: usize>(parts: &[&[ColumnSpec]]) -> [ColumnSpec; N] {
-    let mut out = [RUN; N];
-    let (mut n, mut p) = (0, 0);
-    while p < parts.len() {
-        let mut i = 0;
-        while i < parts[p].len() {
-            out[n] = parts[p][i];
-            (n, i) = (n + 1, i + 1);
+/// The columns of a declaration's fields, in order, as one list of `N` columns (a compile error
+/// when `N` is not their count): each field's own column, or the columns of its group when its
+/// type stands for several (`crate::cell::ColumnKind::GROUP`).
+pub const fn flatten<const N: usize>(fields: &[(Option<&'static [ColumnSpec]>, ColumnSpec)]) -> [ColumnSpec; N] {
+    let mut out = [NO_COLUMN; N];
+    let (mut n, mut f) = (0, 0);
+    while f < fields.len() {
+        match fields[f].0 {
+            Some(group) => {
+                let mut i = 0;
+                while i < group.len() {
+                    out[n] = group[i];
+                    (n, i) = (n + 1, i + 1);
+                }
+            }
+            None => {
+                out[n] = fields[f].1;
+                n += 1;
+            }
         }
-        p += 1;
+        f += 1;
     }
-    assert!(n == N, "join: the parts do not hold N columns");
+    assert!(n == N, "flatten: the fields do not hold N columns");
+    out
+}
+
+/// The names of `columns`, in order, as `N` names (a compile error when `N` is not their count).
+pub const fn column_names<const N: usize>(columns: &[ColumnSpec]) -> [&'static str; N] {
+    assert!(columns.len() == N, "column_names: not N columns");
+    let mut out = [""; N];
+    let mut i = 0;
+    while i < N {
+        out[i] = columns[i].name;
+        i += 1;
+    }
     out
 }
 
@@ -191,156 +219,8 @@ impl TableSpec {
     }
 }
 
-use ColType::*;
-
-const RUN: ColumnSpec = col("run", U32, "", "Monte Carlo run index");
-
 pub use crate::run_tables::{DWELLS, MEASUREMENTS, PRIMITIVES, TRACKS, TRUTH, VOLTAGES};
-
-// ---- Study tables (docs/studies.md): per cell and Monte Carlo run, or per cell. ----
-
-/// The identifying columns of every study table (a macro: they open three column lists).
-macro_rules! study_ids {
-    () => {
-        [
-            col("method", Utf8, "", "the method's name in the plan; a swept method's points are named family@value"),
-            col("family", Utf8, "", "the [[methods]] entry the method comes from (its name)"),
-            opt("knob", Utf8, "", "the configuration key path a swept method varies; null when not swept"),
-            opt("knob_value", F64, "", "the knob's value at this method; null when not swept"),
-            col("scenario", Utf8, "", "standard scenario number, or the scenario file's stem"),
-            opt("swept", Utf8, "", "with sweep = \"each\": the axis this cell varies; null in a grid"),
-            opt("rcs_offset_db", F64, "dB", "added to every target's RCS; null when the plan has no such axis"),
-            opt("pfa", F64, "", "every radar's false-alarm probability; null when the plan has no such axis"),
-            opt(
-                "formation_spacing_scale",
-                F64,
-                "",
-                "multiplies formation spacing; null when the plan has no such axis",
-            ),
-            opt(
-                "peak_power_offset_db",
-                F64,
-                "dB",
-                "added to every radar's peak power; null when the plan has no such axis",
-            ),
-            opt("search_pulses", F64, "", "pulses of the low search band; null when the plan has no such axis"),
-            opt("raid_targets", F64, "", "raid aircraft added to the scenario; null when the plan has no such axis"),
-        ]
-    };
-}
-
-/// Number of identifying columns opening every study table.
-pub const STUDY_ID_COLUMNS: usize = 12;
-
-macro_rules! study_tables {
-    ($( ($name:literal, $unit:literal, $desc:literal) ),* $(,)?) => {
-        /// The per-run metrics of a study, (name, unit, meaning) in column order. Each is null
-        /// when the run failed or the figure is undefined (docs/design.md §6).
-        pub const STUDY_METRICS: &[(&str, &str, &str)] = &[$(($name, $unit, $desc)),*];
-
-        /// The identifying columns opening every study table.
-        pub(crate) const STUDY_IDS: [ColumnSpec; STUDY_ID_COLUMNS] = study_ids!();
-
-        const STUDY_RESULTS_COLUMNS: [ColumnSpec; STUDY_ID_COLUMNS + 3 + STUDY_METRICS.len()] = join(&[
-            &STUDY_IDS,
-            &[RUN, col("seed", U64, "", "master seed of the run")],
-            &[$(opt($name, F64, $unit, $desc)),*],
-            &[opt("failure", Utf8, "", "why the run failed; null when it completed")],
-        ]);
-
-        const STUDY_SUMMARY_COLUMNS: [ColumnSpec; STUDY_ID_COLUMNS + 3 + 3 * STUDY_METRICS.len()] = join(&[
-            &STUDY_IDS,
-            &[
-                col("runs", U32, "", "Monte Carlo runs of the cell"),
-                col("failed", U32, "", "runs that failed"),
-                opt("failure", Utf8, "", "the first failed run's reason; null when none failed"),
-            ],
-            &[$(
-                opt(concat!($name, "_mean"), F64, $unit, concat!("mean over completed runs where defined: ", $desc)),
-                opt(concat!($name, "_ci_lo"), F64, $unit, "lower end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range); null with fewer than 2 values"),
-                opt(concat!($name, "_ci_hi"), F64, $unit, "upper end of the 95 % confidence interval of the mean (Student t, clipped to the metric's range)"),
-            )*],
-        ]);
-    };
-}
-
-study_tables![
-    ("completeness", "", "track completeness, mean over scoring times with a scorable truth"),
-    ("redundant_ratio", "", "redundant tracks per scorable truth, mean over scoring times"),
-    ("spurious_ratio", "", "spurious tracks per live track, mean over scoring times"),
-    ("breaks", "", "track breaks in the run"),
-    ("switches", "", "track switches in the run"),
-    ("position_rmse_m", "m", "position RMSE pooled over assigned pairs"),
-    ("velocity_rmse_mps", "m/s", "velocity RMSE pooled over assigned pairs"),
-    ("ospa_m", "m", "OSPA, mean over scoring times"),
-    ("gospa_m", "m", "GOSPA (alpha = 2), mean over scoring times"),
-    ("gospa_localisation_m", "m", "GOSPA's localisation part, mean over scoring times"),
-    ("gospa_missed", "", "GOSPA's missed truths, mean over scoring times"),
-    ("gospa_false", "", "GOSPA's false tracks, mean over scoring times"),
-    ("energy_j", "J", "energy emitted by all radars in the run (search and TA)"),
-    ("dwell_time_s", "s", "transmit dwell time of all radars in the run"),
-    ("ta_energy_j", "J", "energy of the dwells the test article requested"),
-    ("ta_dwell_time_s", "s", "transmit time of the dwells the test article requested"),
-    ("energy_per_object_j", "J", "energy per scorable object: sum over scoring intervals of energy / scorable objects"),
-    ("ta_energy_per_object_j", "J", "the same for the dwells the test article requested"),
-    ("ta_dwell_time_per_object_s", "s", "sum over scoring intervals of TA dwell time / scorable objects"),
-    ("energy_search_j", "J", "energy of search dwells in the run (docs/design.md §6, usage by purpose)"),
-    ("energy_confirm_true_j", "J", "energy of confirmation looks with a truth in beam and range window"),
-    ("energy_confirm_false_j", "J", "energy of confirmation looks with no truth in beam and range window"),
-    ("energy_track_j", "J", "energy of track and MIMO looks with a truth in beam and range window"),
-    ("energy_track_false_j", "J", "energy of track and MIMO looks with no truth in beam and range window"),
-    ("dwell_time_search_s", "s", "transmit dwell time of search dwells in the run"),
-    ("dwell_time_confirm_true_s", "s", "transmit dwell time of confirmation looks with a truth in them"),
-    ("dwell_time_confirm_false_s", "s", "transmit dwell time of confirmation looks with no truth in them"),
-    ("dwell_time_track_s", "s", "transmit dwell time of track and MIMO looks with a truth in them"),
-    ("dwell_time_track_false_s", "s", "transmit dwell time of track and MIMO looks with no truth in them"),
-];
-
-/// `DIR/results.parquet` of a study.
-pub const STUDY_RESULTS: TableSpec = TableSpec {
-    name: "study_results",
-    description: "A study's results: one row per cell (method, scenario, stress point) and Monte Carlo run; \
-                  byte-deterministic for a plan and seed.",
-    columns: &STUDY_RESULTS_COLUMNS,
-};
-
-/// `DIR/costs.parquet` of a study: timings, which differ from machine to machine.
-pub const STUDY_COSTS: TableSpec = TableSpec {
-    name: "study_costs",
-    description: "A study's computing costs: one row per cell and Monte Carlo run (machine-dependent).",
-    columns: &join::<20>(&[
-        &STUDY_IDS,
-        &[
-            RUN,
-            col("seed", U64, "", "master seed of the run"),
-            col("duration_s", F64, "s", "simulated seconds of the run"),
-            col("ta_cpu_s", F64, "s", "CPU time inside the test article (wall time for a child process)"),
-            col("sim_cpu_s", F64, "s", "CPU time of the rest of the run on its thread: simulation, writing, scoring"),
-            col("wall_s", F64, "s", "wall time of the run, simulation to score"),
-            opt(
-                "kf_cycle_s",
-                F64,
-                "s",
-                "CPU time of one reference EKF predict + update cycle (6-state, 3-D measurement) on the machine \
-             that ran the item, the median of repeats measured when the study started; null in a record without one",
-            ),
-            opt(
-                "ta_cpu_kfu",
-                F64,
-                "",
-                "ta_cpu_s / kf_cycle_s: the test article's compute in reference Kalman-filter cycles",
-            ),
-        ],
-    ]),
-};
-
-/// `DIR/summary.parquet` of a study: one row per cell, the Monte Carlo mean and 95 % confidence
-/// interval of every metric of [`STUDY_RESULTS`].
-pub const STUDY_SUMMARY: TableSpec = TableSpec {
-    name: "study_summary",
-    description: "A study's summary: one row per cell with the mean and 95 % confidence interval of each metric.",
-    columns: &STUDY_SUMMARY_COLUMNS,
-};
+pub use crate::study_schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY};
 
 /// Every table, in pipeline order.
 pub const ALL_TABLES: [TableSpec; 6] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS];
@@ -355,13 +235,14 @@ pub const STUDY_TABLES: [TableSpec; 6] = [
     crate::failure_point_schema::STUDY_FAILURE_POINTS,
 ];
 
+/// Every table: run tables, study tables, score tables.
+pub fn every_table() -> impl Iterator<Item = &'static TableSpec> {
+    ALL_TABLES.iter().chain(STUDY_TABLES.iter()).chain(crate::score_schema::SCORE_TABLES.iter())
+}
+
 /// Look up a table (run, study or score table) by name.
 pub fn table(name: &str) -> Option<&'static TableSpec> {
-    ALL_TABLES
-        .iter()
-        .chain(STUDY_TABLES.iter())
-        .chain(crate::score_schema::SCORE_TABLES.iter())
-        .find(|t| t.name == name)
+    every_table().find(|t| t.name == name)
 }
 
 /// The manifest's keys and meanings, written to `schemas/manifest.json`.
@@ -400,10 +281,7 @@ pub fn manifest_json() -> serde_json::Value {
 
 /// Every file of `schemas/` as (file name, pretty JSON text).
 pub fn schema_files() -> Vec<(String, String)> {
-    let mut out: Vec<(String, String)> = ALL_TABLES
-        .iter()
-        .chain(STUDY_TABLES.iter())
-        .chain(crate::score_schema::SCORE_TABLES.iter())
+    let mut out: Vec<(String, String)> = every_table()
         .map(|t| (format!("{}.json", t.name), serde_json::to_string_pretty(&t.to_json()).unwrap_or_default() + "\n"))
         .collect();
     out.push(("manifest.json".into(), serde_json::to_string_pretty(&manifest_json()).unwrap_or_default() + "\n"));

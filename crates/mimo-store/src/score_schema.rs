@@ -21,7 +21,7 @@ macro_rules! score_track_metrics_table {
                 "Track metrics per run and scoring time (docs/design.md §6)" {
                 run: u32 => ("", "Monte Carlo run index"),
                 k: u32 => ("", "scoring time index, 1-based (t_s = k · interval_s)"),
-                t_s: f64 => ("s", "scoring time since scenario start"),
+                t_s: f64 => ("s", "scoring time since scenario start") as Split + PageStats,
                 n_truths: u32 => ("", "truths present (inside their sampled span), scorable or not"),
                 n_scorable: u32 => ("", "scorable truths N: present and seen by at least one radar (docs/design.md §6)"),
                 n_tracks: u32 => ("", "live tracks M (confirmed, not deleted)"),
@@ -60,7 +60,7 @@ macro_rules! score_track_metrics_mean_table {
                 "score_track_metrics_mean":
                 "Track metrics per scoring time, averaged over runs where defined (docs/design.md §6)" {
                 k: u32 => ("", "scoring time index, 1-based (t_s = k · interval_s)"),
-                t_s: f64 => ("s", "scoring time since scenario start"),
+                t_s: f64 => ("s", "scoring time since scenario start") as Split + PageStats,
                 runs: u32 => ("", "runs averaged"),
                 n_scorable_mean: f64 => ("", "mean scorable truths"),
                 n_tracks_mean: f64 => ("", "mean live tracks"),
@@ -88,7 +88,7 @@ macro_rules! score_assignments_table {
             pub struct AssignmentRow / AssignmentColumns in SCORE_ASSIGNMENTS = "score_assignments":
                 "The track assigned to each scorable truth at each scoring time, with its errors" {
                 run: u32 => ("", "Monte Carlo run index"),
-                t_s: f64 => ("s", "scoring time since scenario start"),
+                t_s: f64 => ("s", "scoring time since scenario start") as Split + PageStats,
                 target: String => ("", "truth name, as in the truth table"),
                 track_id: Option<u64> => ("", "assigned track; null when the truth is unassigned"),
                 position_error_m: Option<f64> => ("m", "‖track position − truth position‖; null when unassigned"),

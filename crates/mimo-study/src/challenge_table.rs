@@ -6,12 +6,16 @@
 use crate::bootstrap::{RESAMPLES, resamples};
 use crate::challenge::{Challenge, FamilyRuns, PointRuns, challenge, energy_ratio, reason};
 use crate::grid::{self, Cell};
-use crate::plan::{Architecture, Axis, Plan};
+use crate::plan::{Architecture, Plan};
 use crate::tables::ResultRow;
+use crate::tables::point_ids;
 use mimo_store::StoreError;
-use mimo_store::challenge_schema::{STUDY_CHALLENGE, STUDY_CHALLENGE_RATIOS};
-use mimo_store::columns::{Column, write_columns};
+use mimo_store::challenge_schema::{
+    STUDY_CHALLENGE, STUDY_CHALLENGE_RATIOS, StudyChallengeRatiosRow, StudyChallengeRow,
+};
+use mimo_store::columns::write_rows;
 use mimo_store::layout::StudyDir;
+use mimo_store::study_schema::Estimate;
 use std::path::Path;
 
 /// A family on one scenario at one stress point, with its figures.
@@ -127,16 +131,13 @@ pub fn ratio_rows(plan: &Plan, cells: &[Cell], rows: &[FamilyRow]) -> Vec<RatioR
     out
 }
 
-/// The scenario and stress-point columns of rows at cells `at`.
-fn place_columns(plan: &Plan, cells: &[Cell], at: &[usize]) -> Vec<Column> {
-    let mut out = vec![
-        Column::Utf8(at.iter().map(|&c| Some(plan.scenarios[cells[c].scenario].label())).collect()),
-        Column::Utf8(at.iter().map(|&c| cells[c].swept.map(|a| a.name().to_string())).collect()),
-    ];
-    for axis in Axis::ALL {
-        out.push(Column::F64(at.iter().map(|&c| cells[c].value(axis)).collect()));
+/// The figures of a row at 98 %: (knob, energy, dwell time, power), each figure with its
+/// interval; all null when the crossing is not defined.
+fn at_98(r: &FamilyRow) -> (Option<f64>, [Estimate; 3]) {
+    match r.challenge.at.as_ref() {
+        Ok(a) => (a.0, [a.1, a.2, a.3].map(|w| (Some(w.0), w.1, w.2))),
+        Err(_) => (None, [(None, None, None); 3]),
     }
-    out
 }
 
 /// Write `challenge.parquet` and `challenge_ratios.parquet` into `dir`.
@@ -147,45 +148,59 @@ pub fn write_challenge(
     ratios: &[RatioRow],
     dir: &Path,
 ) -> Result<(), StoreError> {
-    let utf8 = |f: &dyn Fn(&FamilyRow) -> Option<String>| Column::Utf8(rows.iter().map(f).collect());
-    let mut cols = vec![
-        utf8(&|r| Some(r.family.clone())),
-        utf8(&|r| Some(r.architecture.name().to_string())),
-        utf8(&|r| r.knob.clone()),
-    ];
-    cols.extend(place_columns(plan, cells, &rows.iter().map(|r| r.cell).collect::<Vec<_>>()));
-    cols.push(Column::U32(rows.iter().map(|r| r.cells.len() as u32).collect()));
-    cols.push(Column::U32(rows.iter().map(|_| plan.runs).collect()));
-    cols.push(Column::F64(rows.iter().map(|_| Some(crate::challenge::COMPLETENESS_REQUIRED)).collect()));
-    cols.push(Column::Bool(rows.iter().map(|r| r.challenge.holds).collect()));
-    cols.push(Column::U32(rows.iter().map(|r| r.challenge.crossings).collect()));
-    cols.push(utf8(&|r| r.challenge.at.as_ref().err().map(|e| reason(e).to_string())));
-    cols.push(Column::F64(rows.iter().map(|r| r.challenge.at.as_ref().ok().and_then(|a| a.0)).collect()));
-    for k in 0..3 {
-        let get = |r: &FamilyRow| {
-            r.challenge.at.as_ref().ok().map(|a| match k {
-                0 => a.1,
-                1 => a.2,
-                _ => a.3,
-            })
-        };
-        cols.push(Column::F64(rows.iter().map(|r| get(r).map(|w| w.0)).collect()));
-        cols.push(Column::F64(rows.iter().map(|r| get(r).and_then(|w| w.1)).collect()));
-        cols.push(Column::F64(rows.iter().map(|r| get(r).and_then(|w| w.2)).collect()));
-    }
-    cols.push(Column::U32(rows.iter().map(|_| RESAMPLES as u32).collect()));
-    cols.push(Column::U32(rows.iter().map(|r| r.challenge.resamples_crossing).collect()));
-    write_columns(&StudyDir::new(dir).table(&STUDY_CHALLENGE), &STUDY_CHALLENGE, cols)?;
-
-    let mut cols = place_columns(plan, cells, &ratios.iter().map(|r| rows[r.mimo].cell).collect::<Vec<_>>());
-    cols.push(Column::Utf8(ratios.iter().map(|r| Some(rows[r.mimo].family.clone())).collect()));
-    cols.push(Column::Utf8(ratios.iter().map(|r| Some(rows[r.conventional].family.clone())).collect()));
-    cols.push(Column::F64(ratios.iter().map(|r| r.ratio.as_ref().ok().map(|w| w.0)).collect()));
-    cols.push(Column::F64(ratios.iter().map(|r| r.ratio.as_ref().ok().and_then(|w| w.1)).collect()));
-    cols.push(Column::F64(ratios.iter().map(|r| r.ratio.as_ref().ok().and_then(|w| w.2)).collect()));
-    cols.push(Column::Utf8(ratios.iter().map(|r| r.ratio.as_ref().err().cloned()).collect()));
-    cols.push(Column::U32(ratios.iter().map(|_| RESAMPLES as u32).collect()));
-    cols.push(Column::U32(ratios.iter().map(|r| r.defined).collect()));
-    write_columns(&StudyDir::new(dir).table(&STUDY_CHALLENGE_RATIOS), &STUDY_CHALLENGE_RATIOS, cols)?;
+    let place = |c: usize| (plan.scenarios[cells[c].scenario].label(), point_ids(&cells[c]));
+    let challenge: Vec<StudyChallengeRow> = rows
+        .iter()
+        .map(|r| {
+            let (scenario, point) = place(r.cell);
+            let (knob_at_98, [energy, dwell, power]) = at_98(r);
+            StudyChallengeRow {
+                family: r.family.clone(),
+                architecture: r.architecture.name().to_string(),
+                knob: r.knob.clone(),
+                scenario,
+                point,
+                points: r.cells.len() as u32,
+                runs: plan.runs,
+                completeness_required: crate::challenge::COMPLETENESS_REQUIRED,
+                holds: r.challenge.holds,
+                crossings: r.challenge.crossings,
+                reason: r.challenge.at.as_ref().err().map(|e| reason(e).to_string()),
+                knob_at_98,
+                energy_at_98_j: energy.0,
+                energy_at_98_ci_lo_j: energy.1,
+                energy_at_98_ci_hi_j: energy.2,
+                dwell_time_at_98_s: dwell.0,
+                dwell_time_at_98_ci_lo_s: dwell.1,
+                dwell_time_at_98_ci_hi_s: dwell.2,
+                power_at_98_w: power.0,
+                power_at_98_ci_lo_w: power.1,
+                power_at_98_ci_hi_w: power.2,
+                resamples: RESAMPLES as u32,
+                resamples_crossing: r.challenge.resamples_crossing,
+            }
+        })
+        .collect();
+    write_rows(&StudyDir::new(dir).table(&STUDY_CHALLENGE), &challenge)?;
+    let ratios: Vec<StudyChallengeRatiosRow> = ratios
+        .iter()
+        .map(|r| {
+            let (scenario, point) = place(rows[r.mimo].cell);
+            let ratio = r.ratio.as_ref().ok();
+            StudyChallengeRatiosRow {
+                scenario,
+                point,
+                mimo_family: rows[r.mimo].family.clone(),
+                conventional_family: rows[r.conventional].family.clone(),
+                energy_ratio: ratio.map(|w| w.0),
+                energy_ratio_ci_lo: ratio.and_then(|w| w.1),
+                energy_ratio_ci_hi: ratio.and_then(|w| w.2),
+                reason: r.ratio.as_ref().err().cloned(),
+                resamples: RESAMPLES as u32,
+                resamples_defined: r.defined,
+            }
+        })
+        .collect();
+    write_rows(&StudyDir::new(dir).table(&STUDY_CHALLENGE_RATIOS), &ratios)?;
     Ok(())
 }

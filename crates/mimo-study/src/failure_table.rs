@@ -9,9 +9,10 @@ use crate::failure_point::{FailurePoint, Resamples, SweepRuns, failure_point, nu
 use crate::grid::Cell;
 use crate::plan::{Axis, Plan};
 use crate::tables::ResultRow;
+use crate::tables::method_ids;
 use mimo_store::StoreError;
-use mimo_store::columns::{Column, write_columns};
-use mimo_store::failure_point_schema::STUDY_FAILURE_POINTS;
+use mimo_store::columns::write_rows;
+use mimo_store::failure_point_schema::{STUDY_FAILURE_POINTS, StudyFailurePointRow};
 use mimo_store::layout::StudyDir;
 use std::path::Path;
 
@@ -114,35 +115,33 @@ pub fn failure_rows(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> 
 
 /// Write `failure_points.parquet` into `dir`.
 pub fn write_failure_points(plan: &Plan, rows: &[FailureRow], dir: &Path) -> Result<(), StoreError> {
-    let m = |r: &FailureRow| &plan.methods[r.method];
-    let text = |f: &dyn Fn(&FailureRow) -> Option<String>| Column::Utf8(rows.iter().map(f).collect());
-    let float = |f: &dyn Fn(&FailureRow) -> Option<f64>| Column::F64(rows.iter().map(f).collect());
-    let count = |f: &dyn Fn(&FailureRow) -> u32| Column::U32(rows.iter().map(f).collect());
-    let flag = |f: &dyn Fn(&FailureRow) -> bool| Column::Bool(rows.iter().map(f).collect());
-    let ci = |r: &FailureRow| numeric_interval(r.point.interval, r.axis.harder_when_larger());
-    let cols = vec![
-        text(&|r| Some(m(r).name.clone())),
-        text(&|r| Some(m(r).family.clone())),
-        text(&|r| m(r).knob.clone()),
-        float(&|r| m(r).knob_value),
-        text(&|r| Some(plan.scenarios[r.scenario].label())),
-        text(&|r| Some(r.axis.name().to_string())),
-        flag(&|r| r.axis.log_scale()),
-        float(&|r| r.values.first().copied()),
-        float(&|r| r.values.last().copied()),
-        count(&|r| r.values.len() as u32),
-        count(&|r| r.runs),
-        float(&|_| Some(COMPLETENESS_REQUIRED)),
-        flag(&|r| r.paired),
-        text(&|r| Some(r.point.failure.status().to_string())),
-        count(&|r| r.point.crossings),
-        float(&|r| r.point.value),
-        float(&|r| ci(r).0),
-        float(&|r| ci(r).1),
-        text(&|r| Some(ci(r).2.to_string())),
-        count(&|_| RESAMPLES as u32),
-        count(&|r| r.point.resamples_crossing),
-    ];
-    write_columns(&StudyDir::new(dir).table(&STUDY_FAILURE_POINTS), &STUDY_FAILURE_POINTS, cols)?;
+    let out: Vec<StudyFailurePointRow> = rows
+        .iter()
+        .map(|r| {
+            let (ci_lo, ci_hi, interval) = numeric_interval(r.point.interval, r.axis.harder_when_larger());
+            StudyFailurePointRow {
+                method: method_ids(&plan.methods[r.method]),
+                scenario: plan.scenarios[r.scenario].label(),
+                axis: r.axis.name().to_string(),
+                log_scale: r.axis.log_scale(),
+                // A sweep has a value at least (`failure_rows` skips empty ones).
+                least_stress_value: r.values.first().copied().unwrap_or(f64::NAN),
+                most_stress_value: r.values.last().copied().unwrap_or(f64::NAN),
+                points: r.values.len() as u32,
+                runs: r.runs,
+                completeness_required: COMPLETENESS_REQUIRED,
+                paired: r.paired,
+                status: r.point.failure.status().to_string(),
+                crossings: r.point.crossings,
+                failure_point: r.point.value,
+                ci_lo,
+                ci_hi,
+                interval: interval.to_string(),
+                resamples: RESAMPLES as u32,
+                resamples_crossing: r.point.resamples_crossing,
+            }
+        })
+        .collect();
+    write_rows(&StudyDir::new(dir).table(&STUDY_FAILURE_POINTS), &out)?;
     Ok(())
 }

@@ -1,17 +1,20 @@
 //! The study tables (`results.parquet`, `costs.parquet`, `summary.parquet`), built from the item
-//! records of every cell, each reduced to a [`ResultRow`] as it is read. Their columns are declared once in `mimo_store::schema`
-//! (`STUDY_RESULTS`, `STUDY_COSTS`, `STUDY_SUMMARY`); rows follow the grid order (methods ×
-//! scenarios × stress points, then runs), so the tables are the same however the items were
-//! split over machines.
+//! records of every cell, each reduced to a [`ResultRow`] as it is read. Each table is declared
+//! once in `mimo_store::study_schema` (`STUDY_RESULTS`, `STUDY_COSTS`, `STUDY_SUMMARY`), which
+//! gives its row struct and columns; rows follow the grid order (methods × scenarios × stress
+//! points, then runs), so the tables are the same however the items were split over machines.
 
 use crate::estimate::{bounded_mean_ci, mean_ci, metric_range};
 use crate::grid::Cell;
 use crate::plan::{Axis, Plan};
 use crate::record::{ItemCosts, ItemRecord};
 use mimo_store::StoreError;
-use mimo_store::columns::{Column, write_columns};
+use mimo_store::columns::write_rows;
 use mimo_store::layout::StudyDir;
-use mimo_store::schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY};
+use mimo_store::study_schema::{
+    MetricEstimates, MetricValues, STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY, StudyCostsRow, StudyIds,
+    StudyMethod, StudyPoint, StudyResultsRow, StudySummaryRow,
+};
 use std::path::Path;
 
 /// One cell's Monte Carlo summary.
@@ -104,66 +107,77 @@ pub fn summarize(rows: &[Vec<ResultRow>]) -> Vec<CellSummary> {
         .collect()
 }
 
-/// The identifying columns for rows of `cells` (a cell index per row).
-fn id_columns(plan: &Plan, cells: &[Cell], rows: &[usize]) -> Vec<Column> {
-    let m = |c: usize| &plan.methods[cells[c].method];
-    let mut out = vec![
-        Column::Utf8(rows.iter().map(|&c| Some(m(c).name.clone())).collect()),
-        Column::Utf8(rows.iter().map(|&c| Some(m(c).family.clone())).collect()),
-        Column::Utf8(rows.iter().map(|&c| m(c).knob.clone()).collect()),
-        Column::F64(rows.iter().map(|&c| m(c).knob_value).collect()),
-        Column::Utf8(rows.iter().map(|&c| Some(plan.scenarios[cells[c].scenario].label())).collect()),
-        Column::Utf8(rows.iter().map(|&c| cells[c].swept.map(|a| a.name().to_string())).collect()),
-    ];
-    for axis in Axis::ALL {
-        out.push(Column::F64(rows.iter().map(|&c| cells[c].value(axis)).collect()));
+/// The method columns of a method of the plan.
+pub(crate) fn method_ids(m: &crate::plan::Method) -> StudyMethod {
+    StudyMethod { method: m.name.clone(), family: m.family.clone(), knob: m.knob.clone(), knob_value: m.knob_value }
+}
+
+/// The stress-point columns of a cell.
+pub(crate) fn point_ids(cell: &Cell) -> StudyPoint {
+    StudyPoint {
+        swept: cell.swept.map(|a| a.name().to_string()),
+        rcs_offset_db: cell.value(Axis::RcsOffsetDb),
+        pfa: cell.value(Axis::Pfa),
+        formation_spacing_scale: cell.value(Axis::FormationSpacingScale),
+        peak_power_offset_db: cell.value(Axis::PeakPowerOffsetDb),
+        search_pulses: cell.value(Axis::SearchPulses),
+        raid_targets: cell.value(Axis::RaidTargets),
     }
-    out
+}
+
+/// The identifying columns of a cell.
+fn cell_ids(plan: &Plan, cell: &Cell) -> StudyIds {
+    StudyIds {
+        method: method_ids(&plan.methods[cell.method]),
+        scenario: plan.scenarios[cell.scenario].label(),
+        point: point_ids(cell),
+    }
 }
 
 /// Write `results.parquet` and `costs.parquet` into `dir`.
 pub fn write_results(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], dir: &Path) -> Result<(), StoreError> {
-    let rows: Vec<(usize, &ResultRow)> =
-        records.iter().enumerate().flat_map(|(c, recs)| recs.iter().map(move |r| (c, r))).collect();
-    let cell_of: Vec<usize> = rows.iter().map(|(c, _)| *c).collect();
-    let run = Column::U32(rows.iter().map(|(_, r)| r.run).collect());
-    let seed = Column::U64(rows.iter().map(|(_, r)| r.seed).collect());
-
-    let mut results = id_columns(plan, cells, &cell_of);
-    results.push(run.clone());
-    results.push(seed.clone());
-    for k in 0..STUDY_METRICS.len() {
-        results.push(Column::F64(rows.iter().map(|(_, r)| r.metrics[k]).collect()));
-    }
-    results.push(Column::Utf8(rows.iter().map(|(_, r)| r.failure.clone()).collect()));
-    write_columns(&StudyDir::new(dir).table(&STUDY_RESULTS), &STUDY_RESULTS, results)?;
-
-    let mut costs = id_columns(plan, cells, &cell_of);
-    costs.push(run);
-    costs.push(seed);
-    let f = |g: fn(&ResultRow) -> f64| Column::F64(rows.iter().map(|(_, r)| Some(g(r))).collect());
-    costs.push(f(|r| r.duration_s));
-    costs.push(f(|r| r.costs.ta_cpu_s));
-    costs.push(f(|r| r.costs.sim_cpu_s));
-    costs.push(f(|r| r.costs.wall_s));
-    costs.push(Column::F64(rows.iter().map(|(_, r)| r.costs.kf_cycle_s).collect()));
-    costs.push(Column::F64(rows.iter().map(|(_, r)| r.costs.ta_cpu_kfu()).collect()));
-    write_columns(&StudyDir::new(dir).table(&STUDY_COSTS), &STUDY_COSTS, costs)?;
+    let ids: Vec<StudyIds> = cells.iter().map(|c| cell_ids(plan, c)).collect();
+    let rows = || records.iter().zip(&ids).flat_map(|(recs, ids)| recs.iter().map(move |r| (ids, r)));
+    let results: Vec<StudyResultsRow> = rows()
+        .map(|(ids, r)| StudyResultsRow {
+            ids: ids.clone(),
+            run: r.run,
+            seed: r.seed,
+            metrics: MetricValues(r.metrics.clone()),
+            failure: r.failure.clone(),
+        })
+        .collect();
+    write_rows(&StudyDir::new(dir).table(&STUDY_RESULTS), &results)?;
+    let costs: Vec<StudyCostsRow> = rows()
+        .map(|(ids, r)| StudyCostsRow {
+            ids: ids.clone(),
+            run: r.run,
+            seed: r.seed,
+            duration_s: r.duration_s,
+            ta_cpu_s: r.costs.ta_cpu_s,
+            sim_cpu_s: r.costs.sim_cpu_s,
+            wall_s: r.costs.wall_s,
+            kf_cycle_s: r.costs.kf_cycle_s,
+            ta_cpu_kfu: r.costs.ta_cpu_kfu(),
+        })
+        .collect();
+    write_rows(&StudyDir::new(dir).table(&STUDY_COSTS), &costs)?;
     Ok(())
 }
 
 /// Write `summary.parquet` into `dir`.
 pub fn write_summary(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], dir: &Path) -> Result<(), StoreError> {
-    let idx: Vec<usize> = (0..cells.len()).collect();
-    let mut cols = id_columns(plan, cells, &idx);
-    cols.push(Column::U32(summaries.iter().map(|s| s.runs).collect()));
-    cols.push(Column::U32(summaries.iter().map(|s| s.failed).collect()));
-    cols.push(Column::Utf8(summaries.iter().map(|s| s.failure.clone()).collect()));
-    for k in 0..STUDY_METRICS.len() {
-        cols.push(Column::F64(summaries.iter().map(|s| s.estimates[k].0).collect()));
-        cols.push(Column::F64(summaries.iter().map(|s| s.estimates[k].1).collect()));
-        cols.push(Column::F64(summaries.iter().map(|s| s.estimates[k].2).collect()));
-    }
-    write_columns(&StudyDir::new(dir).table(&STUDY_SUMMARY), &STUDY_SUMMARY, cols)?;
+    let rows: Vec<StudySummaryRow> = cells
+        .iter()
+        .zip(summaries)
+        .map(|(c, s)| StudySummaryRow {
+            ids: cell_ids(plan, c),
+            runs: s.runs,
+            failed: s.failed,
+            failure: s.failure.clone(),
+            estimates: MetricEstimates(s.estimates.clone()),
+        })
+        .collect();
+    write_rows(&StudyDir::new(dir).table(&STUDY_SUMMARY), &rows)?;
     Ok(())
 }

@@ -10,7 +10,11 @@
 
 use arrow::array::{Array, AsArray, RecordBatch};
 use arrow::datatypes::{Float64Type, UInt32Type, UInt64Type};
-use mimo_store::schema::STUDY_METRICS;
+use mimo_store::challenge_schema::{StudyChallengeColumns, StudyChallengeRow};
+use mimo_store::study_schema::{
+    STUDY_METRICS, StudyCostsColumns, StudyCostsRow, StudyIds, StudyIdsColumns, StudyMethod, StudyMethodColumns,
+    StudyPoint, StudyPointColumns, StudyResultsColumns, StudyResultsRow,
+};
 use mimo_study::item::do_item;
 use mimo_study::plan::Axis;
 use mimo_study::prepare::prepare;
@@ -18,6 +22,14 @@ use mimo_study::{Options, Plan, run_study};
 use parquet::arrow::ArrowWriter;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use std::path::{Path, PathBuf};
+
+/// The column names the checks read, as the study tables declare them.
+const RESULTS: StudyResultsColumns = StudyResultsRow::COLUMNS;
+const IDS: StudyIdsColumns = StudyIds::COLUMNS;
+const METHOD: StudyMethodColumns = StudyMethod::COLUMNS;
+const POINT: StudyPointColumns = StudyPoint::COLUMNS;
+const CHALLENGE: StudyChallengeColumns = StudyChallengeRow::COLUMNS;
+const COSTS: StudyCostsColumns = StudyCostsRow::COLUMNS;
 
 fn read_batches(path: &Path) -> Result<Vec<RecordBatch>, String> {
     let f = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -92,25 +104,30 @@ fn check_study(dir: &Path) -> Result<Option<String>, String> {
     let work = tempfile::tempdir().map_err(|e| e.to_string())?;
     let rec = do_item(&plan, cell, &prep.worlds[prep.world_of[c]], work.path(), 0, None).map_err(|e| e.to_string())?;
     for b in read_batches(&results)? {
-        let runs = b.column_by_name("run").and_then(|r| r.as_primitive_opt::<UInt32Type>().cloned());
+        let runs = b.column_by_name(RESULTS.run).and_then(|r| r.as_primitive_opt::<UInt32Type>().cloned());
         let runs = runs.ok_or("results.parquet: no uint32 run column")?;
         for i in 0..b.num_rows() {
             let same_axes = Axis::ALL.iter().map(|a| axis_value(&b, *a, i)).collect::<Result<Vec<_>, _>>()?
                 == Axis::ALL.iter().map(|a| cell.value(*a)).collect::<Vec<_>>();
-            let here = text(&b, "method", i)?.as_deref() == Some(method.as_str())
-                && text(&b, "scenario", i)?.as_deref() == Some(scenario.as_str())
-                && text(&b, "swept", i)? == cell.swept.map(|a| a.name().to_string())
+            let here = text(&b, METHOD.method, i)?.as_deref() == Some(method.as_str())
+                && text(&b, IDS.scenario, i)?.as_deref() == Some(scenario.as_str())
+                && text(&b, POINT.swept, i)? == cell.swept.map(|a| a.name().to_string())
                 && same_axes
                 && runs.value(i) == 0;
             if !here {
                 continue;
             }
-            let seed = b.column_by_name("seed").and_then(|s| s.as_primitive_opt::<UInt64Type>().map(|s| s.value(i)));
+            let seed =
+                b.column_by_name(RESULTS.seed).and_then(|s| s.as_primitive_opt::<UInt64Type>().map(|s| s.value(i)));
             if seed != Some(plan.seed) {
                 return Err(format!("{item}: committed seed {seed:?}, the plan's is {}", plan.seed));
             }
-            if text(&b, "failure", i)? != rec.failure {
-                return Err(format!("{item}: failure {:?} committed, {:?} now", text(&b, "failure", i)?, rec.failure));
+            if text(&b, RESULTS.failure, i)? != rec.failure {
+                return Err(format!(
+                    "{item}: failure {:?} committed, {:?} now",
+                    text(&b, RESULTS.failure, i)?,
+                    rec.failure
+                ));
             }
             for (name, _, _) in STUDY_METRICS {
                 let (was, now) = (float(&b, name, i)?, rec.metrics.get(*name).copied().flatten());
@@ -188,22 +205,23 @@ fn the_check_passes_on_a_fresh_study_and_catches_a_changed_metric() {
     // report opens with the challenge.
     let ch = &read_batches(&out.join("challenge.parquet")).expect("challenge")[0];
     assert_eq!(ch.num_rows(), 4);
-    assert_eq!(text(ch, "family", 0), Ok(Some("conv".into())));
-    assert_eq!(text(ch, "architecture", 0), Ok(Some("conventional".into())));
-    assert_eq!(text(ch, "knob", 1), Ok(Some("resource_manager.max_ta_share".into())));
+    assert_eq!(text(ch, CHALLENGE.family, 0), Ok(Some("conv".into())));
+    assert_eq!(text(ch, CHALLENGE.architecture, 0), Ok(Some("conventional".into())));
+    assert_eq!(text(ch, CHALLENGE.knob, 1), Ok(Some("resource_manager.max_ta_share".into())));
     assert_eq!(
-        text(ch, "reason", 0),
+        text(ch, CHALLENGE.reason, 0),
         Ok(Some(mimo_study::challenge::reason(&mimo_study::challenge::Crossing::OnePoint).into()))
     );
     assert_eq!(read_batches(&out.join("challenge_ratios.parquet")).expect("ratios")[0].num_rows(), 2);
     let report = std::fs::read_to_string(out.join("report.md")).expect("report");
     assert!(report.lines().nth(2).is_some_and(|l| l.starts_with("## The challenge")), "{report}");
     let results = &read_batches(&out.join("results.parquet")).expect("results")[0];
-    assert_eq!(text(results, "method", 4), Ok(Some("mimo@0.2".into())));
-    assert_eq!(float(results, "knob_value", 4), Ok(Some(0.2)));
-    assert_eq!(float(results, "knob_value", 0), Ok(None));
+    assert_eq!(text(results, METHOD.method, 4), Ok(Some("mimo@0.2".into())));
+    assert_eq!(float(results, METHOD.knob_value, 4), Ok(Some(0.2)));
+    assert_eq!(float(results, METHOD.knob_value, 0), Ok(None));
     let costs = &read_batches(&out.join("costs.parquet")).expect("costs")[0];
-    let (cpu, kf, kfu) = (float(costs, "ta_cpu_s", 0), float(costs, "kf_cycle_s", 0), float(costs, "ta_cpu_kfu", 0));
+    let (cpu, kf, kfu) =
+        (float(costs, COSTS.ta_cpu_s, 0), float(costs, COSTS.kf_cycle_s, 0), float(costs, COSTS.ta_cpu_kfu, 0));
     let (cpu, kf, kfu) = (cpu.expect("c").expect("c"), kf.expect("k").expect("k"), kfu.expect("u").expect("u"));
     assert!(kf > 0.0 && kfu == cpu / kf, "{cpu} / {kf} = {kfu}");
 
