@@ -124,11 +124,14 @@ pub mod partner;
 pub mod policy;
 mod pregate;
 mod queries;
+mod quiet_expiry;
 mod reached;
 pub mod second_return;
 mod state_stamp;
 mod track_balls;
 pub mod tracker;
+#[cfg(test)]
+mod tracker_expiry_tests;
 pub mod update;
 
 pub use components::Components;
