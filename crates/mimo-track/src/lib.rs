@@ -122,6 +122,7 @@ pub mod measurement;
 pub mod motion;
 pub mod partner;
 pub mod policy;
+pub mod position_ball;
 mod pregate;
 mod queries;
 mod quiet_expiry;
