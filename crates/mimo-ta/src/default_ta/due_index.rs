@@ -25,46 +25,61 @@ fn order_key(x: f64) -> i64 {
 #[derive(Debug, Default)]
 pub struct DueIndex {
     by_time: BTreeSet<(i64, u64)>,
-    time_of: BTreeMap<u64, f64>,
+    /// The confirmed tracks of `by_time`.
+    confirmed_by_time: BTreeSet<(i64, u64)>,
+    /// Each track's time and whether it is confirmed.
+    time_of: BTreeMap<u64, (f64, bool)>,
 }
 
 impl DueIndex {
     /// Forget every track.
     pub fn clear(&mut self) {
         self.by_time.clear();
+        self.confirmed_by_time.clear();
         self.time_of.clear();
     }
 
-    /// Track `id` may be looked at from `due_s` (`None`: the track is gone).
-    pub fn set(&mut self, id: u64, due_s: Option<f64>) {
-        if let Some(old) = self.time_of.remove(&id) {
+    /// Track `id` may be looked at from `due_s`, and is confirmed or not (`None`: the track is
+    /// gone).
+    pub fn set(&mut self, id: u64, due_s: Option<(f64, bool)>) {
+        if let Some((old, _)) = self.time_of.remove(&id) {
             self.by_time.remove(&(order_key(old), id));
+            self.confirmed_by_time.remove(&(order_key(old), id));
         }
-        if let Some(t) = due_s {
-            self.time_of.insert(id, t);
+        if let Some((t, confirmed)) = due_s {
+            self.time_of.insert(id, (t, confirmed));
             self.by_time.insert((order_key(t), id));
+            if confirmed {
+                self.confirmed_by_time.insert((order_key(t), id));
+            }
         }
     }
 
     /// Track `id`'s entry from the tracker and the holds: its [`held_due`], or gone.
     pub fn refresh(&mut self, tracker: &MultiTargetTracker, hold_until: &BTreeMap<u64, f64>, id: u64) {
-        let due = tracker.track_due(id).map(|d| held_due(hold_until, id, d.next_due_s));
+        let due =
+            tracker.track_due(id).map(|d| (held_due(hold_until, id, d.next_due_s), d.status == TrackStatus::Confirmed));
         self.set(id, due);
     }
 
     /// The tracks with a time `≤ limit_s`, by id.
     pub fn due_by(&self, limit_s: f64) -> BTreeSet<u64> {
-        self.by_time
-            .range(..=(order_key(limit_s), u64::MAX))
-            .filter(|&&(_, id)| self.time_of.get(&id).is_some_and(|&t| t <= limit_s))
-            .map(|&(_, id)| id)
-            .collect()
+        self.up_to(&self.by_time, limit_s).into_iter().collect()
     }
 
-    /// The confirmed tracks (by the tracker) with a time `≤ limit_s`, by id.
-    pub fn confirmed_due_by(&self, tracker: &MultiTargetTracker, limit_s: f64) -> Vec<u64> {
-        let confirmed = |id: &u64| tracker.track_due(*id).is_some_and(|d| d.status == TrackStatus::Confirmed);
-        self.due_by(limit_s).into_iter().filter(confirmed).collect()
+    /// The confirmed tracks with a time `≤ limit_s`, by id.
+    pub fn confirmed_due_by(&self, limit_s: f64) -> Vec<u64> {
+        let mut ids = self.up_to(&self.confirmed_by_time, limit_s);
+        ids.sort_unstable();
+        ids
+    }
+
+    /// The tracks of `set` with a time `≤ limit_s`, in the set's order.
+    fn up_to(&self, set: &BTreeSet<(i64, u64)>, limit_s: f64) -> Vec<u64> {
+        set.range(..=(order_key(limit_s), u64::MAX))
+            .filter(|&&(_, id)| self.time_of.get(&id).is_some_and(|&(t, _)| t <= limit_s))
+            .map(|&(_, id)| id)
+            .collect()
     }
 
     /// The earliest time `> limit_s` of a track `skip` does not name (NaN times ignored), if any.
@@ -73,13 +88,14 @@ impl DueIndex {
         self.by_time
             .range(after)
             .filter(|&&(_, id)| !skip(id))
-            .filter_map(|&(_, id)| self.time_of.get(&id).copied())
+            .filter_map(|&(_, id)| self.time_of.get(&id).map(|&(t, _)| t))
             .find(|t| !t.is_nan())
     }
 
-    /// Every track's time, by id (for the tests' comparison with the tracker).
+    /// Every track's time and whether it is confirmed, by id (for the tests' comparison with
+    /// the tracker).
     #[cfg(test)]
-    pub fn times(&self) -> &BTreeMap<u64, f64> {
+    pub fn times(&self) -> &BTreeMap<u64, (f64, bool)> {
         &self.time_of
     }
 }
@@ -105,15 +121,18 @@ mod tests {
         ];
         let mut index = DueIndex::default();
         for &(id, t) in &times {
-            index.set(id, Some(t));
+            index.set(id, Some((t, id % 2 == 1)));
         }
-        index.set(7, Some(6.5));
+        index.set(7, Some((6.5, false)));
         index.set(8, None);
         let live: Vec<(u64, f64)> =
             times.iter().filter(|(id, _)| *id != 8).map(|&(id, t)| if id == 7 { (id, 6.5) } else { (id, t) }).collect();
         for limit in [-1.0, -0.0, 0.0, 2.9, 3.0, 5.0, 6.0, 7.0, 1e300, f64::INFINITY] {
             let walk_due: BTreeSet<u64> = live.iter().filter(|(_, t)| *t <= limit).map(|p| p.0).collect();
             assert_eq!(index.due_by(limit), walk_due, "due by {limit}");
+            // Odd ids are confirmed, but 7 no longer.
+            let walk_confirmed: Vec<u64> = walk_due.iter().copied().filter(|id| id % 2 == 1 && *id != 7).collect();
+            assert_eq!(index.confirmed_due_by(limit), walk_confirmed, "confirmed due by {limit}");
             for skipped in [None, Some(3), Some(7)] {
                 let skip = |id: u64| Some(id) == skipped;
                 let walk_next = live

@@ -201,8 +201,7 @@ impl DefaultTa {
             self.pending.insert(info.id, now);
             if rm.group_looks && info.status == TrackStatus::Confirmed {
                 // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
-                let pool = soon_pool
-                    .get_or_insert_with(|| self.dues.confirmed_due_by(&st.tracker, now + rm.group_lookahead_s));
+                let pool = soon_pool.get_or_insert_with(|| self.dues.confirmed_due_by(now + rm.group_lookahead_s));
                 let soon: Vec<u64> =
                     pool.iter().copied().filter(|&o| o != info.id && !self.pending.contains_key(&o)).collect();
                 for id in ride_along(rm, &snap, &mut req, &soon) {
@@ -221,9 +220,16 @@ impl DefaultTa {
     #[cfg(test)]
     fn assert_dues_are_the_trackers(&self) {
         let Some(st) = &self.state else { return };
-        let walk: BTreeMap<u64, u64> =
-            st.tracker.track_dues().map(|d| (d.id, held_due(&self.hold_until, d.id, d.next_due_s).to_bits())).collect();
-        let index: BTreeMap<u64, u64> = self.dues.times().iter().map(|(&id, t)| (id, t.to_bits())).collect();
+        let walk: BTreeMap<u64, (u64, bool)> = st
+            .tracker
+            .track_dues()
+            .map(|d| {
+                let due = held_due(&self.hold_until, d.id, d.next_due_s).to_bits();
+                (d.id, (due, d.status == TrackStatus::Confirmed))
+            })
+            .collect();
+        let index: BTreeMap<u64, (u64, bool)> =
+            self.dues.times().iter().map(|(&id, &(t, c))| (id, (t.to_bits(), c))).collect();
         assert_eq!(index, walk, "the due index is not the tracker's");
     }
 

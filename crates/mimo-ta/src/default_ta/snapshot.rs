@@ -67,25 +67,36 @@ impl<'a> Snapshot<'a> {
     /// and, when `|c − site| ≥ 2ρ`, its direction within `asin(ρ/|c − site|) ≤ 1.05 ρ/|c − site|`
     /// of `c`'s.
     pub fn may_be_near(&self, due: &TrackDue, site: DVec3, r0_m: f64, u0: DVec3, dr_m: f64, da: f64) -> bool {
-        let Some(balls) = self.balls else { return true };
-        let mut balls = balls.borrow_mut();
-        let fresh = balls.get(&due.id).is_some_and(|b| b.holds(due, self.t_s));
-        if !fresh {
-            match self.tracker.position_ball(due.id, self.t_s) {
-                Some(b) if b.holds(due, self.t_s) => balls.insert(due.id, b),
-                _ => return true,
-            };
-        }
-        let Some(b) = balls.get(&due.id) else { return true };
-        let dc = b.centre_ecef - site;
+        let Some((centre, radius_m)) = self.ball(due) else { return true };
+        let dc = centre - site;
         let rc = dc.length();
-        if (rc - r0_m).abs() > dr_m + b.radius_m {
+        if (rc - r0_m).abs() > dr_m + radius_m {
             return false;
         }
-        if !(rc > 0.0 && rc >= 2.0 * b.radius_m) {
+        if !(rc > 0.0 && rc >= 2.0 * radius_m) {
             return true;
         }
-        (dc / rc - u0).length() <= da + 1.05 * b.radius_m / rc + DIRECTION_SLACK
+        (dc / rc - u0).length() <= da + 1.05 * radius_m / rc + DIRECTION_SLACK
+    }
+
+    /// Whether track `id`'s predicted position at the pass's instant may lie within `dist_m` of
+    /// `point`: `false` only when its position ball is farther.
+    pub fn may_be_within(&self, id: u64, point: DVec3, dist_m: f64) -> bool {
+        let Some(due) = self.tracker.track_due(id) else { return true };
+        let Some((centre, radius_m)) = self.ball(&due) else { return true };
+        (centre - point).length() <= dist_m + radius_m
+    }
+
+    /// The centre and radius of the kept position ball of the track `due` at the pass's instant
+    /// (made anew when missing or stale), if the caller keeps balls and the tracker offers one.
+    fn ball(&self, due: &TrackDue) -> Option<(DVec3, f64)> {
+        let mut balls = self.balls?.borrow_mut();
+        let fresh = balls.get(&due.id).is_some_and(|b| b.holds(due, self.t_s));
+        if !fresh {
+            let b = self.tracker.position_ball(due.id, self.t_s).filter(|b| b.holds(due, self.t_s))?;
+            balls.insert(due.id, b);
+        }
+        balls.get(&due.id).map(|b| (b.centre_ecef, b.radius_m))
     }
 
     /// Every radar id, in order.
