@@ -166,10 +166,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         );
         crate::outln!(
             "usage per run: energy {:.0} J ({:.0} J by the TA), dwell time {:.1} s ({:.1} s by the TA); scored in {:.2} s -> {}",
-            s.usage.total_energy_j,
-            s.usage.ta_energy_j,
-            s.usage.total_dwell_time_s,
-            s.usage.ta_dwell_time_s,
+            s.usage.totals.total_energy_j,
+            s.usage.totals.ta_energy_j,
+            s.usage.totals.total_dwell_time_s,
+            s.usage.totals.ta_dwell_time_s,
             t_score,
             score_dir.root().display()
         );

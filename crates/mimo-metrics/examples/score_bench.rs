@@ -207,7 +207,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.summary.track.switches,
         s.summary.track.spurious_ratio,
         s.summary.track.position_rmse_m,
-        s.summary.usage.total_energy_j
+        s.summary.usage.totals.total_energy_j
     );
     Ok(())
 }

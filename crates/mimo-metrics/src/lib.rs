@@ -333,9 +333,9 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         purpose::purpose_output(&purpose::purpose_sums(&purpose_input)?, &runs, &radars, &n_times, opts.interval_s);
 
     let mut summary = summarize(opts, &runs, &target_names, &track_metrics, &tally, &u)?;
-    summary.usage.by_purpose = by_purpose.mean;
+    summary.usage.totals.by_purpose = by_purpose.mean;
     for r in &mut summary.per_run {
-        r.by_purpose = by_purpose.per_run.get(&r.run).copied().unwrap_or_default();
+        r.usage.by_purpose = by_purpose.per_run.get(&r.run).copied().unwrap_or_default();
     }
     Ok(Score {
         options: opts.clone(),
@@ -442,66 +442,61 @@ fn pooled_rmse(rows: &[&TrackMetricsRow], sq: fn(&TrackMetricsRow) -> f64) -> Op
     (n > 0).then(|| (rows.iter().map(|r| sq(r)).sum::<f64>() / n as f64).sqrt())
 }
 
-/// The summary's usage: sensor totals per radar and their sums.
+/// The summary's usage: sensor totals per radar and their sums (usage by purpose left for the
+/// caller).
 fn usage_summary(u: &usage::UsageOutput) -> UsageSummary {
     let per_radar = NamedList(
         u.per_radar
             .iter()
             .map(|r| {
-                (
-                    r.radar.clone(),
-                    RadarUsageSummary {
-                        dwell_time_s: r.dwell_time_s,
-                        energy_j: r.energy_j,
-                        ta_dwell_time_s: r.ta_dwell_time_s,
-                        ta_energy_j: r.ta_energy_j,
-                    },
-                )
+                let totals = SensorTotals {
+                    dwell_time_s: r.dwell_time_s,
+                    energy_j: r.energy_j,
+                    ta_dwell_time_s: r.ta_dwell_time_s,
+                    ta_energy_j: r.ta_energy_j,
+                };
+                (r.radar.clone(), totals)
             })
             .collect(),
     );
-    UsageSummary {
-        total_dwell_time_s: u.per_radar.iter().map(|r| r.dwell_time_s).sum(),
-        total_energy_j: u.per_radar.iter().map(|r| r.energy_j).sum(),
-        ta_dwell_time_s: u.per_radar.iter().map(|r| r.ta_dwell_time_s).sum(),
-        ta_energy_j: u.per_radar.iter().map(|r| r.ta_energy_j).sum(),
-        per_radar,
-        by_purpose: PurposeUsage::default(),
+    let totals = UsageTotals::summed(per_radar.0.iter().map(|(_, t)| t));
+    UsageSummary { per_radar, totals }
+}
+
+/// The track figures over `rows` (breaks and switches given).
+fn track_figures<Count>(rows: &[&TrackMetricsRow], breaks: Count, switches: Count) -> TrackFigures<Count> {
+    TrackFigures {
+        completeness: mean(rows.iter().filter_map(|r| r.completeness)),
+        redundant_ratio: mean(rows.iter().filter_map(|r| r.redundant_ratio)),
+        spurious_ratio: mean(rows.iter().filter_map(|r| r.spurious_ratio)),
+        breaks,
+        switches,
+        position_rmse_m: pooled_rmse(rows, |r| r.position_sq_sum_m2),
+        velocity_rmse_mps: pooled_rmse(rows, |r| r.velocity_sq_sum_m2ps2),
     }
 }
 
 /// The summary of each run (its usage by purpose left for the caller).
 fn run_summaries(runs: &[u32], by_run: &RowsByRun<'_>, u: &usage::UsageOutput) -> Vec<RunSummary> {
-    let mut usage_by_run: BTreeMap<u32, Vec<&RunRadarUsage>> = BTreeMap::new();
+    let mut usage_by_run: BTreeMap<u32, Vec<&SensorTotals>> = BTreeMap::new();
     for x in &u.per_run {
-        usage_by_run.entry(x.run).or_default().push(x);
+        usage_by_run.entry(x.run).or_default().push(&x.totals);
     }
     runs.iter()
         .map(|&run| {
             let rr = by_run.of(run);
-            let usage_of = |f: fn(&RunRadarUsage) -> f64| {
-                usage_by_run.get(&run).map_or(0.0, |v| v.iter().map(|x| f(x)).sum::<f64>())
-            };
             RunSummary {
                 run,
                 scoring_times: rr.len() as u32,
-                completeness: mean(rr.iter().filter_map(|r| r.completeness)),
-                redundant_ratio: mean(rr.iter().filter_map(|r| r.redundant_ratio)),
-                spurious_ratio: mean(rr.iter().filter_map(|r| r.spurious_ratio)),
-                breaks: by_run.breaks(run),
-                switches: by_run.switches(run),
-                position_rmse_m: pooled_rmse(rr, |r| r.position_sq_sum_m2),
-                velocity_rmse_mps: pooled_rmse(rr, |r| r.velocity_sq_sum_m2ps2),
+                track: track_figures(rr, by_run.breaks(run), by_run.switches(run)),
                 ospa_m: mean(rr.iter().filter_map(|r| r.ospa_m)),
                 gospa_m: mean(rr.iter().filter_map(|r| r.gospa_m)),
                 gospa_localisation_m: mean(rr.iter().filter_map(|r| r.gospa_localisation_m)),
                 gospa_missed: mean(rr.iter().filter_map(|r| r.gospa_missed.map(f64::from))),
                 gospa_false: mean(rr.iter().filter_map(|r| r.gospa_false.map(f64::from))),
-                total_dwell_time_s: usage_of(|x| x.dwell_time_s),
-                total_energy_j: usage_of(|x| x.energy_j),
-                ta_dwell_time_s: usage_of(|x| x.ta_dwell_time_s),
-                ta_energy_j: usage_of(|x| x.ta_energy_j),
-                by_purpose: PurposeUsage::default(),
+                usage: usage_by_run
+                    .get(&run)
+                    .map_or_else(UsageTotals::default, |v| UsageTotals::summed(v.iter().copied())),
             }
         })
         .collect()
@@ -539,16 +534,12 @@ fn summarize(
     let n_runs = runs.len().max(1) as f64;
     let all: Vec<&TrackMetricsRow> = rows.iter().collect();
     let by_run = RowsByRun::new(runs, rows);
-    let completeness = mean(all.iter().filter_map(|r| r.completeness));
-    let track = TrackSummary {
-        completeness,
-        redundant_ratio: mean(all.iter().filter_map(|r| r.redundant_ratio)),
-        spurious_ratio: mean(all.iter().filter_map(|r| r.spurious_ratio)),
-        breaks: runs.iter().map(|&r| f64::from(by_run.breaks(r))).sum::<f64>() / n_runs,
-        switches: runs.iter().map(|&r| f64::from(by_run.switches(r))).sum::<f64>() / n_runs,
-        position_rmse_m: pooled_rmse(&all, |r| r.position_sq_sum_m2),
-        velocity_rmse_mps: pooled_rmse(&all, |r| r.velocity_sq_sum_m2ps2),
-    };
+    let track: TrackSummary = track_figures(
+        &all,
+        runs.iter().map(|&r| f64::from(by_run.breaks(r))).sum::<f64>() / n_runs,
+        runs.iter().map(|&r| f64::from(by_run.switches(r))).sum::<f64>() / n_runs,
+    );
+    let completeness = track.completeness;
     let usage = usage_summary(u);
     let per_run = run_summaries(runs, &by_run, u);
     let per_target = target_summaries(target_names, tally, n_runs);

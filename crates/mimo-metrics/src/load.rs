@@ -235,39 +235,7 @@ fn dwell_file_sums_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mimo_core::records::{DwellKind, Requester, Role};
-
-    /// Dwell rows at times `t`: four radars in turn, every role, kind and requester.
-    fn dwell_rows(t: &[f64]) -> Vec<mimo_core::records::DwellRow> {
-        let n = t.len();
-        let duration: Vec<f64> = (0..n).map(|i| 0.001 + 1e-4 * ((i * 31) % 17) as f64).collect();
-        let energy: Vec<f64> = (0..n).map(|i| 10.0 + 0.37 * ((i * 53) % 29) as f64).collect();
-        let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
-        (0..n)
-            .map(|i| mimo_core::records::DwellRow {
-                run: 0,
-                dwell_id: i as u64,
-                group_id: i as u64,
-                radar: mimo_core::ids::RadarId::parse(&format!("R{}", 1 + i % 4)).expect("radar"),
-                role: Role::parse(&label(&Role::LABELS, i)).expect("role"),
-                kind: DwellKind::parse(&label(&DwellKind::LABELS, i / 3)).expect("kind"),
-                requested_by: Requester::parse(&label(&Requester::LABELS, i / 5)).expect("requester"),
-                t_s: t[i],
-                duration_s: duration[i],
-                pulse_width_s: 1e-5,
-                n_pulses: 10,
-                peak_power_w: 1e5,
-                energy_j: energy[i],
-                waveform: 0,
-                face: 0,
-                beam_u: 0.0,
-                beam_v: 0.0,
-                aim_x_m: 1.0,
-                aim_y_m: 2.0,
-                aim_z_m: 3.0,
-            })
-            .collect()
-    }
+    use mimo_store::testing::varied_dwell_rows;
 
     /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times
     /// increasing; with `back_at`, that row's time is set before its radar's previous row.
@@ -279,8 +247,7 @@ mod tests {
         if let Some(i) = back_at {
             t[i] = t[i - 4] - 0.001;
         }
-        let rows = dwell_rows(&t);
-        let label = |labels: &[&str], i: usize| labels[i % labels.len()].to_string();
+        let rows = varied_dwell_rows(0, &t);
         // mimo's layout and metadata (the table's spec: required columns, plain pages, `t_s`
         // byte-stream-split, zstd), in row groups of 300 rows and pages of 100, so that every
         // reader of `crate::dwell_read` takes the file and crosses pages and row groups.
@@ -290,8 +257,8 @@ mod tests {
         use std::sync::Arc;
         let mut batch = mimo_store::rows::to_batch(&rows).expect("batch");
         if let Some(bad) = bad_role_at {
-            let roles: Vec<String> =
-                (0..n).map(|i| if i == bad { "bogus".to_string() } else { label(&Role::LABELS, i) }).collect();
+            let roles: Vec<&str> =
+                rows.iter().enumerate().map(|(i, r)| if i == bad { "bogus" } else { r.role.as_str() }).collect();
             let schema = batch.schema();
             let mut columns = batch.columns().to_vec();
             columns[schema.index_of("role").expect("role")] = Arc::new(StringArray::from(roles)) as ArrayRef;
@@ -416,7 +383,7 @@ mod tests {
         let path = dir.path().join("run-0000.parquet");
         let n = mimo_store::ROW_GROUP_ROWS + mimo_store::PAGE_ROWS + 100;
         let t: Vec<f64> = (0..n).map(|i| 0.013 * i as f64).collect();
-        mimo_store::write_table(&path, &dwell_rows(&t)).expect("write");
+        mimo_store::write_table(&path, &varied_dwell_rows(0, &t)).expect("write");
         let runs = BTreeSet::from([0u32]);
         let fast = crate::dwell_pages::file_sums(&path, &runs, 1.0, crate::dwell_sums::DWELL_SLICE_ROWS);
         let fast = fast.expect("the store's dwells file takes the fast path");
@@ -433,7 +400,7 @@ mod tests {
         let dir = tempfile::tempdir().expect("tempdir");
         let (ours, other) = (dir.path().join("a"), dir.path().join("b"));
         let n = mimo_store::ROW_GROUP_ROWS + 100;
-        let rows = dwell_rows(&(0..n).map(|i| 0.013 * i as f64).collect::<Vec<_>>());
+        let rows = varied_dwell_rows(0, &(0..n).map(|i| 0.013 * i as f64).collect::<Vec<_>>());
         std::fs::create_dir_all(&ours).expect("dir");
         std::fs::create_dir_all(&other).expect("dir");
         let (ours, other) = (ours.join("run-0000.parquet"), other.join("run-0000.parquet"));

@@ -49,14 +49,53 @@ pub struct RunRadarUsage {
     pub run: u32,
     /// Radar id R1…R4.
     pub radar: String,
-    /// Transmit dwell time of the radar over the run (s).
+    /// The radar's totals over the run.
+    #[serde(flatten)]
+    pub totals: SensorTotals,
+}
+
+/// Sensor totals of one radar: over one run (in a [`RunRadarUsage`]), or their mean over runs
+/// (`summary.json` `usage.per_radar.Rn`, equations 3 and 4).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct SensorTotals {
+    /// Transmit dwell time over the run (s).
     pub dwell_time_s: f64,
-    /// Transmitted energy of the radar over the run (J).
+    /// Transmitted energy over the run (J).
     pub energy_j: f64,
     /// As `dwell_time_s`, TA-requested dwells only (s).
     pub ta_dwell_time_s: f64,
     /// As `energy_j`, TA-requested dwells only (J).
     pub ta_energy_j: f64,
+}
+
+/// Transmit usage summed over radars: of one run (in a [`RunSummary`]), or its mean over runs
+/// (`summary.json` `usage`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct UsageTotals {
+    /// Transmit dwell time summed over radars (s).
+    pub total_dwell_time_s: f64,
+    /// Transmitted energy summed over radars (J).
+    pub total_energy_j: f64,
+    /// As `total_dwell_time_s`, TA-requested dwells only (s).
+    pub ta_dwell_time_s: f64,
+    /// As `total_energy_j`, TA-requested dwells only (J).
+    pub ta_energy_j: f64,
+    /// The totals over radars by purpose.
+    pub by_purpose: PurposeUsage,
+}
+
+impl UsageTotals {
+    /// The sums of the radars' sensor totals, in the order given (usage by purpose left at zero,
+    /// for the caller to fill in).
+    pub fn summed<'a>(radars: impl Iterator<Item = &'a SensorTotals> + Clone) -> UsageTotals {
+        UsageTotals {
+            total_dwell_time_s: radars.clone().map(|r| r.dwell_time_s).sum(),
+            total_energy_j: radars.clone().map(|r| r.energy_j).sum(),
+            ta_dwell_time_s: radars.clone().map(|r| r.ta_dwell_time_s).sum(),
+            ta_energy_j: radars.map(|r| r.ta_energy_j).sum(),
+            by_purpose: PurposeUsage::default(),
+        }
+    }
 }
 
 /// Transmit dwell time and energy of one purpose.
@@ -98,53 +137,38 @@ impl PurposeUsage {
 
 mimo_store::score_usage_by_purpose_table!(mimo_store::column_rows);
 
-/// `summary.json` `track`.
+/// Track figures over a set of (run, scoring time)s: every run's (`summary.json` `track`,
+/// [`TrackSummary`], breaks and switches per run as means over runs) or one run's (in a
+/// [`RunSummary`], breaks and switches as the run's totals, `Count` = `u32`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct TrackSummary {
-    /// Mean completeness over all (run, scoring time) with N > 0; null if none.
+pub struct TrackFigures<Count> {
+    /// Mean completeness over those times with N > 0; null if none.
     pub completeness: Option<f64>,
-    /// Mean redundant ratio over all (run, scoring time) with N > 0; null if none.
+    /// Mean redundant ratio over those times with N > 0; null if none.
     pub redundant_ratio: Option<f64>,
-    /// Mean spurious ratio over all (run, scoring time) with M > 0; null if none.
+    /// Mean spurious ratio over those times with M > 0; null if none.
     pub spurious_ratio: Option<f64>,
-    /// Track breaks per run (total over the run, mean over runs).
-    pub breaks: f64,
-    /// Track switches per run (total over the run, mean over runs).
-    pub switches: f64,
-    /// Position RMSE pooled over every assigned pair of every time and run (m); null without any.
+    /// Track breaks (a run's total; in `track`, its mean over runs).
+    pub breaks: Count,
+    /// Track switches (a run's total; in `track`, its mean over runs).
+    pub switches: Count,
+    /// Position RMSE pooled over every truth–track pair assigned at those times (m); null without any.
     pub position_rmse_m: Option<f64>,
-    /// Velocity RMSE pooled over every assigned pair of every time and run (m/s); null without any.
+    /// Velocity RMSE pooled over every truth–track pair assigned at those times (m/s); null without any.
     pub velocity_rmse_mps: Option<f64>,
 }
 
-/// `summary.json` `usage.per_radar.Rn`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RadarUsageSummary {
-    /// Transmit dwell time over the run, mean over runs (equation 3) (s).
-    pub dwell_time_s: f64,
-    /// Transmitted energy over the run, mean over runs (equation 4) (J).
-    pub energy_j: f64,
-    /// As `dwell_time_s`, TA-requested dwells only (s).
-    pub ta_dwell_time_s: f64,
-    /// As `energy_j`, TA-requested dwells only (J).
-    pub ta_energy_j: f64,
-}
+/// `summary.json` `track`: over every run, breaks and switches per run (mean over runs).
+pub type TrackSummary = TrackFigures<f64>;
 
 /// `summary.json` `usage`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UsageSummary {
-    /// Sensor totals per radar, in radar order.
-    pub per_radar: NamedList<RadarUsageSummary>,
-    /// Transmit dwell time summed over radars, mean over runs (s).
-    pub total_dwell_time_s: f64,
-    /// Transmitted energy summed over radars, mean over runs (J).
-    pub total_energy_j: f64,
-    /// As `total_dwell_time_s`, TA-requested dwells only (s).
-    pub ta_dwell_time_s: f64,
-    /// As `total_energy_j`, TA-requested dwells only (J).
-    pub ta_energy_j: f64,
-    /// Per-run totals over radars by purpose, mean over runs.
-    pub by_purpose: PurposeUsage,
+    /// Sensor totals per radar, mean over runs, in radar order.
+    pub per_radar: NamedList<SensorTotals>,
+    /// Per-run totals over radars (also by purpose), mean over runs.
+    #[serde(flatten)]
+    pub totals: UsageTotals,
 }
 
 /// `summary.json` `challenge`.
@@ -177,20 +201,9 @@ pub struct RunSummary {
     pub run: u32,
     /// Scoring times of the run.
     pub scoring_times: u32,
-    /// Mean completeness over the run's scoring times with N > 0.
-    pub completeness: Option<f64>,
-    /// Mean redundant ratio over the run's scoring times with N > 0.
-    pub redundant_ratio: Option<f64>,
-    /// Mean spurious ratio over the run's scoring times with M > 0.
-    pub spurious_ratio: Option<f64>,
-    /// Track breaks in the run.
-    pub breaks: u32,
-    /// Track switches in the run.
-    pub switches: u32,
-    /// Position RMSE over the run's assigned pairs (m).
-    pub position_rmse_m: Option<f64>,
-    /// Velocity RMSE over the run's assigned pairs (m/s).
-    pub velocity_rmse_mps: Option<f64>,
+    /// The track figures over the run's scoring times, breaks and switches in the run.
+    #[serde(flatten)]
+    pub track: TrackFigures<u32>,
     /// Mean OSPA over the run's scoring times where defined (m).
     pub ospa_m: Option<f64>,
     /// Mean GOSPA over the run's scoring times where defined (m).
@@ -202,16 +215,9 @@ pub struct RunSummary {
     pub gospa_missed: Option<f64>,
     /// Mean false tracks per scoring time (GOSPA).
     pub gospa_false: Option<f64>,
-    /// Transmit dwell time summed over radars (s).
-    pub total_dwell_time_s: f64,
-    /// Transmitted energy summed over radars (J).
-    pub total_energy_j: f64,
-    /// As `total_dwell_time_s`, TA-requested dwells only (s).
-    pub ta_dwell_time_s: f64,
-    /// As `total_energy_j`, TA-requested dwells only (J).
-    pub ta_energy_j: f64,
-    /// The run's totals over radars by purpose.
-    pub by_purpose: PurposeUsage,
+    /// The run's totals over radars (also by purpose).
+    #[serde(flatten)]
+    pub usage: UsageTotals,
 }
 
 /// One target's figures over all runs (extra `per_target` map in `summary.json`).

@@ -6,7 +6,7 @@
 use crate::dwell_sums::DwellSums;
 use crate::error::MetricsError;
 use crate::mean::GroupMean;
-use crate::{RadarUsage, RunRadarUsage, UsageRow, UsageTotalRow};
+use crate::{RadarUsage, RunRadarUsage, SensorTotals, UsageRow, UsageTotalRow};
 use mimo_core::ids::RadarId;
 use std::collections::{BTreeMap, HashMap};
 
@@ -116,14 +116,8 @@ fn run_rows(sums: &DwellSums, input: &UsageInput<'_>) -> (Vec<RunRadarUsage>, us
     for &run in &runs_sorted {
         for radar in input.radars {
             let s = totals_by_key.get(&(run, radar.as_str())).copied().unwrap_or([0.0; 4]);
-            per_run.push(RunRadarUsage {
-                run,
-                radar: radar.clone(),
-                dwell_time_s: s[0],
-                energy_j: s[1],
-                ta_dwell_time_s: s[2],
-                ta_energy_j: s[3],
-            });
+            let totals = SensorTotals { dwell_time_s: s[0], energy_j: s[1], ta_dwell_time_s: s[2], ta_energy_j: s[3] };
+            per_run.push(RunRadarUsage { run, radar: radar.clone(), totals });
         }
     }
     (per_run, runs_sorted.len())
@@ -140,7 +134,8 @@ fn radar_means(per_run: &[RunRadarUsage], radars: &[String], n_runs: usize) -> V
         .map(|radar| {
             let mut acc = [0.0; 4];
             for r in per_run.iter().filter(|r| r.radar == *radar) {
-                for (a, v) in acc.iter_mut().zip([r.dwell_time_s, r.energy_j, r.ta_dwell_time_s, r.ta_energy_j]) {
+                let t = &r.totals;
+                for (a, v) in acc.iter_mut().zip([t.dwell_time_s, t.energy_j, t.ta_dwell_time_s, t.ta_energy_j]) {
                     *a += v;
                 }
             }

@@ -194,27 +194,32 @@ fn each_hand_made_look_gets_its_purpose() {
         assert!((r.dwell_time_s - 0.02 * f64::from(n)).abs() < 1e-15);
         assert_eq!((r.t_start_s, r.t_end_s), (f64::from(r.interval - 1), f64::from(r.interval)));
     }
-    let by = score.summary.usage.by_purpose;
+    let by = score.summary.usage.totals.by_purpose;
     assert_eq!(by.search.energy_j, 257.0);
     assert_eq!(by.confirm_true.energy_j, 2.0);
     assert_eq!(by.confirm_false.energy_j, 132.0);
     assert_eq!(by.track.energy_j, 16.0 + 32.0 + 64.0 + 512.0);
     assert_eq!(by.track_false.energy_j, 8.0 + 1024.0);
     assert!((by.track.dwell_time_s - 4.0 * 0.02).abs() < 1e-15);
-    assert_eq!(score.summary.per_run[0].by_purpose, by);
+    assert_eq!(score.summary.per_run[0].usage.by_purpose, by);
     // Summed over purposes: the usage totals of each radar.
     for u in &score.usage_run {
         let rows = score.usage_by_purpose.iter().filter(|r| r.run == u.run && r.radar == u.radar);
         let (t, e) = rows.fold((0.0, 0.0), |(t, e), r| (t + r.dwell_time_s, e + r.energy_j));
-        assert!((e - u.energy_j).abs() <= 1e-12 * u.energy_j.max(1.0), "{}: {e} vs {}", u.radar, u.energy_j);
-        assert!((t - u.dwell_time_s).abs() <= 1e-12, "{}: {t} vs {}", u.radar, u.dwell_time_s);
+        assert!(
+            (e - u.totals.energy_j).abs() <= 1e-12 * u.totals.energy_j.max(1.0),
+            "{}: {e} vs {}",
+            u.radar,
+            u.totals.energy_j
+        );
+        assert!((t - u.totals.dwell_time_s).abs() <= 1e-12, "{}: {t} vs {}", u.radar, u.totals.dwell_time_s);
     }
 }
 
 #[test]
 fn without_beams_every_look_holds_nothing_and_the_outputs_are_written() {
     let (score, dir) = score_case(BeamGeometry::none());
-    let by = score.summary.usage.by_purpose;
+    let by = score.summary.usage.totals.by_purpose;
     assert_eq!((by.confirm_true.energy_j, by.track.energy_j), (0.0, 0.0));
     assert_eq!(by.confirm_false.energy_j, 134.0);
     assert_eq!(by.track_false.energy_j, 8.0 + 16.0 + 32.0 + 64.0 + 512.0 + 1024.0);

@@ -644,11 +644,11 @@ fn usage_by_hand() {
     assert!(approx(pr("R2").dwell_time_s, 0.03) && approx(pr("R2").energy_j, 6.0) && pr("R2").ta_energy_j == 0.0);
     assert!(approx(pr("R3").energy_j, 2.0) && approx(pr("R3").ta_energy_j, 2.0));
     assert!(pr("R4").energy_j == 0.0 && pr("R4").dwell_time_s == 0.0);
-    assert!(approx(u.total_dwell_time_s, 0.095) && approx(u.total_energy_j, 14.0));
-    assert!(approx(u.ta_dwell_time_s, 0.06) && approx(u.ta_energy_j, 7.5));
+    assert!(approx(u.totals.total_dwell_time_s, 0.095) && approx(u.totals.total_energy_j, 14.0));
+    assert!(approx(u.totals.ta_dwell_time_s, 0.06) && approx(u.totals.ta_energy_j, 7.5));
     let run0 = &s.summary.per_run[0];
-    assert!(approx(run0.total_energy_j, 28.0) && approx(run0.ta_energy_j, 15.0));
-    assert_eq!(s.summary.per_run[1].total_energy_j, 0.0);
+    assert!(approx(run0.usage.total_energy_j, 28.0) && approx(run0.usage.ta_energy_j, 15.0));
+    assert_eq!(s.summary.per_run[1].usage.total_energy_j, 0.0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -734,7 +734,7 @@ fn reads_tables_written_by_mimo_store() {
     mimo_store::write_table(&dir.path().join("dwells/run-0000.parquet"), &default_dwells()).expect("dwells");
     let s = score_dir(&dir, always_scorable(), &ScoreOptions::default()).expect("score");
     assert_eq!(s.summary.track.completeness, Some(1.0));
-    assert!((s.summary.usage.total_energy_j - 1.0).abs() < 1e-12);
+    assert!((s.summary.usage.totals.total_energy_j - 1.0).abs() < 1e-12);
 }
 
 // ---------------------------------------------------------------------------------------------

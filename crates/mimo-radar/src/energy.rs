@@ -35,41 +35,41 @@ impl PairPrediction {
     }
 }
 
+/// One end of a Tx→Rx pair: a radar's parameters and its faces at the look's instant.
+#[derive(Debug, Clone, Copy)]
+pub struct PairEnd<'a> {
+    /// The radar's parameters.
+    pub params: &'a RadarParams,
+    /// Its faces (the prediction names one by its index in this slice).
+    pub faces: &'a [FaceFrame],
+}
+
 /// Predict the mean SNR of a Tx→Rx pair for a target at `p` with mean RCS `rcs_m2`: each radar
 /// uses its best face, and the look must be inside both scan limits, above both 4/3-earth horizons
 /// and at a bistatic angle ≤ 150°; otherwise `None`. Monostatic: the same radar twice.
-pub fn predict_pair(
-    tx: &RadarParams,
-    tx_faces: &[FaceFrame],
-    rx: &RadarParams,
-    rx_faces: &[FaceFrame],
-    p: DVec3,
-    rcs_m2: f64,
-) -> Option<PairPrediction> {
-    predict_pair_seen(tx, tx_faces, rx, rx_faces, p, rcs_m2, |site| visible(site, p))
+pub fn predict_pair(tx: PairEnd<'_>, rx: PairEnd<'_>, p: DVec3, rcs_m2: f64) -> Option<PairPrediction> {
+    predict_pair_seen(tx, rx, p, rcs_m2, |site| visible(site, p))
 }
 
 /// [`predict_pair`] with the 4/3-earth horizon test given by the caller: `seen_from(site)` says
 /// whether `p` is above the horizon of an antenna at `site` ([`visible`]'s answer, which a caller
 /// that knows the heights, say, can give without converting the points to geodetic again).
 pub fn predict_pair_seen(
-    tx: &RadarParams,
-    tx_faces: &[FaceFrame],
-    rx: &RadarParams,
-    rx_faces: &[FaceFrame],
+    tx: PairEnd<'_>,
+    rx: PairEnd<'_>,
     p: DVec3,
     rcs_m2: f64,
     seen_from: impl Fn(DVec3) -> bool,
 ) -> Option<PairPrediction> {
-    let bt = beam_point(tx_faces, tx, p)?;
-    let br = beam_point(rx_faces, rx, p)?;
-    let t = tx_faces[bt.face as usize].origin_ecef;
-    let r = rx_faces[br.face as usize].origin_ecef;
+    let bt = beam_point(tx.faces, tx.params, p)?;
+    let br = beam_point(rx.faces, rx.params, p)?;
+    let t = tx.faces[bt.face as usize].origin_ecef;
+    let r = rx.faces[br.face as usize].origin_ecef;
     let geometry = bistatic(t, r, p);
     if !geometry.usable() || !seen_from(t) || (r != t && !seen_from(r)) {
         return None;
     }
-    let s = snr1(tx, rx, bt.w, br.w, rcs_m2, geometry.r_t_m, geometry.r_r_m);
+    let s = snr1(tx.params, rx.params, bt.w, br.w, rcs_m2, geometry.r_t_m, geometry.r_r_m);
     Some(PairPrediction { tx_face: bt.face, rx_face: br.face, w_tx: bt.w, w_rx: br.w, geometry, snr1: s })
 }
 
@@ -187,12 +187,13 @@ mod tests {
             .map(|a| FaceFrame::new(site, a.to_radians(), p.face_tilt_deg.to_radians()))
             .collect();
         let tgt = faces[1].from_ruv(100e3, 0.0, 0.0);
-        let pr = predict_pair(&p, &faces, &p, &faces, tgt, 1.0).expect("visible");
+        let radar = PairEnd { params: &p, faces: &faces };
+        let pr = predict_pair(radar, radar, tgt, 1.0).expect("visible");
         assert_eq!(pr.tx_face, 1);
         assert!((lin_to_db(pr.snr1) - 25.1).abs() < 0.05);
         assert!((pr.snr(4) / pr.snr1 - 4.0).abs() < 1e-12);
         // Below the horizon: none.
         let far = faces[1].from_ruv(300e3, 0.0, -0.3);
-        assert!(predict_pair(&p, &faces, &p, &faces, far, 1.0).is_none());
+        assert!(predict_pair(radar, radar, far, 1.0).is_none());
     }
 }

@@ -50,6 +50,8 @@ pub mod rundir;
 pub mod schema;
 pub mod score_schema;
 pub mod table_writer;
+#[doc(hidden)]
+pub mod testing;
 
 /// `mimo-core`, for the table generators' expansions in other crates.
 #[doc(hidden)]

@@ -176,39 +176,12 @@ fn page_values(page: &Page) -> Option<(&[u8], usize, Encoding)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mimo_core::ids::RadarId;
-    use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
+    use mimo_core::records::DwellRow;
     use parquet::file::properties::WriterProperties;
 
-    /// Dwell rows whose every decoded column varies: ids, radars, roles, kinds, requesters, times
-    /// and values.
+    /// Dwell rows of run 3 whose every decoded column varies (times 13.7 ms apart).
     fn dwells(n: usize) -> Vec<DwellRow> {
-        let roles = [Role::Tx, Role::Rx, Role::Txrx];
-        let kinds = [DwellKind::Search, DwellKind::Confirm, DwellKind::Track, DwellKind::Mimo];
-        (0..n)
-            .map(|i| DwellRow {
-                run: 3,
-                dwell_id: i as u64,
-                group_id: (i / 2) as u64,
-                radar: RadarId((i % 4) as u8),
-                role: roles[i % 3],
-                kind: kinds[i % 4],
-                requested_by: if i % 5 == 0 { Requester::Ta } else { Requester::Radar },
-                t_s: 0.0137 * i as f64,
-                duration_s: 1e-3 * (1 + i % 7) as f64,
-                pulse_width_s: 1e-6,
-                n_pulses: 1 + (i % 3) as u32,
-                peak_power_w: 1e5,
-                energy_j: 0.25 * (i % 11) as f64 + 1e-9 * i as f64,
-                waveform: 0,
-                face: (i % 3) as u8,
-                beam_u: 0.0,
-                beam_v: 0.0,
-                aim_x_m: 1.0,
-                aim_y_m: 2.0,
-                aim_z_m: 3.0,
-            })
-            .collect()
+        crate::testing::varied_dwell_rows(3, &(0..n).map(|i| 0.0137 * i as f64).collect::<Vec<_>>())
     }
 
     const NAMES: [&str; 6] = ["run", "radar", "role", "t_s", "duration_s", "energy_j"];

@@ -33,18 +33,7 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
     let pct = 100.0 * COMPLETENESS_REQUIRED;
     let _ = writeln!(o, "## The challenge: {pct} % track completeness for the least energy\n");
     if c.families.iter().all(|f| f.knob.is_none()) {
-        let _ = write!(
-            o,
-            "No method sweeps a knob (a `[[methods]]` entry with `sweep`), so no family has a curve to cross \
-             {pct} % on: the energy at {pct} % is not defined here."
-        );
-        if !plan.axes.is_empty() {
-            let _ = write!(
-                o,
-                " Where each method stops holding {pct} % under stress is in \"Where each method fails\" below."
-            );
-        }
-        let _ = writeln!(o, "\n");
+        no_knob_md(&mut o, plan, pct);
         return o;
     }
     let _ = writeln!(
@@ -83,9 +72,29 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
             if f.challenge.holds { "yes" } else { "no" },
         );
     }
+    ratios_md(&mut o, plan, cells, c, pct);
+    o
+}
+
+/// The section when no family sweeps a knob: why no energy at the requirement is given.
+fn no_knob_md(o: &mut String, plan: &Plan, pct: f64) {
+    let _ = write!(
+        o,
+        "No method sweeps a knob (a `[[methods]]` entry with `sweep`), so no family has a curve to cross \
+         {pct} % on: the energy at {pct} % is not defined here."
+    );
+    if !plan.axes.is_empty() {
+        let _ =
+            write!(o, " Where each method stops holding {pct} % under stress is in \"Where each method fails\" below.");
+    }
+    let _ = writeln!(o, "\n");
+}
+
+/// The MIMO ÷ conventional energy ratios at the requirement, or why there are none.
+fn ratios_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge, pct: f64) {
     if c.ratios.is_empty() {
         let _ = writeln!(o, "\nNo scenario has both a MIMO and a conventional family: no ratio to give.\n");
-        return o;
+        return;
     }
     let _ = writeln!(
         o,
@@ -109,5 +118,4 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
         );
     }
     let _ = writeln!(o);
-    o
 }

@@ -90,13 +90,13 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
     let n_scorable: Vec<u32> = score.track_metrics.iter().map(|t| t.n_scorable).collect();
     let per_object = |i: usize| usage.per_object(i, &n_scorable);
     let values = [
-        ("completeness", r.completeness),
-        ("redundant_ratio", r.redundant_ratio),
-        ("spurious_ratio", r.spurious_ratio),
-        ("breaks", Some(f64::from(r.breaks))),
-        ("switches", Some(f64::from(r.switches))),
-        ("position_rmse_m", r.position_rmse_m),
-        ("velocity_rmse_mps", r.velocity_rmse_mps),
+        ("completeness", r.track.completeness),
+        ("redundant_ratio", r.track.redundant_ratio),
+        ("spurious_ratio", r.track.spurious_ratio),
+        ("breaks", Some(f64::from(r.track.breaks))),
+        ("switches", Some(f64::from(r.track.switches))),
+        ("position_rmse_m", r.track.position_rmse_m),
+        ("velocity_rmse_mps", r.track.velocity_rmse_mps),
         ("ospa_m", r.ospa_m),
         ("gospa_m", r.gospa_m),
         ("gospa_localisation_m", r.gospa_localisation_m),
@@ -110,7 +110,7 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
         ("ta_energy_per_object_j", per_object(3)),
         ("ta_dwell_time_per_object_s", per_object(2)),
     ];
-    let purposes = Purpose::ALL.map(|p| (p.as_str(), r.by_purpose.get(p)));
+    let purposes = Purpose::ALL.map(|p| (p.as_str(), r.usage.by_purpose.get(p)));
     for (name, pair) in purposes {
         m.insert(format!("energy_{name}_j"), Some(pair.energy_j));
         m.insert(format!("dwell_time_{name}_s"), Some(pair.dwell_time_s));

@@ -8,7 +8,7 @@
 //! It is therefore built with the engine's [`World`], unlike every other test article.
 
 use mimo_core::records::DwellKind;
-use mimo_radar::energy::{predict_pair, pulses_for, required_snr_sw1, straddle_loss};
+use mimo_radar::energy::{PairEnd, predict_pair, pulses_for, required_snr_sw1, straddle_loss};
 use mimo_sim::World;
 use mimo_sim::messages::{DwellReport, DwellRequest, Reply, Request, StartInfo, Subscription, TxOrder};
 use mimo_sim::test_article::{TaFault, TestArticle};
@@ -71,9 +71,9 @@ impl TestArticle for Cued<'_> {
             let mut best: Option<(mimo_core::ids::RadarId, f64)> = None;
             let mut seers = Vec::new();
             for r in w.radar_ids() {
-                let p = w.params(r);
                 let faces = w.faces_at(r, t_s);
-                if let Some(pp) = predict_pair(p, &faces, p, &faces, tgt.pos_ecef, tgt.rcs_m2) {
+                let radar = PairEnd { params: w.params(r), faces: &faces };
+                if let Some(pp) = predict_pair(radar, radar, tgt.pos_ecef, tgt.rcs_m2) {
                     seers.push(r);
                     if best.is_none_or(|(_, s)| pp.snr1 > s) {
                         best = Some((r, pp.snr1));

@@ -131,7 +131,9 @@ impl Afford {
                 !admits(self.capacity_j, self.ledger.load(r), one, class)
             })
             .collect();
-        let planned = self.plan_among(rm, snap, info, over_budget, busy_rx, trouble, class, &mut starved);
+        let planned = self.first_affordable(snap, info.id, class, &mut starved, |starved| {
+            planner::plan(rm, snap, info, over_budget, starved, busy_rx, trouble)
+        });
         match planned {
             Some(_) => self.refused.remove(&info.id),
             None => self.refused.insert(info.id, (self.freed, info.n_updates)),
@@ -139,28 +141,28 @@ impl Afford {
         planned
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn plan_among(
+    /// The first look `plan_with` makes, given the radars that may not transmit, whose
+    /// transmitter can pay for it: each look refused adds its transmitter to `starved` and asks
+    /// again; `None` when every radar is starved or the planner finds no look. An admitted look
+    /// is booked for track `track_id` as requested.
+    fn first_affordable(
         &mut self,
-        rm: &ResourceConfig,
         snap: &Snapshot<'_>,
-        info: &TrackDue,
-        over_budget: &[RadarId],
-        busy_rx: &[RadarId],
-        trouble: bool,
+        track_id: u64,
         class: LookClass,
         starved: &mut Vec<RadarId>,
+        plan_with: impl Fn(&[RadarId]) -> Option<(DwellRequest, bool)>,
     ) -> Option<(DwellRequest, bool)> {
         if starved.len() == snap.ids().len() {
             return None;
         }
         loop {
-            let (req, unresolved) = planner::plan(rm, snap, info, over_budget, starved, busy_rx, trouble)?;
+            let (req, unresolved) = plan_with(starved)?;
             let tx = *req.transmitters.first()?;
             let params = snap.geom.params(tx.radar)?;
             let energy_j = dwell_energy_j(params, tx.n_pulses.min(params.max_pulses));
             if admits(self.capacity_j, self.ledger.load(tx.radar), energy_j, class) {
-                self.ledger.request(info.id, tx.radar, energy_j, class);
+                self.ledger.request(track_id, tx.radar, energy_j, class);
                 return Some((req, unresolved));
             }
             starved.push(tx.radar);

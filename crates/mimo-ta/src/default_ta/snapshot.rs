@@ -12,7 +12,7 @@ use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::geo::{height_lower_bound_m, surely_visible_effective_earth};
 use mimo_core::ids::RadarId;
-use mimo_radar::energy::{PairPrediction, predict_pair_seen};
+use mimo_radar::energy::{PairEnd, PairPrediction, predict_pair_seen};
 use mimo_radar::geometry::{height_m, visible_with_heights};
 use mimo_track::position_ball::PositionBall;
 use mimo_track::{MultiTargetTracker, TrackDue};
@@ -142,9 +142,10 @@ impl<'a> Snapshot<'a> {
     /// [`mimo_radar::energy::predict_pair`] of radars `tx → rx` (their faces at the pass's
     /// instant) for a target at `p`, with the horizon test on the kept heights.
     pub fn pair(&self, tx: RadarId, rx: RadarId, p: DVec3, rcs_m2: f64) -> Option<PairPrediction> {
-        let (pt, pr) = (self.geom.params(tx)?, self.geom.params(rx)?);
+        let t = PairEnd { params: self.geom.params(tx)?, faces: self.faces_of(tx) };
+        let r = PairEnd { params: self.geom.params(rx)?, faces: self.faces_of(rx) };
         let p_lo_m = height_lower_bound_m(p);
-        predict_pair_seen(pt, self.faces_of(tx), pr, self.faces_of(rx), p, rcs_m2, |site| {
+        predict_pair_seen(t, r, p, rcs_m2, |site| {
             // Heights are converted only when their bounds leave the horizon test open.
             surely_visible_effective_earth(site, height_lower_bound_m(site), p, p_lo_m)
                 || visible_with_heights(site, self.height_m(site), p, self.height_m(p))
@@ -185,7 +186,12 @@ mod tests {
                         let (pt, pr) = (geom.params(tx).expect("tx"), geom.params(rx).expect("rx"));
                         let (ft, fr) = (geom.faces_at(tx, t_s), geom.faces_at(rx, t_s));
                         assert_eq!(snap.faces_of(tx), ft.as_slice());
-                        let direct = predict_pair(pt, &ft, pr, &fr, kept, 1.0);
+                        let direct = predict_pair(
+                            PairEnd { params: pt, faces: &ft },
+                            PairEnd { params: pr, faces: &fr },
+                            kept,
+                            1.0,
+                        );
                         assert_eq!(snap.pair(tx, rx, kept, 1.0), direct);
                         pairs += usize::from(direct.is_some());
                     }
