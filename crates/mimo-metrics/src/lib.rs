@@ -127,6 +127,7 @@ mod row_order;
 mod rules;
 mod track_metrics;
 mod track_results;
+mod truth_reach;
 mod usage;
 
 pub use error::MetricsError;

@@ -11,6 +11,7 @@
 use crate::purpose_read::{Batch, for_batches};
 use crate::purpose_rule::{BeamGeometry, LookPart, Purpose, holds_truth};
 use crate::track_metrics::{TruthSample, truth_at};
+use crate::truth_reach::TruthBalls;
 use crate::{MetricsError, PurposeUsage, UsageByPurposeRow, UsagePair};
 use glam::DVec3;
 use mimo_core::records::{DwellColumns, DwellKind, DwellRow, Role, TruthColumns, TruthRow};
@@ -216,6 +217,7 @@ fn classify_look(
     look: &[usize],
     geometry: &BeamGeometry,
     truth: Option<&RunTruth>,
+    balls: &[TruthBalls],
     out: &mut Vec<(usize, usize, Purpose)>,
 ) {
     for &ti in look {
@@ -231,7 +233,11 @@ fn classify_look(
                 .filter(|r| r.role != Role::Tx)
                 .filter_map(|r| look_part(rows, geometry, r, t_mid))
                 .collect();
-            truth.into_iter().flatten().any(|samples| {
+            truth.into_iter().flatten().enumerate().any(|(k, samples)| {
+                // A target surely outside the transmitter's footprint is not interpolated.
+                if balls.get(k).is_some_and(|b| b.surely_outside(&tx_part, t_mid)) {
+                    return false;
+                }
                 position_at(samples, t_mid).is_some_and(|p| holds_truth(&tx_part, &receivers, tx.aim, p))
             })
         });
@@ -253,6 +259,8 @@ fn file_sums(
     let files: BTreeSet<usize> = runs.iter().filter_map(|r| truth_files.get(r)).flatten().copied().collect();
     let files: Vec<PathBuf> = files.into_iter().map(|i| input.truth[i].clone()).collect();
     let truth = load_truth(&files, &runs)?;
+    let balls: BTreeMap<u32, Vec<TruthBalls>> =
+        truth.iter().map(|(&run, targets)| (run, targets.iter().map(|t| TruthBalls::of(t)).collect())).collect();
     let mut order: Vec<usize> = (0..rows.parts.len()).collect();
     order.sort_by_key(|&i| (rows.parts[i].run, rows.parts[i].group, rows.parts[i].row));
     let mut classified = Vec::new();
@@ -260,7 +268,8 @@ fn file_sums(
         order.chunk_by(|&a, &b| (rows.parts[a].run, rows.parts[a].group) == (rows.parts[b].run, rows.parts[b].group))
     {
         let run = rows.parts[look[0]].run;
-        classify_look(&rows, look, input.geometry, truth.get(&run), &mut classified);
+        let run_balls = balls.get(&run).map_or(&[][..], Vec::as_slice);
+        classify_look(&rows, look, input.geometry, truth.get(&run), run_balls, &mut classified);
     }
     classified.sort_by_key(|c| c.0);
     for (_, i, purpose) in classified {

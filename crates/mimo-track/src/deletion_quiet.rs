@@ -17,6 +17,7 @@
 use crate::deletion::Deleter;
 use crate::filter::TrackFilter;
 use crate::linalg::trace;
+use crate::quiet_expiry::ExpiryQueue;
 use crate::state_stamp::StateStamp;
 use crate::tracker::Track;
 use mimo_core::records::TrackStatus;
@@ -44,10 +45,12 @@ impl Basis {
     }
 }
 
-/// Per-track certificates: `dt` from the last update up to `max_dt_s` needs no check.
+/// Per-track certificates: `dt` from the last update up to `max_dt_s` needs no check; and their
+/// expiry queue, which names the tracks a certificate may not cover ([`ExpiryQueue`]).
 #[derive(Debug, Default)]
 pub(crate) struct QuietTracks {
     certs: crate::track_balls::IdMap<(Basis, f64)>,
+    queue: ExpiryQueue,
 }
 
 impl QuietTracks {
@@ -65,16 +68,34 @@ impl QuietTracks {
             _ => {
                 let max_dt_s = quiet_dt_s(filter, deleter, track);
                 self.certs.insert(track.id, (Basis::of(track), max_dt_s));
+                self.queue.certify(track.id, track.t_s, max_dt_s);
                 max_dt_s
             }
         };
+        if self.queue.is_open(track.id) {
+            // Touched without a change the certificate sees: it still holds.
+            self.queue.certify(track.id, track.t_s, max_dt_s);
+        }
         let dt = t_s - track.t_s;
         dt >= 0.0 && dt <= max_dt_s
+    }
+
+    /// Track `id` is new or may have changed (state, status or misses): it is a candidate of
+    /// every pass until [`Self::is_quiet`] certifies it again.
+    pub(crate) fn touch(&mut self, id: u64) {
+        self.queue.open(id);
+    }
+
+    /// The tracks whose check at `t_s` may not be skipped: every other track that was touched
+    /// when it changed has a certificate covering `t_s` ([`ExpiryQueue::candidates`]).
+    pub(crate) fn candidates(&self, t_s: f64) -> std::collections::BTreeSet<u64> {
+        self.queue.candidates(t_s)
     }
 
     /// Drop a deleted track's certificate.
     pub(crate) fn forget(&mut self, id: u64) {
         self.certs.remove(&id);
+        self.queue.forget(id);
     }
 }
 

@@ -122,13 +122,17 @@ pub mod measurement;
 pub mod motion;
 pub mod partner;
 pub mod policy;
+pub mod position_ball;
 mod pregate;
 mod queries;
+mod quiet_expiry;
 mod reached;
 pub mod second_return;
 mod state_stamp;
 mod track_balls;
 pub mod tracker;
+#[cfg(test)]
+mod tracker_expiry_tests;
 pub mod update;
 
 pub use components::Components;

@@ -98,6 +98,11 @@ impl MultiTargetTracker {
         self.tracks.values().map(due_of)
     }
 
+    /// One live track's scheduling state ([`Self::track_dues`]'s item for it).
+    pub fn track_due(&self, id: u64) -> Option<TrackDue> {
+        self.tracks.get(&id).map(due_of)
+    }
+
     /// The predicted measurement of a prediction `g` at `t_s` (tracking frame, from
     /// [`Self::predict_local`]) on channel `tx → rx` (face `rx_face`): for a caller that already
     /// holds the prediction.

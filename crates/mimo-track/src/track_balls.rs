@@ -47,7 +47,7 @@ pub(crate) struct TrackBall {
 impl TrackBall {
     /// The ball of `track` over `[dt_s, dt_s + WINDOW_S]`, or `None` when the filter offers no
     /// constant-velocity bound (then the channel gates the track the usual way).
-    fn of(filter: &dyn TrackFilter, track: &Track, dt_s: f64) -> Option<TrackBall> {
+    pub(crate) fn of(filter: &dyn TrackFilter, track: &Track, dt_s: f64) -> Option<TrackBall> {
         let (a, b) = (dt_s, dt_s + WINDOW_S);
         let trace_max_m2 = filter
             .position_trace_upper_convex(&track.state, a)?
@@ -83,6 +83,11 @@ impl TrackBall {
         let (du, dv) = (l[0] / range_m - beam_u, l[1] / range_m - beam_v);
         let need = theta + 1.05 * self.radius_m / range_m;
         du * du + dv * dv > need * need
+    }
+
+    /// Whether `dt_s` lies in the ball's window of prediction intervals.
+    pub(crate) fn covers_dt(&self, dt_s: f64) -> bool {
+        dt_s >= self.dt_lo_s && dt_s <= self.dt_hi_s
     }
 
     /// Whether the ball holds predictions of `track` over `dt_s`.

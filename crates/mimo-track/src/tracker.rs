@@ -95,6 +95,9 @@ pub struct MultiTargetTracker {
     pub(crate) initiation_power: BTreeMap<u64, f64>,
     /// Where each track can be over the next seconds (the channels' spatial pre-selection).
     pub(crate) balls: crate::track_balls::TrackBalls,
+    /// Tracks started, updated, looked at or deleted by the last dwell, and started by
+    /// [`Self::spawn_track`] since ([`Self::changed_tracks`]).
+    pub(crate) changed: Vec<u64>,
 }
 
 impl fmt::Debug for MultiTargetTracker {
@@ -134,6 +137,7 @@ impl MultiTargetTracker {
             preds: Default::default(),
             initiation_power: BTreeMap::new(),
             balls: Default::default(),
+            changed: Vec::new(),
         }
     }
 
@@ -167,6 +171,14 @@ impl MultiTargetTracker {
         std::mem::take(&mut self.nis_log)
     }
 
+    /// The tracks whose scheduling state ([`crate::TrackDue`]) the last [`Self::process_dwell`]
+    /// may have changed (started, updated, looked at or deleted), and those started by
+    /// [`Self::spawn_track`] since, in no particular order and possibly repeated: every other
+    /// track is as it was.
+    pub fn changed_tracks(&self) -> &[u64] {
+        &self.changed
+    }
+
     /// A live track.
     pub fn track(&self, id: u64) -> Option<&Track> {
         self.tracks.get(&id)
@@ -188,6 +200,8 @@ impl MultiTargetTracker {
         let track = Track::started(id, status, self.c.filter.init(g), t_s);
         let row = self.row_of(run, &track, &track.state.combined(), t_s, status);
         self.tracks.insert(id, track);
+        self.quiet.touch(id);
+        self.changed.push(id);
         Some((id, row))
     }
 
@@ -229,6 +243,7 @@ impl MultiTargetTracker {
         self.stats.dwells += 1;
         self.stats.measurements += meas.len() as u64;
         self.preds.clear();
+        self.changed.clear();
 
         // Validate and group by channel; order within a channel by measurement id so that the
         // result never depends on the caller's row order.
@@ -267,11 +282,16 @@ impl MultiTargetTracker {
         looked.retain(|id| !excused.contains(id));
 
         let mut rejected: BTreeSet<u64> = BTreeSet::new();
-        let ids: Vec<u64> = self.tracks.keys().copied().collect();
-        for id in ids {
+        // Only the tracks the dwell started, updated or looked at change (in id order, as every
+        // track's turn would come).
+        let mut touched = looked;
+        touched.extend(updated.iter().copied().chain(new_ids.iter().copied()));
+        for id in touched {
             let is_new = new_ids.contains(&id);
             let hit = updated.contains(&id);
             let Some(track) = self.tracks.get_mut(&id) else { continue };
+            self.quiet.touch(id);
+            self.changed.push(id);
             if is_new {
                 // Initiation may already satisfy M-of-N (two-point initiation).
                 if self.c.confirmer.decide(&track.looks) == Confirmation::Confirm {
@@ -279,7 +299,7 @@ impl MultiTargetTracker {
                     self.stats.confirmed += 1;
                 }
                 track.next_due_s = track.t_s + self.config.revisit.confirm_delay_s;
-            } else if hit || looked.contains(&id) {
+            } else {
                 if track.status == TrackStatus::Tentative {
                     track.looks.push(hit);
                     match self.c.confirmer.decide(&track.looks) {
@@ -389,10 +409,18 @@ impl MultiTargetTracker {
         }
         out
     }
+    /// The deletion rules at `t_s` for the tracks the certificates' expiry queue names and the
+    /// `rejected` ones, in id order: every other track's check is sure to keep it
+    /// (docs/model.md §6.4, `crate::quiet_expiry`).
     fn delete_pass(&mut self, run: u32, t_s: f64, rejected: &BTreeSet<u64>) -> Vec<TrackRow> {
         let mut rows = Vec::new();
         let mut gone = Vec::new();
-        for (id, t) in &self.tracks {
+        let mut named = self.quiet.candidates(t_s);
+        named.extend(rejected.iter().copied());
+        #[cfg(test)]
+        self.assert_named_cover_scan(t_s, rejected, &named);
+        for id in &named {
+            let Some(t) = self.tracks.get(id) else { continue };
             if !rejected.contains(id) && self.quiet.is_quiet(&*self.c.filter, &*self.c.deleter, t, t_s) {
                 continue;
             }
@@ -420,8 +448,19 @@ impl MultiTargetTracker {
             self.initiation_power.remove(&id);
             self.quiet.forget(id);
             self.balls.forget(id);
+            self.changed.push(id);
             *self.stats.deleted.entry(r).or_insert(0) += 1;
         }
         rows
+    }
+
+    /// Unit tests: every track the full scan would check at `t_s` (rejected, or not quiet) is
+    /// among the `named` ones.
+    #[cfg(test)]
+    fn assert_named_cover_scan(&mut self, t_s: f64, rejected: &BTreeSet<u64>, named: &BTreeSet<u64>) {
+        for (id, t) in &self.tracks {
+            let checked = rejected.contains(id) || !self.quiet.is_quiet(&*self.c.filter, &*self.c.deleter, t, t_s);
+            assert!(!checked || named.contains(id), "track {id} checked by the scan at {t_s} but not named");
+        }
     }
 }

@@ -24,6 +24,10 @@ pub fn members(cfg: &ResourceConfig, snap: &Snapshot, aim: DVec3, tx: RadarId, c
     candidates
         .iter()
         .filter_map(|&id| {
+            // A track whose position ball is farther than the group radius is not predicted.
+            if !snap.may_be_within(id, aim, cfg.group_radius_m) {
+                return None;
+            }
             let q = snap.position(id)?;
             let d1 = q - site;
             let r1 = d1.length();

@@ -16,6 +16,7 @@
 mod afford;
 mod budget;
 mod config;
+mod due_index;
 #[cfg(test)]
 mod fixture;
 pub mod group;
@@ -28,13 +29,16 @@ pub use config::{DefaultTaConfig, ResourceConfig, check_optional_numbers};
 use crate::geometry::ShipGeometry;
 use afford::Afford;
 use budget::RadarBudget;
+use due_index::DueIndex;
 use mimo_core::ids::RadarId;
 use mimo_core::records::Requester;
 use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_sim::messages::{DwellReport, DwellRequest, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
+use mimo_track::position_ball::PositionBall;
 use mimo_track::{DwellContext, Look, MultiTargetTracker, TrackDue};
 use snapshot::Snapshot;
+use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// The tracker's view of a finished dwell: everything comes from what the dwells table records
@@ -86,6 +90,10 @@ pub struct DefaultTa {
     hold_until: BTreeMap<u64, f64>,
     /// The power budget (docs/model.md §7.6); `None` when unlimited.
     afford: Option<Afford>,
+    /// The live tracks by the time they may be looked at ([`held_due`]).
+    dues: DueIndex,
+    /// The tracks' position balls, kept across passes ([`Snapshot::with_balls`]).
+    balls: RefCell<BTreeMap<u64, PositionBall>>,
 }
 
 impl DefaultTa {
@@ -100,6 +108,8 @@ impl DefaultTa {
             merged_last: BTreeSet::new(),
             hold_until: BTreeMap::new(),
             afford: Afford::of(&cfg.resource_manager),
+            dues: DueIndex::default(),
+            balls: RefCell::default(),
             cfg,
         }
     }
@@ -124,55 +134,103 @@ impl DefaultTa {
         if !st.closed_loop {
             return Vec::new();
         }
-        let mut out = Vec::new();
-        let mut next = f64::INFINITY;
+        #[cfg(test)]
+        self.assert_dues_are_the_trackers();
+        let rm = &self.cfg.resource_manager;
+        self.budget.forget_before(now - rm.budget_window_s.max(rm.rx_busy_window_s));
+        let limit_s = now + 1e-9;
+        // The tracks to plan, in the tracker's order (by id): the due ones from the index, or
+        // under a power budget every track in the budget's order.
+        let due_now = self.dues.due_by(limit_s);
+        let dues: Vec<TrackDue> = match &mut self.afford {
+            None => due_now.iter().filter_map(|&id| st.tracker.track_due(id)).collect(),
+            Some(a) => {
+                let mut dues: Vec<_> = st.tracker.track_dues().collect();
+                a.begin_pass(now);
+                a.order(&mut dues);
+                dues
+            }
+        };
+        let pending_before: BTreeSet<u64> = self.pending.keys().copied().collect();
+        let (mut out, waiting, mut next, ahead) = self.plan_pass(now, &dues);
+        if self.afford.is_none() {
+            // The earliest time another track falls due: every track not due now, except those
+            // pending before their turn in the tracker's order (the pass saw only the due ones).
+            let skip = |id: u64| due_now.contains(&id) || pending_before.contains(&id) || ahead.contains(&id);
+            next = next.min(self.dues.next_after(limit_s, skip).unwrap_or(f64::INFINITY));
+        }
+        self.finish_pass(&mut out, waiting, next, now);
+        out
+    }
+
+    /// Plan the tracks of `dues` in their order at `now`. Returns the requests, whether a look
+    /// waits for the power budget, the earliest time of a track of `dues` not due yet, and the
+    /// tracks not due now that rode along with a look before their turn in id order.
+    fn plan_pass(&mut self, now: f64, dues: &[TrackDue]) -> (Vec<Request>, bool, f64, BTreeSet<u64>) {
+        let (mut out, mut waiting, mut next, mut ahead) = (Vec::new(), false, f64::INFINITY, BTreeSet::new());
+        let Some(st) = &self.state else { return (out, waiting, next, ahead) };
         let rm = &self.cfg.resource_manager;
         // Faces, heights and predicted positions at `now`, kept for every plan of this pass.
-        let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now);
-        self.budget.forget_before(now - rm.budget_window_s.max(rm.rx_busy_window_s));
+        let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now).with_balls(&self.balls);
         let over_budget = radars_at_share(&self.budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s);
         let busy_rx = radars_at_share(&self.budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s);
-        let mut dues: Vec<_> = st.tracker.track_dues().collect();
-        if let Some(a) = &mut self.afford {
-            a.begin_pass(now);
-            a.order(&mut dues);
-        }
-        let mut waiting = false;
+        // The confirmed tracks due by the group look-ahead, found at the first group look.
+        let mut soon_pool: Option<Vec<u64>> = None;
         for info in dues {
             if info.status == TrackStatus::Deleted || self.pending.contains_key(&info.id) {
                 continue;
             }
             let due = held_due(&self.hold_until, info.id, info.next_due_s);
-            if due <= now + 1e-9 {
-                let trouble = self.in_trouble(&info);
-                let planned = match &mut self.afford {
-                    None => planner::plan(rm, &snap, &info, &over_budget, &[], &busy_rx, trouble),
-                    Some(a) => a.plan(rm, &snap, &info, &over_budget, &busy_rx, trouble),
-                };
-                waiting |= planned.is_none() && self.afford.is_some();
-                if let Some((mut req, unresolved)) = planned {
-                    if unresolved {
-                        self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);
-                    } else {
-                        self.hold_until.remove(&info.id);
-                    }
-                    self.pending.insert(info.id, now);
-                    if rm.group_looks && info.status == TrackStatus::Confirmed {
-                        // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
-                        let horizon_s = now + rm.group_lookahead_s;
-                        let soon = confirmed_due_by(&st.tracker, &self.pending, &self.hold_until, info.id, horizon_s);
-                        for id in ride_along(rm, &snap, &mut req, &soon) {
-                            self.pending.insert(id, now);
-                        }
-                    }
-                    out.push(Request::Dwell(req));
-                }
-            } else {
+            if due > now + 1e-9 || due.is_nan() {
                 next = next.min(due);
+                continue;
             }
+            let trouble = self.in_trouble(info);
+            let planned = match &mut self.afford {
+                None => planner::plan(rm, &snap, info, &over_budget, &[], &busy_rx, trouble),
+                Some(a) => a.plan(rm, &snap, info, &over_budget, &busy_rx, trouble),
+            };
+            waiting |= planned.is_none() && self.afford.is_some();
+            let Some((mut req, unresolved)) = planned else { continue };
+            if unresolved {
+                self.hold_until.insert(info.id, now + rm.unresolved_revisit_s);
+            } else {
+                self.hold_until.remove(&info.id);
+            }
+            self.dues.refresh(&st.tracker, &self.hold_until, info.id);
+            self.pending.insert(info.id, now);
+            if rm.group_looks && info.status == TrackStatus::Confirmed {
+                // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
+                let pool = soon_pool.get_or_insert_with(|| self.dues.confirmed_due_by(now + rm.group_lookahead_s));
+                let soon: Vec<u64> =
+                    pool.iter().copied().filter(|&o| o != info.id && !self.pending.contains_key(&o)).collect();
+                for id in ride_along(rm, &snap, &mut req, &soon) {
+                    self.pending.insert(id, now);
+                    if id > info.id {
+                        ahead.insert(id);
+                    }
+                }
+            }
+            out.push(Request::Dwell(req));
         }
-        self.finish_pass(&mut out, waiting, next, now);
-        out
+        (out, waiting, next, ahead)
+    }
+
+    /// Unit tests: the due index holds every live track at its [`held_due`], and nothing else.
+    #[cfg(test)]
+    fn assert_dues_are_the_trackers(&self) {
+        let Some(st) = &self.state else { return };
+        let walk: BTreeMap<u64, (u64, bool)> = st
+            .tracker
+            .track_dues()
+            .map(|d| {
+                let due = held_due(&self.hold_until, d.id, d.next_due_s).to_bits();
+                (d.id, (due, d.status == TrackStatus::Confirmed))
+            })
+            .collect();
+        let index: BTreeMap<u64, (u64, bool)> =
+            self.dues.times().iter().map(|(&id, &(t, c))| (id, (t.to_bits(), c))).collect();
+        assert_eq!(index, walk, "the due index is not the tracker's");
     }
 
     /// Whether a look at the due track `info` is in trouble: the last look missed, returned a
@@ -220,26 +278,6 @@ fn held_due(hold_until: &BTreeMap<u64, f64>, id: u64, next_due_s: f64) -> f64 {
     next_due_s.max(hold_until.get(&id).copied().unwrap_or(f64::NEG_INFINITY))
 }
 
-/// The confirmed tracks other than `id`, not pending, that may be looked at by `horizon_s`.
-fn confirmed_due_by(
-    tracker: &MultiTargetTracker,
-    pending: &BTreeMap<u64, f64>,
-    hold_until: &BTreeMap<u64, f64>,
-    id: u64,
-    horizon_s: f64,
-) -> Vec<u64> {
-    tracker
-        .track_dues()
-        .filter(|o| {
-            o.id != id
-                && o.status == TrackStatus::Confirmed
-                && !pending.contains_key(&o.id)
-                && held_due(hold_until, o.id, o.next_due_s) <= horizon_s
-        })
-        .map(|o| o.id)
-        .collect()
-}
-
 /// Add the tracks of `soon` in the beam of `req` to its tag, widening its range window to take
 /// them; returns the tracks added.
 fn ride_along(rm: &ResourceConfig, snap: &Snapshot, req: &mut DwellRequest, soon: &[u64]) -> Vec<u64> {
@@ -270,6 +308,8 @@ impl TestArticle for DefaultTa {
         self.budget.clear();
         self.merged_last.clear();
         self.hold_until.clear();
+        self.dues.clear();
+        self.balls.get_mut().clear();
         self.afford = Afford::of(&self.cfg.resource_manager);
         Ok(Reply::default())
     }
@@ -300,7 +340,11 @@ impl TestArticle for DefaultTa {
                 self.pending.remove(&r.track_id);
                 self.merged_last.remove(&r.track_id);
                 self.hold_until.remove(&r.track_id);
+                self.balls.get_mut().remove(&r.track_id);
             }
+        }
+        for &id in st.tracker.changed_tracks() {
+            self.dues.refresh(&st.tracker, &self.hold_until, id);
         }
         let requests = if changed { self.schedule(report.end_s) } else { Vec::new() };
         Ok(Reply { requests, tracks: rows })

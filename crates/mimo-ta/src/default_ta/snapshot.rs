@@ -14,7 +14,8 @@ use mimo_core::geo::{height_lower_bound_m, surely_visible_effective_earth};
 use mimo_core::ids::RadarId;
 use mimo_radar::energy::{PairEnd, PairPrediction, predict_pair_seen};
 use mimo_radar::geometry::{height_m, visible_with_heights};
-use mimo_track::MultiTargetTracker;
+use mimo_track::position_ball::PositionBall;
+use mimo_track::{MultiTargetTracker, TrackDue};
 use std::cell::{OnceCell, RefCell};
 use std::collections::BTreeMap;
 
@@ -31,7 +32,12 @@ pub struct Snapshot<'a> {
     /// Heights above the ellipsoid (m) of the points seen so far, by their coordinates' bits.
     heights_m: RefCell<Vec<([u64; 3], f64)>>,
     positions_ecef: RefCell<BTreeMap<u64, Option<DVec3>>>,
+    /// The tracks' position balls, kept across passes by the caller ([`Snapshot::with_balls`]).
+    balls: Option<&'a RefCell<BTreeMap<u64, PositionBall>>>,
 }
+
+/// Slack of the direction test on unit vectors (far above their rounding).
+const DIRECTION_SLACK: f64 = 1e-9;
 
 impl<'a> Snapshot<'a> {
     /// The view at `t_s` of the radars `ids` (`geom.ids()`); nothing is computed yet.
@@ -44,7 +50,53 @@ impl<'a> Snapshot<'a> {
             faces: OnceCell::new(),
             heights_m: RefCell::new(Vec::new()),
             positions_ecef: RefCell::new(BTreeMap::new()),
+            balls: None,
         }
+    }
+
+    /// The same view, keeping the tracks' position balls in `balls` (made when missing or
+    /// stale, kept for later passes; the caller drops those of deleted tracks).
+    pub fn with_balls(self, balls: &'a RefCell<BTreeMap<u64, PositionBall>>) -> Snapshot<'a> {
+        Snapshot { balls: Some(balls), ..self }
+    }
+
+    /// Whether the predicted position at the pass's instant of the track `due` may lie, seen
+    /// from `site`, within `dr_m` of range `r0_m` and within `da` of the direction `u0` (a unit
+    /// vector; the distance of unit vectors): `false` only when the track's position ball shows
+    /// that it cannot. A point of a ball of radius `ρ` around `c` is within `ρ` of `c`'s range,
+    /// and, when `|c − site| ≥ 2ρ`, its direction within `asin(ρ/|c − site|) ≤ 1.05 ρ/|c − site|`
+    /// of `c`'s.
+    pub fn may_be_near(&self, due: &TrackDue, site: DVec3, r0_m: f64, u0: DVec3, dr_m: f64, da: f64) -> bool {
+        let Some((centre, radius_m)) = self.ball(due) else { return true };
+        let dc = centre - site;
+        let rc = dc.length();
+        if (rc - r0_m).abs() > dr_m + radius_m {
+            return false;
+        }
+        if !(rc > 0.0 && rc >= 2.0 * radius_m) {
+            return true;
+        }
+        (dc / rc - u0).length() <= da + 1.05 * radius_m / rc + DIRECTION_SLACK
+    }
+
+    /// Whether track `id`'s predicted position at the pass's instant may lie within `dist_m` of
+    /// `point`: `false` only when its position ball is farther.
+    pub fn may_be_within(&self, id: u64, point: DVec3, dist_m: f64) -> bool {
+        let Some(due) = self.tracker.track_due(id) else { return true };
+        let Some((centre, radius_m)) = self.ball(&due) else { return true };
+        (centre - point).length() <= dist_m + radius_m
+    }
+
+    /// The centre and radius of the kept position ball of the track `due` at the pass's instant
+    /// (made anew when missing or stale), if the caller keeps balls and the tracker offers one.
+    fn ball(&self, due: &TrackDue) -> Option<(DVec3, f64)> {
+        let mut balls = self.balls?.borrow_mut();
+        let fresh = balls.get(&due.id).is_some_and(|b| b.holds(due, self.t_s));
+        if !fresh {
+            let b = self.tracker.position_ball(due.id, self.t_s).filter(|b| b.holds(due, self.t_s))?;
+            balls.insert(due.id, b);
+        }
+        balls.get(&due.id).map(|b| (b.centre_ecef, b.radius_m))
     }
 
     /// Every radar id, in order.
