@@ -31,6 +31,7 @@ pub mod nearly_sorted;
 pub mod params;
 pub mod polarimetry;
 pub mod records;
+pub mod registration;
 pub mod rng;
 pub mod sink;
 pub mod table_decl;

@@ -186,6 +186,8 @@ pub struct DefaultTaConfig {
     pub tracker: TrackerConfig,
     /// The resource manager (scheduling and energy).
     pub resource_manager: ResourceConfig,
+    /// Online registration of the radars (docs/model.md §6.9); off by default.
+    pub registration: crate::registration::RegistrationConfig,
 }
 
 #[cfg(test)]
