@@ -92,11 +92,6 @@ impl HeldTracks {
         let reserved = self.reserved_w.get(&radar).copied().unwrap_or(0.0);
         (reserved * window_s - maintenance_j).max(0.0)
     }
-
-    /// The number of tracks held at the last pass.
-    pub fn n_held(&self) -> usize {
-        self.held.len()
-    }
 }
 
 #[cfg(test)]
@@ -120,7 +115,6 @@ mod tests {
         h.choose(&[1, 2, 3, 4, 5, 6], 1.0);
         let held: Vec<u64> = (1..=6).filter(|&id| h.is_held(id)).collect();
         assert_eq!(held, vec![2, 3, 4, 5, 6], "track 6 has no look yet and is held");
-        assert_eq!(h.n_held(), 5);
         // R1 reserves 0.95 W: over a 10-s window 9.5 J, less the maintenance already spent.
         assert!((h.reserve_gap_j(R1, 10.0, 0.0) - 9.5).abs() < 1e-9);
         assert!((h.reserve_gap_j(R1, 10.0, 6.0) - 3.5).abs() < 1e-9);
