@@ -79,6 +79,10 @@ pub struct ResourceConfig {
     pub power_budget_w: Option<f64>,
     /// Window of `power_budget_w` (s). Default 10.
     pub power_window_s: f64,
+    /// Under a power budget, hold the confirmed tracks the budget can pay for, cheapest first,
+    /// and give the others only what the held tracks leave (docs/model.md §7.6, rule 4), instead
+    /// of stretching every track's revisit alike. Default true; no effect without a budget.
+    pub hold_tracks: bool,
 }
 
 impl Default for ResourceConfig {
@@ -105,6 +109,7 @@ impl Default for ResourceConfig {
             group_lookahead_s: 1.0,
             power_budget_w: None,
             power_window_s: 10.0,
+            hold_tracks: true,
         }
     }
 }

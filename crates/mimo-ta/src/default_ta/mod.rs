@@ -20,6 +20,7 @@ mod due_index;
 #[cfg(test)]
 mod fixture;
 pub mod group;
+mod hold;
 pub mod planner;
 pub mod power;
 pub mod snapshot;
