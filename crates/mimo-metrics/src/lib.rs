@@ -107,6 +107,7 @@
 #![warn(missing_docs)]
 
 mod dwell_pages;
+mod dwell_pass;
 mod dwell_read;
 mod dwell_sums;
 mod error;
@@ -307,7 +308,16 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         }
     };
     let run_set: BTreeSet<u32> = tr.runs.iter().copied().collect();
-    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s, threads)?;
+    let purpose_input = purpose::PurposeInput {
+        dwells: &input.dwells,
+        truth: &input.truth,
+        geometry: &input.beams,
+        interval_s: opts.interval_s,
+        threads,
+    };
+    // The dwells read once for the usage sums and the usage by purpose.
+    let mut dwells = dwell_pass::DwellPass::run(&purpose_input, &run_set);
+    let (dwell_sums, dwell_radars) = dwells.usage_sums()?;
     let TrackResults { runs, target_names, track_metrics, assignments, tally, n_scorable } = tr;
     let track_metrics_mean = mean_over_runs(&track_metrics)?;
 
@@ -321,16 +331,8 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         &usage::UsageInput { interval_s: opts.interval_s, runs: &runs, radars: &radars, n_scorable: &n_scorable },
     )?;
 
-    let purpose_input = purpose::PurposeInput {
-        dwells: &input.dwells,
-        truth: &input.truth,
-        geometry: &input.beams,
-        interval_s: opts.interval_s,
-        threads,
-    };
     let n_times: BTreeMap<u32, usize> = n_scorable.iter().map(|(&run, n)| (run, n.len())).collect();
-    let by_purpose =
-        purpose::purpose_output(&purpose::purpose_sums(&purpose_input)?, &runs, &radars, &n_times, opts.interval_s);
+    let by_purpose = purpose::purpose_output(&dwells.purpose_sums()?, &runs, &radars, &n_times, opts.interval_s);
 
     let mut summary = summarize(opts, &runs, &target_names, &track_metrics, &tally, &u)?;
     summary.usage.totals.by_purpose = by_purpose.mean;

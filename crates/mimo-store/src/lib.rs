@@ -44,6 +44,7 @@ pub mod lineage;
 pub mod manifest;
 pub mod output;
 pub mod page_columns;
+mod page_delta;
 pub mod recognise;
 pub mod rows;
 pub mod run_sink;
