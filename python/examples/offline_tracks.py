@@ -122,10 +122,15 @@ def looked_at(ta: SimpleTa, event: dict) -> list:
 
 
 def make_ta(tracker: str):
-    """The test article run offline: ``simple_ta.py``'s, or Stone Soup's EKF + GNN (mimo_ta.stonesoup)."""
-    if tracker == "stonesoup":
+    """The test article run offline: ``simple_ta.py``'s, or Stone Soup's EKF + GNN of
+    ``stonesoup_ta.py`` (``stonesoup``: Joseph form; ``stonesoup-plain``: Stone Soup's default
+    covariance update)."""
+    if tracker.startswith("stonesoup"):
+        from stonesoup_ta import DEFAULTS, ekf_gnn
+
         from mimo_ta.stonesoup import StoneSoupArticle
-        return StoneSoupArticle()
+        joseph = tracker == "stonesoup"
+        return StoneSoupArticle(factory=lambda s: ekf_gnn(s, joseph), defaults=DEFAULTS, name=f"{tracker}-ekf-gnn")
     return SimpleTa()
 
 
@@ -185,8 +190,9 @@ def main() -> int:
     ap.add_argument("--mimo", help="the mimo binary for scoring")
     ap.add_argument("--no-score", action="store_true", help="write the tracks only")
     ap.add_argument("--force", action="store_true", help="replace OUT")
-    ap.add_argument("--tracker", choices=("simple", "stonesoup"), default="simple",
-                    help="simple_ta.py's tracker, or Stone Soup's EKF + GNN (needs stonesoup)")
+    ap.add_argument("--tracker", choices=("simple", "stonesoup", "stonesoup-plain"), default="simple",
+                    help="simple_ta.py's tracker, or Stone Soup's EKF + GNN of stonesoup_ta.py (needs stonesoup; "
+                         "-plain: Stone Soup's default covariance update instead of the Joseph form)")
     a = ap.parse_args()
     manifest = json.loads((a.run / "manifest.json").read_text())
     if a.out.exists():
