@@ -212,7 +212,7 @@ def main() -> int:
     out_manifest.update({
         "tracker": {"name": f"{a.tracker} (python, offline)", "config": make_ta(a.tracker).config()},
         "schedule": "open loop: the dwells of the parent run, tracked by python/examples/offline_tracks.py",
-        "parent": os.path.relpath(a.run.resolve(), a.out.resolve().parent),
+        "parent": os.path.relpath(a.run.resolve(), a.out.resolve()),  # from OUT itself (docs/design.md §2)
         "tables": {"tracks": tables},
         "timing_s": {"track": time.time() - t0},
     })
