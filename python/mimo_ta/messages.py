@@ -14,6 +14,8 @@ from typing import Optional, Union
 
 import numpy as np
 
+from .covariance import CovarianceError, track_cov21, track_cov21_unchecked
+
 from .geo import FaceFrame
 from .radar import RadarParams
 
@@ -302,7 +304,10 @@ class StopLocalTracking:
 @dataclass
 class TrackRow:
     """One row of the tracks table (docs/design.md §3): ECEF state, ``cov`` the upper triangle
-    of the 6x6 position-velocity covariance, row-major (21 numbers; see :func:`upper_triangle`)."""
+    of the 6x6 position-velocity covariance, row-major (21 numbers; see :func:`upper_triangle`),
+    or the 6x6 matrix itself. It is sent as :func:`mimo_ta.covariance.track_cov21` makes it:
+    symmetrised, and repaired when rounding left it slightly indefinite (one beyond repair is
+    sent as it is, for mimo to refuse)."""
 
     t_s: float
     track_id: int
@@ -320,9 +325,17 @@ class TrackRow:
     def to_json(self) -> dict:
         if self.status not in TRACK_STATUSES:
             raise ProtocolError(f"track status {self.status!r}, expected one of {TRACK_STATUSES}")
-        cov = [_finite(c, "cov") for c in np.asarray(self.cov, dtype=float).reshape(-1)]
-        if len(cov) != 21:
-            raise ProtocolError(f"cov needs 21 numbers, got {len(cov)}")
+        flat = [_finite(c, "cov") for c in np.asarray(self.cov, dtype=float).reshape(-1)]
+        if len(flat) not in (21, 36):
+            raise ProtocolError(f"cov needs 21 numbers (or a 6x6 matrix), got {len(flat)}")
+        # Symmetrised and, if rounding left it slightly indefinite, repaired as mimo would
+        # (mimo_ta.covariance, docs/design.md §7). One mimo refuses whatever is done (a negative
+        # variance, beyond the bound) is sent as it is: mimo's error names the track and the
+        # smallest eigenvalue.
+        try:
+            cov = track_cov21(self.cov)
+        except CovarianceError:
+            cov = track_cov21_unchecked(self.cov)
         return {
             "t_s": _finite(self.t_s, "t_s"),
             "track_id": int(self.track_id),

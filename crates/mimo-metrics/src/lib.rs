@@ -576,5 +576,6 @@ fn summarize(
         },
         per_run,
         per_target,
+        repaired_covariances: Default::default(),
     })
 }

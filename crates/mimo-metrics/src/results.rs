@@ -273,6 +273,10 @@ pub struct Summary {
     pub per_run: Vec<RunSummary>,
     /// Each target's figures over all runs.
     pub per_target: NamedList<TargetSummary>,
+    /// Rows whose covariance was slightly indefinite and was repaired, per table (docs/design.md
+    /// §7); written only when some row was, so the summary of valid input is unchanged.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub repaired_covariances: std::collections::BTreeMap<String, u64>,
 }
 
 /// The result of [`score`].

@@ -187,6 +187,12 @@ pub fn run_study(
     for c in &prep.cells {
         c.check_rel_dir(plan)?;
     }
+    // One whole-study writer at a time (docs/studies.md "Shards"): two `--resume` (or a run and
+    // a `--merge`) of one study would do the same items into the same files. Shards split the
+    // items and take no lock.
+    // (A merge of no study is refused by `open`, before a lock's folder is made.)
+    let whole = opts.shard.is_none() && !opts.init && !(opts.merge && !opts.out.exists());
+    let _lock = if whole { Some(study_lock(&opts.out)?) } else { None };
     let shared = opts.resume || opts.shard.is_some() || opts.init;
     open(&opts.out, &mark, Access { resume: shared, force: opts.force, merge: opts.merge })?;
     let dirs = cell_dirs(plan, &prep.cells, &opts.out);
@@ -223,6 +229,21 @@ pub fn run_study(
         outcome.merged = Some(merge(plan, &prep, &dirs, &opts.out)?);
     }
     Ok(outcome)
+}
+
+/// The lock of a whole-study run (`.DIR.lock` beside the study, `mimo_store::output`), or a
+/// refusal saying who holds it and what to do instead.
+fn study_lock(out: &Path) -> Result<mimo_store::output::OutputLock, StudyError> {
+    mimo_store::output::OutputLock::acquire(out).map_err(|e| match e {
+        StoreError::Busy { path, why } => StudyError::Store(StoreError::Busy {
+            path,
+            why: format!(
+                "{why}. A study is run whole by one process at a time (a run, --resume or --merge); \
+                 to run it in several processes at once, give each a part with --shard K/N, then --merge"
+            ),
+        }),
+        e => e.into(),
+    })
 }
 
 fn shard_io(out: &Path, source: std::io::Error) -> StudyError {

@@ -92,6 +92,17 @@ pub struct RunStats {
     pub stop_local_tracking_orders: u64,
     /// Dwell reports delivered to the test article.
     pub reports_delivered: u64,
+    /// Track rows of the test article whose covariance was slightly indefinite and was repaired
+    /// (docs/design.md §7).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub repaired_covariances: u64,
+    /// The most negative smallest-to-largest eigenvalue ratio among them (0 if none).
+    #[serde(skip)]
+    pub worst_covariance_ratio: f64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl RunStats {
@@ -105,6 +116,8 @@ impl RunStats {
         self.measurements += o.measurements;
         self.stop_local_tracking_orders += o.stop_local_tracking_orders;
         self.reports_delivered += o.reports_delivered;
+        self.repaired_covariances += o.repaired_covariances;
+        self.worst_covariance_ratio = self.worst_covariance_ratio.min(o.worst_covariance_ratio);
     }
 }
 
@@ -276,6 +289,8 @@ impl<'a> Engine<'a> {
         self.now = self.end;
         let reply = self.ta.on_finish(self.end.as_secs()).map_err(|f| self.fault(f))?;
         self.take_tracks(reply.tracks)?;
+        self.stats.repaired_covariances = self.track_check.repaired();
+        self.stats.worst_covariance_ratio = self.track_check.worst_ratio();
         Ok(self.stats)
     }
 
@@ -315,7 +330,7 @@ impl<'a> Engine<'a> {
     }
 
     fn take_tracks(&mut self, mut rows: Vec<mimo_core::records::TrackRow>) -> Result<(), EngineError> {
-        if let Err(f) = self.track_check.check(&rows) {
+        if let Err(f) = self.track_check.check(&mut rows) {
             return Err(self.fault(f));
         }
         for r in &mut rows {
