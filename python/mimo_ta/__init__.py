@@ -7,14 +7,15 @@ Needs numpy only.
 """
 
 from .article import TestArticle
-from .messages import (PROTOCOL_VERSION, DwellReport, DwellRequest, GeoPoint, Measurement, PartReport, Primitive,
-                       ProtocolError, ShipInfo, StartInfo, StopLocalTracking, Subscription, TrackRow, TxOrder,
-                       WakeAt, from_upper_triangle, upper_triangle)
+from .messages import (DEFAULT_SEARCH_BANDS, PROTOCOL_VERSION, AzSector, DwellReport, DwellRequest, GeoPoint,
+                       Measurement, PartReport, Primitive, ProtocolError, SearchBand, SearchOrder, SearchPlan, ShipInfo,
+                       StartInfo, StopLocalTracking, Subscription, TrackRow, TxOrder, WakeAt, from_upper_triangle,
+                       upper_triangle)
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "PROTOCOL_VERSION", "DwellReport", "DwellRequest", "GeoPoint", "Measurement", "PartReport", "Primitive",
+    "DEFAULT_SEARCH_BANDS", "PROTOCOL_VERSION", "AzSector", "SearchBand", "SearchOrder", "SearchPlan", "DwellReport", "DwellRequest", "GeoPoint", "Measurement", "PartReport", "Primitive",
     "ProtocolError", "ShipInfo", "StartInfo", "StopLocalTracking", "Subscription", "TestArticle", "TrackRow",
     "TxOrder", "WakeAt", "from_upper_triangle", "upper_triangle",
 ]
