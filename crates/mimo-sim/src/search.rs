@@ -158,10 +158,8 @@ pub fn raster_of(
     spacing: f64,
     sectors: &[AzSector],
 ) -> Raster {
-    let bands: Vec<(Vec<SearchBeam>, u32)> = bands
-        .iter()
-        .map(|b| (band_beams(params, heading_deg, b, spacing, sectors), b.every_frames.max(1)))
-        .collect();
+    let bands: Vec<(Vec<SearchBeam>, u32)> =
+        bands.iter().map(|b| (band_beams(params, heading_deg, b, spacing, sectors), b.every_frames.max(1))).collect();
     let cycle = bands.iter().map(|(_, k)| *k).fold(1u32, lcm);
     let mut out = Raster::default();
     for frame in 0..cycle {

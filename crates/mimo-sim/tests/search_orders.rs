@@ -239,7 +239,8 @@ fn search_dwells_the_test_article_asks_for_are_recorded_as_its_own() {
 fn bad_search_orders_stop_the_run_and_name_the_field() {
     let dur = 5.0;
     let world = standard(1, dur);
-    let band = |lo: f64, hi: f64, n: u32, k: u32| SearchBand { el_min_deg: lo, el_max_deg: hi, n_pulses: n, every_frames: k };
+    let band =
+        |lo: f64, hi: f64, n: u32, k: u32| SearchBand { el_min_deg: lo, el_max_deg: hi, n_pulses: n, every_frames: k };
     let with = |bands: Vec<SearchBand>| SearchPlan { bands, ..SearchPlan::none() };
     let cases: Vec<(Request, &str)> = vec![
         (order(Some(RadarId(7)), default_plan()), "search: radar: unknown radar R8"),
@@ -254,7 +255,10 @@ fn bad_search_orders_stop_the_run_and_name_the_field() {
         (order(None, SearchPlan { frame_period_s: Some(f64::NAN), ..default_plan() }), "plan.frame_period_s"),
         // R2 has two faces (bow ±45°): due south is outside what they search.
         (
-            order(Some(R2), SearchPlan { sectors: vec![AzSector { from_deg: 170.0, to_deg: 190.0 }], ..default_plan() }),
+            order(
+                Some(R2),
+                SearchPlan { sectors: vec![AzSector { from_deg: 170.0, to_deg: 190.0 }], ..default_plan() },
+            ),
             "search: R2: plan.sectors[0]",
         ),
         (

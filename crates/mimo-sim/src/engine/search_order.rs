@@ -32,7 +32,10 @@ impl Engine<'_> {
             let t_s = self.now.as_secs();
             for r in self.order_radars(order) {
                 let ship = &self.world.scenario.ships[r];
-                order.plan.check_sectors(&ship.radar, ship.heading_at(t_s)).map_err(|e| bad(format!("{}: {e}", RadarId(r as u8))))?;
+                order
+                    .plan
+                    .check_sectors(&ship.radar, ship.heading_at(t_s))
+                    .map_err(|e| bad(format!("{}: {e}", RadarId(r as u8))))?;
             }
         }
         Ok(())

@@ -56,7 +56,8 @@ impl SearchShape {
         }
         if self.share < 1.0 {
             let d_ns = (end.0 - start.0) as f64;
-            self.next_search_at = SimTime(end.0.saturating_add((d_ns * (1.0 - self.share) / self.share).round() as i64));
+            self.next_search_at =
+                SimTime(end.0.saturating_add((d_ns * (1.0 - self.share) / self.share).round() as i64));
         }
     }
 }
