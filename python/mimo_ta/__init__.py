@@ -9,15 +9,17 @@ Needs numpy only.
 
 from .article import TestArticle
 from .covariance import CovarianceError, checked_covariance, track_cov21
-from .messages import (PROTOCOL_VERSION, DwellReport, DwellRequest, GeoPoint, Measurement, PartReport, Primitive,
-                       ProtocolError, ShipInfo, StartInfo, StopLocalTracking, Subscription, TrackRow, TxOrder,
-                       WakeAt, from_upper_triangle, upper_triangle)
+from .messages import (DEFAULT_SEARCH_BANDS, PROTOCOL_VERSION, AzSector, DwellReport, DwellRequest, GeoPoint,
+                       Measurement, PartReport, Primitive, ProtocolError, SearchBand, SearchOrder, SearchPlan, ShipInfo,
+                       StartInfo, StopLocalTracking, Subscription, TrackRow, TxOrder, WakeAt, from_upper_triangle,
+                       upper_triangle)
 from .tracks_table import tracks_columns, write_tracks_table
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "CovarianceError", "PROTOCOL_VERSION", "DwellReport", "DwellRequest", "GeoPoint", "Measurement", "PartReport", "Primitive",
+    "CovarianceError", "DEFAULT_SEARCH_BANDS", "PROTOCOL_VERSION", "AzSector", "SearchBand", "SearchOrder", "SearchPlan",
+    "DwellReport", "DwellRequest", "GeoPoint", "Measurement", "PartReport", "Primitive",
     "ProtocolError", "ShipInfo", "StartInfo", "StopLocalTracking", "Subscription", "TestArticle", "TrackRow",
     "TxOrder", "WakeAt", "checked_covariance", "from_upper_triangle", "track_cov21", "tracks_columns",
     "upper_triangle", "write_tracks_table",

@@ -37,6 +37,7 @@ mod execute;
 mod group;
 mod plan;
 mod quiet;
+mod search_order;
 mod timeline;
 
 pub use execute::first_meas_id;
@@ -369,6 +370,7 @@ impl<'a> Engine<'a> {
                     self.push(t, Ev::Wake);
                 }
                 Request::StopLocalTracking(_) => self.stats.stop_local_tracking_orders += 1,
+                Request::Search(order) => self.order_search(order),
             }
         }
         Ok(())
@@ -422,6 +424,7 @@ impl<'a> Engine<'a> {
                 }
             }
             Request::StopLocalTracking(r) => known(*r),
+            Request::Search(order) => self.check_search(order),
         }
     }
 
@@ -438,13 +441,18 @@ impl<'a> Engine<'a> {
         gid
     }
 
-    /// A free radar runs its next search beam, unless it would run into a reservation.
+    /// A free radar runs its next search beam, unless it would run into a reservation or its
+    /// test article's plan makes it wait (a radar with no search idles).
     fn decide(&mut self, r: usize) -> Result<(), EngineError> {
         let now = self.now;
         let tl = &self.timelines[r];
         if tl.busy_until > now || tl.raster.is_empty() {
             return Ok(());
         }
+        if tl.shape.is_some() && self.search_waits(r) {
+            return Ok(());
+        }
+        let tl = &self.timelines[r];
         let beam = tl.raster[tl.cursor];
         let radar = RadarId(r as u8);
         let duration_s = dwell_duration_s(self.world.params(radar), beam.n_pulses);
@@ -456,7 +464,11 @@ impl<'a> Engine<'a> {
             return Ok(()); // wait for the reservation; its Start event takes over
         }
         let n = tl.raster.len();
-        self.timelines[r].cursor = (self.timelines[r].cursor + 1) % n;
+        let cursor = tl.cursor;
+        if let Some(shape) = self.timelines[r].shape.as_mut() {
+            shape.ran(cursor, now, search_end);
+        }
+        self.timelines[r].cursor = (cursor + 1) % n;
         let mut parts = std::mem::take(&mut self.spare_parts);
         parts.clear();
         parts.push(Part {

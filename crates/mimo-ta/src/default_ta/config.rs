@@ -1,5 +1,6 @@
 //! Configuration of the default test article: the tracker's and the resource manager's.
 
+use super::search_manager::SearchManagerConfig;
 use mimo_track::TrackerConfig;
 use serde::{Deserialize, Serialize};
 
@@ -175,11 +176,18 @@ impl ResourceConfig {
 /// takes any JSON value when merged (its default is `null`), so one that is not a number is named
 /// here with its key path rather than by the parser.
 pub fn check_optional_numbers(merged: &serde_json::Value) -> Result<(), (String, String)> {
-    let key = "resource_manager.power_budget_w";
-    match merged.get("resource_manager").and_then(|r| r.get("power_budget_w")) {
-        None | Some(serde_json::Value::Null | serde_json::Value::Number(_)) => Ok(()),
-        Some(v) => Err((key.into(), format!("a power in watts, positive and finite, got {v}"))),
+    let optional = [
+        ("resource_manager", "power_budget_w", "a power in watts, positive and finite"),
+        ("search_manager", "held_share", "a share in [0, 1]"),
+        ("search_manager", "frame_period_s", "a positive finite time (s)"),
+    ];
+    for (section, key, expected) in optional {
+        match merged.get(section).and_then(|r| r.get(key)) {
+            None | Some(serde_json::Value::Null | serde_json::Value::Number(_)) => {}
+            Some(v) => return Err((format!("{section}.{key}"), format!("{expected}, got {v}"))),
+        }
     }
+    Ok(())
 }
 
 /// The whole configuration of the default test article, as recorded in the manifest and as
@@ -191,6 +199,8 @@ pub struct DefaultTaConfig {
     pub tracker: TrackerConfig,
     /// The resource manager (scheduling and energy).
     pub resource_manager: ResourceConfig,
+    /// The search manager (background search of every radar, docs/model.md §7.4).
+    pub search_manager: SearchManagerConfig,
 }
 
 #[cfg(test)]
