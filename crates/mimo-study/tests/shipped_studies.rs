@@ -130,6 +130,14 @@ fn check_study(dir: &Path) -> Result<Option<String>, String> {
                 ));
             }
             for (name, _, _) in STUDY_METRICS {
+                if b.column_by_name(name).is_none() {
+                    let study = dir.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+                    return Err(format!(
+                        "{}: results.parquet has no column {name}, a metric added since the study was made: \
+                         regenerate with scripts/studies.sh {study} and commit it",
+                        dir.display()
+                    ));
+                }
                 let (was, now) = (float(&b, name, i)?, rec.metrics.get(*name).copied().flatten());
                 if was.map(f64::to_bits) != now.map(f64::to_bits) {
                     return Err(format!(
