@@ -216,8 +216,8 @@ macro_rules! score_first_track_table {
             #[derive(Debug, Clone, PartialEq, Serialize)]
             pub struct FirstTrackRow / FirstTrackColumns in SCORE_FIRST_TRACK = "score_first_track":
                 "Per run and target scorable at some scoring time: the first scoring time it is scorable, the first \
- at which it is assigned a confirmed track, and the time between (docs/design.md §6, \"Time to \
- first track\"); rows by run, then by first scorable time, then in truth-table order" {
+at which it is assigned a confirmed track, and the time between (docs/design.md §6, \"Time to \
+first track\"); rows by run, then by first scorable time, then in truth-table order" {
                 run: u32 => ("", "Monte Carlo run index"),
                 target_id: String => ("", "truth name, as in the truth table"),
                 scorable_from_s: f64 => ("s", "the first scoring time at which the target is scorable"),
