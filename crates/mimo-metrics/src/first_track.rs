@@ -7,11 +7,14 @@
 use crate::{AssignmentRow, FirstTrackRow, FirstTrackSummary};
 use std::collections::{BTreeMap, HashMap};
 
+/// A target's first times in a run: (order of first appearance, scorable from, first track).
+type FirstTimes = (usize, f64, Option<f64>);
+
 /// The rows of `score/first_track.parquet`: by run, then by first scorable time, then in the
 /// order the targets first appear in the assignments (truth-table order at a scoring time).
 pub(crate) fn first_track_rows(assignments: &[AssignmentRow]) -> Vec<FirstTrackRow> {
     // Per run: target → (order of first appearance, scorable from, first track).
-    let mut by_run: BTreeMap<u32, HashMap<&str, (usize, f64, Option<f64>)>> = BTreeMap::new();
+    let mut by_run: BTreeMap<u32, HashMap<&str, FirstTimes>> = BTreeMap::new();
     for a in assignments {
         let run = by_run.entry(a.run).or_default();
         let next = run.len();
@@ -24,7 +27,7 @@ pub(crate) fn first_track_rows(assignments: &[AssignmentRow]) -> Vec<FirstTrackR
     }
     let mut out = Vec::new();
     for (run, targets) in by_run {
-        let mut rows: Vec<(&str, (usize, f64, Option<f64>))> = targets.into_iter().collect();
+        let mut rows: Vec<(&str, FirstTimes)> = targets.into_iter().collect();
         rows.sort_by(|a, b| a.1.1.total_cmp(&b.1.1).then(a.1.0.cmp(&b.1.0)));
         out.extend(rows.into_iter().map(|(target, (_, from, first))| FirstTrackRow {
             run,
