@@ -309,7 +309,7 @@ mod tests {
         for (i, r) in rows.iter_mut().enumerate() {
             let i = i as u64;
             r.group_id = (i * i * 7919) % (1 << 40) + (i % 5);
-            r.dwell_id = u64::MAX - 3 * n as u64 / 2 + 3 * i;
+            r.dwell_id = (u64::MAX - 3 * n as u64 / 2).wrapping_add(3 * i);
         }
         rows
     }
