@@ -90,7 +90,8 @@ mod tests {
             a(1, 9.0, "A", Some(1)),
         ];
         let ft = first_track_rows(&rows);
-        let got: Vec<(u32, &str, f64, Option<f64>, Option<f64>)> = ft
+        type Row<'a> = (u32, &'a str, f64, Option<f64>, Option<f64>);
+        let got: Vec<Row> = ft
             .iter()
             .map(|r| (r.run, r.target_id.as_str(), r.scorable_from_s, r.first_track_s, r.time_to_first_track_s))
             .collect();

@@ -138,7 +138,6 @@ pub use purpose_rule::{BeamGeometry, Purpose};
 pub use results::*;
 
 use glam::DVec3;
-use load::*;
 use mean::GroupMean;
 use mimo_store::layout::RunDir;
 use read::list_parquet;

@@ -172,7 +172,7 @@ mod tests {
 
     #[test]
     fn bad_plans_name_their_field() {
-        let err = |p: SearchPlan| p.check().unwrap_err();
+        let err = |p: SearchPlan| p.check().expect_err("refused");
         assert!(err(plan(vec![band(-95.0, 2.0, 1, 1)])).starts_with("plan.bands[0].el_min_deg"));
         assert!(err(plan(vec![band(0.0, 2.0, 1, 1), band(5.0, 3.0, 1, 1)])).starts_with("plan.bands[1].el_min_deg"));
         assert!(err(plan(vec![band(0.0, 2.0, 0, 1)])).starts_with("plan.bands[0].n_pulses"));
@@ -197,7 +197,7 @@ mod tests {
         let inside = SearchPlan { sectors: vec![AzSector { from_deg: 270.0, to_deg: 90.0 }], ..SearchPlan::none() };
         assert!(inside.check_sectors(&p, 0.0).is_ok());
         let outside = SearchPlan { sectors: vec![AzSector { from_deg: 90.0, to_deg: 120.0 }], ..SearchPlan::none() };
-        assert!(outside.check_sectors(&p, 0.0).unwrap_err().contains("azimuth 102.25"));
+        assert!(outside.check_sectors(&p, 0.0).expect_err("refused").contains("azimuth 102.25"));
         // Turned 90° to starboard, the same sector is inside.
         assert!(outside.check_sectors(&p, 90.0).is_ok());
     }

@@ -191,7 +191,7 @@ pub fn run_study(
     // a `--merge`) of one study would do the same items into the same files. Shards split the
     // items and take no lock.
     // (A merge of no study is refused by `open`, before a lock's folder is made.)
-    let whole = opts.shard.is_none() && !opts.init && !(opts.merge && !opts.out.exists());
+    let whole = opts.shard.is_none() && !opts.init && (!opts.merge || opts.out.exists());
     let _lock = if whole { Some(study_lock(&opts.out)?) } else { None };
     let shared = opts.resume || opts.shard.is_some() || opts.init;
     open(&opts.out, &mark, Access { resume: shared, force: opts.force, merge: opts.merge })?;

@@ -227,7 +227,7 @@ impl Afford {
 /// with its pulses.
 fn fit_pulses(req: &mut DwellRequest, pulse_j: f64, most_j: f64) {
     let Some(tx) = req.transmitters.first_mut() else { return };
-    if !(pulse_j > 0.0) || f64::from(tx.n_pulses) * pulse_j <= most_j || most_j < pulse_j {
+    if pulse_j.is_nan() || pulse_j <= 0.0 || f64::from(tx.n_pulses) * pulse_j <= most_j || most_j < pulse_j {
         return;
     }
     let n = ((most_j / pulse_j).floor() as u32).max(1);

@@ -203,7 +203,7 @@ mod tests {
         assert!(m.update(&d, 100.0).is_empty());
         // held_share 1 with share 1 is today's search too.
         assert!(SearchManagerConfig { held_share: Some(1.0), ..d.clone() }.is_default());
-        let bad = |c: SearchManagerConfig| c.validate().unwrap_err().0;
+        let bad = |c: SearchManagerConfig| c.validate().expect_err("refused").0;
         assert_eq!(bad(SearchManagerConfig { share: 1.2, ..d.clone() }), "search_manager.share");
         assert_eq!(bad(SearchManagerConfig { held_share: Some(-0.1), ..d.clone() }), "search_manager.held_share");
         assert_eq!(bad(SearchManagerConfig { low_band_pulses: 0, ..d.clone() }), "search_manager.low_band_pulses");
