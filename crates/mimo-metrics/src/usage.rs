@@ -33,17 +33,21 @@ pub(crate) struct UsageOutput {
     pub per_object: BTreeMap<u32, [Option<f64>; 4]>,
 }
 
+/// The usage sums by (run, radar name, scoring interval).
+fn sums_by_key(sums: &DwellSums) -> HashMap<(u32, &str, i64), [f64; 4]> {
+    sums.groups
+        .iter()
+        .zip(&sums.sums)
+        .map(|(&(run, radar, k), s)| ((run, sums.radar_names[radar].as_str(), k), s.value()))
+        .collect()
+}
+
 /// Per run, Σ over scoring times `k` with `N_k > 0` of the run's usage sums in interval `k`
 /// (every radar) ÷ `N_k`: dwell time, energy, TA dwell time, TA energy per scorable object
 /// (equations 5 and 6 of docs/design.md §6 summed over the run); `None` when nothing is ever
 /// scorable. Added interval by interval, radar by radar, in order.
 fn per_object_by_run(sums: &DwellSums, input: &UsageInput<'_>) -> BTreeMap<u32, [Option<f64>; 4]> {
-    let by_key: HashMap<(u32, &str, i64), [f64; 4]> = sums
-        .groups
-        .iter()
-        .zip(&sums.sums)
-        .map(|(&(run, radar, k), s)| ((run, sums.radar_names[radar].as_str(), k), s.value()))
-        .collect();
+    let by_key = sums_by_key(sums);
     let mut out = BTreeMap::new();
     for &run in input.runs {
         let counts = input.n_scorable.get(&run).map(Vec::as_slice).unwrap_or(&[]);
@@ -77,12 +81,7 @@ struct Cell {
 }
 
 fn cells<'a>(sums: &'a DwellSums, input: &UsageInput<'a>) -> BTreeMap<(&'a str, u32), Cell> {
-    let by_key: HashMap<(u32, &str, i64), [f64; 4]> = sums
-        .groups
-        .iter()
-        .zip(&sums.sums)
-        .map(|(&(run, radar, k), s)| ((run, sums.radar_names[radar].as_str(), k), s.value()))
-        .collect();
+    let by_key = sums_by_key(sums);
     let mut cells: BTreeMap<(&str, u32), Cell> = BTreeMap::new();
     for &run in input.runs {
         let counts = input.n_scorable.get(&run).map(Vec::as_slice).unwrap_or(&[]);
