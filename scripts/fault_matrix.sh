@@ -7,7 +7,7 @@
 #   scripts/fault_matrix.sh [MIMO_BINARY] [GROUP…]
 #
 # MIMO_BINARY defaults to $CARGO_TARGET_DIR/debug/mimo; GROUPs (default all): force interrupt
-# limits readers order protocol messages disk unwritable. Needs python3 with pyarrow, and root
+# limits readers order protocol messages disk unwritable repairs. Needs python3 with pyarrow, and root
 # for the full-disk tmpfs and the unwritable-directory cases (run as user `nobody`).
 #
 # Verdicts: FAIL = wrong exit status, a panic, a signal death, a user's file changed, something
@@ -20,7 +20,7 @@ set -u
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 MIMO=${1:-${CARGO_TARGET_DIR:-$ROOT/target}/debug/mimo}
 shift || true
-GROUPS_WANTED=${*:-force interrupt limits readers order protocol messages disk unwritable}
+GROUPS_WANTED=${*:-force interrupt limits readers order protocol messages disk unwritable repairs}
 MIMO=$(realpath "$MIMO")
 TAB="python3 $ROOT/scripts/fault_matrix_tables.py"
 TA="python3 $ROOT/scripts/fault_matrix_ta.py"
@@ -30,6 +30,7 @@ PASS=0 FAIL=0 WARN=0
 declare -a FAILS WARNS
 
 verdict() { # verdict KIND NAME DETAIL
+    LAST=$1
     case $1 in
     PASS) PASS=$((PASS + 1)) ;;
     FAIL) FAIL=$((FAIL + 1)); FAILS+=("$2: $3") ;;
@@ -530,6 +531,153 @@ group_unwritable() {
     done
 }
 
+# ---- 10. Near-valid input accepted and counted, the last faults closed (docs/design.md §7,
+# docs/decisions/0302, 0303): a covariance slightly not positive semi-definite is repaired and
+# counted by every command it enters, one beyond the bound refused with the eigenvalue named; an
+# interrupted study leaves nothing; bounded quotes; plot's missing folder; track on a study cell;
+# concurrent --resume; a damaged score file.
+# Helpers for the CHECKs below (run in $D): the summary's count of repaired rows, the number
+# of `warning:` lines the command printed, whether its last error line is short.
+repaired_in() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1])).get("repaired_covariances", {}).get("tracks", 0))' "$1"; }
+warnings() { grep -c "^warning: ${1:-}" "$S/err"; }
+short_error() { [ "$(grep '^error:' "$S/err" | wc -c)" -lt 1000 ]; }
+
+# checked_case NAME CODES FRAG PREP CHECK CMD… — run_case after PREP; a PASS becomes a FAIL
+# unless the shell condition CHECK also holds in $D afterwards.
+checked_case() {
+    local name=$1 codes=$2 frag=$3 prep=$4 check=$5
+    shift 5
+    D=$S/case
+    rm -rf "$D" && cp -a "$F" "$D"
+    (cd "$D" && eval "$prep") >/dev/null 2>&1
+    PREP="" run_case_in_place "$name" "$codes" "$frag" "$@"
+    [ "$LAST" = PASS ] || return
+    if ! (cd "$D" && eval "$check") >/dev/null 2>&1; then
+        PASS=$((PASS - 1))
+        verdict FAIL "$name" "check failed: $check | stderr: $(head -c 200 "$S/err")"
+    fi
+}
+
+group_repairs() {
+    local tab="python3 $ROOT/scripts/fault_matrix_tables.py"
+    local near="$tab r/tracks/run-0000.parquet cov_near_psd" far="$tab r/tracks/run-0000.parquet cov_far_psd"
+    # Accepted and counted: score (summary.json and one warning line; none with --quiet), plot.
+    checked_case "repairs/score/cov_near_psd" 0 "" "$near" '[ "$(repaired_in r/score/summary.json)" = 1 ] && [ "$(warnings ".*1 covariance")" = 1 ]' \
+        "$MIMO" score r --no-charts
+    checked_case "repairs/score_quiet/cov_near_psd" 0 "" "$near" '[ "$(repaired_in r/score/summary.json)" = 1 ] && [ ! -s "$S/err" ]' \
+        "$MIMO" score r --no-charts --quiet
+    checked_case "repairs/plot/cov_near_psd" 0 "" "$near" '[ "$(warnings ".*1 covariance")" = 1 ] && [ -s q.html ]' "$MIMO" plot r --out q.html
+    # Refused with the eigenvalue named, nothing written.
+    checked_case "repairs/score/cov_far_psd" 2 "smallest eigenvalue is -" "$far" '[ ! -e r/score ]' "$MIMO" score r --no-charts --quiet
+    checked_case "repairs/plot/cov_far_psd" 2 "smallest eigenvalue is -" "$far" '[ ! -e q.html ]' "$MIMO" plot r --out q.html --quiet
+    # Valid input: no count in the summary (its bytes unchanged).
+    checked_case "repairs/score/valid_has_no_count" 0 "" "" '! grep -q repaired_covariances r/score/summary.json' "$MIMO" score r --no-charts --quiet
+    # Test-article replies, closed and open loop: repaired and counted (the table written is then
+    # valid: its score counts nothing); beyond the bound refused naming the eigenvalue.
+    checked_case "repairs/simulate/track_near_psd" 0 "" "" \
+        '[ "$(warnings ".*test article.*1 covariance")" = 1 ] && "$MIMO" score o --no-charts --quiet && [ "$(repaired_in o/score/summary.json)" = 0 ]' \
+        "$MIMO" simulate --scenario small.toml --duration 20 --ta-timeout 5 --ta-cmd "$TA track_near_psd" --out o
+    checked_case "repairs/track/track_near_psd" 0 "" "" '[ "$(warnings ".*test article.*1 covariance")" = 1 ]' \
+        "$MIMO" track r --ta-timeout 5 --ta-cmd "$TA track_near_psd" --out t
+    case_ "repairs/simulate/track_far_psd" 1 "smallest eigenvalue is -" "$MIMO" simulate --scenario small.toml --duration 20 --ta-timeout 5 --ta-cmd "$TA track_far_psd" --out o --quiet
+    case_ "repairs/track/track_far_psd" 1 "smallest eigenvalue is -" "$MIMO" track r --ta-timeout 5 --ta-cmd "$TA track_far_psd" --out t --quiet
+    # --force on an empty directory (docs/design.md §7), every command writing one; and without.
+    checked_case "repairs/force_empty/simulate" 0 "" "mkdir e" '[ -f e/manifest.json ]' "$MIMO" simulate --scenario small.toml --duration 5 --out e --force --quiet
+    checked_case "repairs/force_empty/simulate_no_force" 0 "" "mkdir e" '[ -f e/manifest.json ]' "$MIMO" simulate --scenario small.toml --duration 5 --out e --quiet
+    checked_case "repairs/force_empty/track" 0 "" "mkdir e" '[ -f e/manifest.json ]' "$MIMO" track r --out e --force --quiet
+    checked_case "repairs/force_empty/study" 0 "" "mkdir e" '[ -f e/study.json ]' "$MIMO" study plan.toml --out e --force --quiet
+    # A 50 MB bad value is quoted by a bounded prefix that says where it was cut.
+    checked_case "repairs/quote/score/tracks/label_50mb" 2 "cut after 80 of 52428800 bytes" "$tab r/tracks/run-0000.parquet label_50mb" short_error \
+        "$MIMO" score r --no-charts --quiet
+    checked_case "repairs/quote/score/dwells/label_50mb" 2 "cut after 80 of 52428800 bytes" "$tab r/dwells/run-0000.parquet label_50mb" short_error \
+        "$MIMO" score r --no-charts --quiet
+    checked_case "repairs/quote/track/measurements/label_50mb" 2 "cut after 80 of 52428800 bytes" "$tab r/measurements/run-0000.parquet label_50mb" short_error \
+        "$MIMO" track r --from measurements --out t --quiet
+    checked_case "repairs/quote/plot/tracks/label_50mb" 2 "cut after 80 of 52428800 bytes" "$tab r/tracks/run-0000.parquet label_50mb" short_error \
+        "$MIMO" plot r --out q.html --quiet
+    # plot, like every command, creates its output's folder.
+    checked_case "repairs/plot/missing_folder" 0 "" "" '[ -s figs/deep/p.html ]' "$MIMO" plot r --out figs/deep/p.html --quiet
+    # track on a study cell kept whole (keep_runs = true, no primitives): says what is missing and
+    # what to run, and that works.
+    local keep="printf 'title = \"k\"\\nscenarios = [1]\\nruns = 1\\nduration_s = 3\\nkeep_runs = true\\n[[methods]]\\nname = \"m\"\\nta = \"default\"\\n' >keep.toml && \"$MIMO\" study keep.toml --out ks --quiet"
+    checked_case "repairs/track/study_cell_default" 2 "--from measurements" "$keep" '[ ! -e t ]' sh -c "exec \"$MIMO\" track ks/runs/*/* --out t --quiet"
+    checked_case "repairs/track/study_cell_from_measurements" 0 "" "$keep" '[ -f t/manifest.json ] && "$MIMO" score t --no-charts --quiet' \
+        sh -c "exec \"$MIMO\" track ks/runs/*/* --from measurements --out t --quiet"
+    # A damaged file of mimo's own score is recognised, replaced by the rescore, and named.
+    local dmg
+    for dmg in "truncate -s 100 rs/score/track_metrics.parquet" ": >rs/score/usage.parquet" "truncate -s 40 rs/score/summary.json"; do
+        checked_case "repairs/score/damaged/${dmg##*/}" 0 "" "$dmg" \
+            'grep -q "replaced the damaged" "$S/out" && python3 -c "import json; json.load(open(\"rs/score/summary.json\"))"' \
+            "$MIMO" score rs --no-charts
+    done
+    # Concurrent whole-study runs of one new directory: one runs it, the others are refused at
+    # once naming --shard; the study is whole after.
+    concurrent_resume
+    # Interrupted studies leave no temporary file of the cells in flight, without a rerun.
+    local sig delay th
+    for sig in INT TERM; do
+        for delay in 1 2 3; do
+            for th in 1 2; do
+                interrupt_clean "repairs/interrupt/study/$sig/$delay/threads=$th" "$sig" "$delay" \
+                    "$MIMO" study long.toml --out ls --quiet --threads "$th"
+            done
+        done
+    done
+}
+
+concurrent_resume() {
+    D=$S/case
+    rm -rf "$D" && cp -a "$F" "$D"
+    local i pids=() codes=() bad=""
+    for i in 1 2 3 4 5 6 7 8; do
+        (cd "$D" && exec "$MIMO" study plan.toml --out cs --resume --quiet >/dev/null 2>"$S/err.$i") &
+        pids+=($!)
+    done
+    for i in "${!pids[@]}"; do
+        wait "${pids[$i]}"
+        codes+=($?)
+    done
+    local ok=0
+    for i in "${!codes[@]}"; do
+        case ${codes[$i]} in
+        0) ok=$((ok + 1)) ;;
+        1) grep -q -- "--shard" "$S/err.$((i + 1))" && [ "$(wc -l <"$S/err.$((i + 1))")" = 1 ] || bad="$bad run $((i + 1)): $(head -c 200 "$S/err.$((i + 1))")" ;;
+        *) bad="$bad run $((i + 1)) exit ${codes[$i]}" ;;
+        esac
+    done
+    if [ -n "$bad" ] || [ "$ok" -lt 1 ]; then
+        verdict FAIL "repairs/study/concurrent_resume" "${bad:-no run succeeded}"
+    elif ! (cd "$D" && "$MIMO" study plan.toml --out cs --resume --quiet >/dev/null 2>&1 && [ -f cs/results.parquet ]); then
+        verdict FAIL "repairs/study/concurrent_resume" "the study is not whole afterwards"
+    elif [ -n "$(leftovers "$D")" ]; then
+        verdict FAIL "repairs/study/concurrent_resume" "left behind: $(leftovers "$D" | tr '\n' ' ')"
+    else
+        verdict PASS "repairs/study/concurrent_resume" ""
+    fi
+}
+
+# An interrupt after which nothing temporary may be left at all (no rerun allowed to clean up).
+interrupt_clean() { # NAME SIGNAL DELAY CMD…
+    local name=$1 sig=$2 delay=$3
+    shift 3
+    D=$S/case
+    rm -rf "$D" && cp -a "$F" "$D"
+    (cd "$D" && exec "$@") >/dev/null 2>"$S/err" &
+    local pid=$!
+    sleep "$delay"
+    kill -s "$sig" "$pid" 2>/dev/null
+    wait "$pid"
+    local code=$? left
+    left=$(leftovers "$D")
+    if [ "$code" != 130 ] && [ "$code" != 0 ]; then
+        verdict FAIL "$name" "exit $code: $(head -c 200 "$S/err")"
+    elif [ -n "$left" ]; then
+        verdict FAIL "$name" "left behind: $(tr '\n' ' ' <<<"$left")"
+    else
+        verdict PASS "$name" ""
+    fi
+}
+
 # A system fault: run the shell command CMD in DIR; exit 1 expected, nothing changed in $D
 # (unless RESUMABLE: what is left is continued by the next writer), nothing temporary left.
 system_case() {
@@ -544,7 +692,7 @@ system_case() {
 
 setup
 # Fixtures the interrupt cases need: a longer run, a long study, made once.
-if grep -qw interrupt <<<"$GROUPS_WANTED"; then
+if grep -qwE 'interrupt|repairs' <<<"$GROUPS_WANTED"; then
     (cd "$F" && "$MIMO" simulate --scenario 7 --duration 200 --out big --quiet &&
         printf 'title = "long"\nscenarios = [7]\nruns = 4\nduration_s = 300\n[[methods]]\nname = "m"\nta = "default"\n' >long.toml)
 fi

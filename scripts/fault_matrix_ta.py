@@ -44,6 +44,10 @@ def fault(now):
         "track_neg_var": lambda: track(now, cov=[-1.0] + ROW["cov"][1:]),
         "track_cov_len20": lambda: track(now, cov=ROW["cov"][:20]),
         "track_non_psd": lambda: track(now, cov=[1.0, 100.0] + ROW["cov"][2:]),
+        # Correlation 1 + 2e-6 between x and y: smallest eigenvalue -1e-6 of the largest (2),
+        # repaired and counted; 1.02: -1e-2 of it, refused with the eigenvalue named.
+        "track_near_psd": lambda: track(now, cov=[1.0, 1.0 + 2e-6] + ROW["cov"][2:]),
+        "track_far_psd": lambda: track(now, cov=[1.0, 1.02] + ROW["cov"][2:]),
         "track_bad_status": lambda: track(now, status="bogus"),
         "track_neg_id": lambda: track(now, track_id=-1),
         "track_huge_x": lambda: track(now, x_m=1.0e300),

@@ -73,6 +73,21 @@ def non_psd(cov):
     return out
 
 
+def with_smallest_eigenvalue(ratio):
+    """A covariance like the row's, its smallest eigenvalue set to ``ratio`` times its largest
+    (docs/design.md §7: -1e-6 is repaired and counted, -1e-2 refused with the eigenvalue named)."""
+    import numpy as np
+
+    def change(cov):
+        m = np.array(upper(cov))
+        lam, vec = np.linalg.eigh(m)
+        lam[0] = ratio * lam[-1]
+        out = (vec * lam) @ vec.T
+        return np.asarray(out)[np.triu_indices(6)].tolist()
+
+    return change
+
+
 def fault(tab):
     if FAULT == "meta_other_table":
         return with_meta(tab, {**meta, b"mimo.table": b"truth" if TABLE != "truth" else b"tracks"})
@@ -107,6 +122,13 @@ def fault(tab):
         return None
     if FAULT == "cov_nonpsd":
         return set_cov(tab, non_psd)
+    if FAULT == "cov_near_psd":
+        return set_cov(tab, with_smallest_eigenvalue(-1e-6))
+    if FAULT == "cov_far_psd":
+        return set_cov(tab, with_smallest_eigenvalue(-1e-2))
+    if FAULT == "label_50mb":
+        col = {"tracks": "status", "dwells": "kind", "measurements": "rx", "primitives": "rx"}.get(TABLE)
+        return set_value(tab, col, 0, "x" * (50 * 1024 * 1024)) if col else None
     if FAULT == "cov_len20":
         return set_cov(tab, lambda c: c[:20])
     if FAULT == "cov_zero":

@@ -39,6 +39,8 @@ for name in "${@:-challenge stability}"; do
     mkdir -p "$dest"
     cp -r "$out/charts" "$out/report.md" "$out/summary.parquet" "$out/results.parquet" "$out/costs.parquet" \
       "$out/challenge.parquet" "$out/challenge_ratios.parquet" "$out/failure_points.parquet" "$out/plan.toml" "$dest/"
+    # frontier.parquet: studies merged since the efficient frontier (docs/studies.md, "The challenge").
+    if [[ -f "$out/frontier.parquet" ]]; then cp "$out/frontier.parquet" "$dest/"; fi
     runs=$(find "$out/runs" -path '*/.items/run-*.json' | wc -l)
     cat >"$dest/MADE_BY.md" <<MADE
 # How these results were made

@@ -43,6 +43,7 @@ from simple_ta import SimpleTa  # noqa: E402  (also puts the checkout's mimo_ta 
 from mimo_ta.binary import find_mimo_bin  # noqa: E402
 from mimo_ta.geo import Ship, ecef_to_geodetic  # noqa: E402
 from mimo_ta.messages import PROTOCOL_VERSION  # noqa: E402
+from mimo_ta.tracks_table import write_tracks_table  # noqa: E402
 
 TRACK_COLUMNS = ["run", "t_s", "track_id", "status", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps", "cov",
                  "n_updates", "last_meas_id"]
@@ -120,11 +121,24 @@ def looked_at(ta: SimpleTa, event: dict) -> list:
     return out
 
 
-def track_run(run_dir: Path, manifest: dict, run: int) -> list:
+def make_ta(tracker: str):
+    """The test article run offline: ``simple_ta.py``'s, or Stone Soup's EKF + GNN of
+    ``stonesoup_ta.py`` (``stonesoup``: Joseph form; ``stonesoup-plain``: Stone Soup's default
+    covariance update)."""
+    if tracker.startswith("stonesoup"):
+        from stonesoup_ta import DEFAULTS, ekf_gnn
+
+        from mimo_ta.stonesoup import StoneSoupArticle
+        joseph = tracker == "stonesoup"
+        return StoneSoupArticle(factory=lambda s: ekf_gnn(s, joseph), defaults=DEFAULTS, name=f"{tracker}-ekf-gnn")
+    return SimpleTa()
+
+
+def track_run(run_dir: Path, manifest: dict, run: int, tracker: str = "simple") -> list:
     dwells = pl.read_parquet(run_dir / "dwells" / f"run-{run:04d}.parquet")
     meas = pl.read_parquet(run_dir / "measurements" / f"run-{run:04d}.parquet")
     start = start_event(manifest, run)
-    ta = SimpleTa()
+    ta = make_ta(tracker)
     rows = []
 
     def send(t_s, event):
@@ -134,29 +148,24 @@ def track_run(run_dir: Path, manifest: dict, run: int) -> list:
     send(0.0, start)
     ships = {s["radar"]: Ship.from_info(ta.start.ships[i], manifest["duration_s"]) for i, s in enumerate(start["ships"])}
     for end_s, _, ev in dwell_events(dwells, meas, ships, run):
-        ev["tag"] = looked_at(ta, ev)
+        # Looks at a track are found from simple_ta's predictions; Stone Soup's article keeps its
+        # own books (a dwell without a tag is a detection it associates).
+        ev["tag"] = looked_at(ta, ev) if isinstance(ta, SimpleTa) else []
         send(end_s, ev)
     send(manifest["duration_s"], {"event": "finish", "t_s": manifest["duration_s"]})
     for r in rows:
         r["run"] = run
-    return rows
+    # Covariances the article repaired before it sent them (mimo_ta.covariance).
+    return rows, ta.repaired_covariances
 
 
-def write_tracks(path: Path, rows: list) -> int:
-    cols = {c: [r[c] for r in rows] for c in TRACK_COLUMNS}
-    df = pl.DataFrame({
-        "run": pl.Series(cols["run"], dtype=pl.UInt32),
-        "t_s": pl.Series(cols["t_s"], dtype=pl.Float64),
-        "track_id": pl.Series(cols["track_id"], dtype=pl.UInt64),
-        "status": pl.Series(cols["status"], dtype=pl.Utf8),
-        **{c: pl.Series(cols[c], dtype=pl.Float64) for c in ("x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps")},
-        "cov": pl.Series(cols["cov"], dtype=pl.Array(pl.Float64, 21)),
-        "n_updates": pl.Series(cols["n_updates"], dtype=pl.UInt32),
-        "last_meas_id": pl.Series(cols["last_meas_id"], dtype=pl.UInt64),
-    })
+def write_tracks(path: Path, rows: list, run: int) -> tuple:
+    """Write the rows with mimo_ta's tracks-table writer (mimo's column types and metadata, every
+    covariance symmetrised and, where rounding left it slightly indefinite, repaired:
+    docs/design.md §7). Returns (rows, covariances repaired)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    df.write_parquet(path)
-    return df.height
+    repaired = write_tracks_table(path, rows, run)
+    return len(rows), repaired
 
 
 def find_mimo(given: str | None) -> str:
@@ -181,6 +190,9 @@ def main() -> int:
     ap.add_argument("--mimo", help="the mimo binary for scoring")
     ap.add_argument("--no-score", action="store_true", help="write the tracks only")
     ap.add_argument("--force", action="store_true", help="replace OUT")
+    ap.add_argument("--tracker", choices=("simple", "stonesoup", "stonesoup-plain"), default="simple",
+                    help="simple_ta.py's tracker, or Stone Soup's EKF + GNN of stonesoup_ta.py (needs stonesoup; "
+                         "-plain: Stone Soup's default covariance update instead of the Joseph form)")
     a = ap.parse_args()
     manifest = json.loads((a.run / "manifest.json").read_text())
     if a.out.exists():
@@ -189,21 +201,24 @@ def main() -> int:
         shutil.rmtree(a.out)
     t0 = time.time()
     tables = []
+    repaired = 0
     for run in range(manifest["runs"]):
-        rows = track_run(a.run, manifest, run)
+        rows, fixed_by_ta = track_run(a.run, manifest, run, a.tracker)
         f = f"tracks/run-{run:04d}.parquet"
-        tables.append({"file": f, "rows": write_tracks(a.out / f, rows)})
+        n, fixed = write_tracks(a.out / f, rows, run)
+        repaired += fixed + fixed_by_ta
+        tables.append({"file": f, "rows": n})
     out_manifest = dict(manifest)
     out_manifest.update({
-        "tracker": {"name": "simple-ta (python, offline)", "config": SimpleTa().config()},
+        "tracker": {"name": f"{a.tracker} (python, offline)", "config": make_ta(a.tracker).config()},
         "schedule": "open loop: the dwells of the parent run, tracked by python/examples/offline_tracks.py",
-        "parent": os.path.relpath(a.run.resolve(), a.out.resolve().parent),
+        "parent": os.path.relpath(a.run.resolve(), a.out.resolve()),  # from OUT itself (docs/design.md §2)
         "tables": {"tracks": tables},
         "timing_s": {"track": time.time() - t0},
     })
     (a.out / "manifest.json").write_text(json.dumps(out_manifest, indent=2) + "\n")
     print(f"wrote {sum(t['rows'] for t in tables)} track rows of {manifest['runs']} run(s) to {a.out} "
-          f"in {time.time() - t0:.1f} s")
+          f"in {time.time() - t0:.1f} s; {repaired} covariance(s) slightly not positive semi-definite repaired")
     if a.no_score:
         return 0
     return subprocess.call([find_mimo(a.mimo), "score", str(a.out)])

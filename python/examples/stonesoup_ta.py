@@ -64,14 +64,16 @@ DEFAULTS = {
 }
 
 
-def ekf_gnn(s: dict) -> Components:
-    """Stone Soup's EKF + GNN with a multi-measurement initiator, from the settings ``s``."""
+def ekf_gnn(s: dict, joseph: bool = True) -> Components:
+    """Stone Soup's EKF + GNN with a multi-measurement initiator, from the settings ``s``
+    (``joseph=False``: Stone Soup's default covariance update, P - K S K^T, as a user's tracker
+    would run it; its covariances then need mimo's repair now and then, docs/design.md §7)."""
     cv = ConstantVelocity(s["q_m2ps3"])
     predictor = ExtendedKalmanPredictor(CombinedLinearGaussianTransitionModel([cv, cv, cv]))
     # Each detection carries its own model. Joseph form, symmetrized (docs/model.md §6.2): with
     # range sums known to metres and cross-range to hundreds of metres, the plain P - K S K^T
     # loses positive definiteness within a few hundred updates.
-    updater = ExtendedKalmanUpdater(measurement_model=None, use_joseph_cov=True, force_symmetric_covariance=True)
+    updater = ExtendedKalmanUpdater(measurement_model=None, use_joseph_cov=joseph, force_symmetric_covariance=joseph)
 
     def gnn() -> GNNWith2DAssignment:
         return GNNWith2DAssignment(DistanceHypothesiser(predictor, updater, measure=Mahalanobis(),

@@ -2,7 +2,8 @@
 
 Subclass :class:`TestArticle`, fill in ``on_start`` / ``on_dwell`` / ``on_wake`` / ``on_finish``,
 and call ``MyTa().run()``. Inside a handler, :meth:`TestArticle.request_dwell`,
-:meth:`TestArticle.wake_at`, :meth:`TestArticle.stop_local_tracking` and
+:meth:`TestArticle.wake_at`, :meth:`TestArticle.stop_local_tracking`, :meth:`TestArticle.order_search`,
+:meth:`TestArticle.request_search_dwell` and
 :meth:`TestArticle.emit_track` collect what goes into the reply to the current message; ``run``
 sends it, one line per message, flushed. Log with :meth:`TestArticle.log` (stderr): stdout
 belongs to the protocol.
@@ -14,8 +15,9 @@ import json
 import sys
 from typing import IO, Optional
 
-from .messages import (DwellReport, DwellRequest, Finish, ProtocolError, StartInfo, StopLocalTracking,
-                       Subscription, TrackRow, TxOrder, Wake, WakeAt, parse_event)
+from .covariance import CovarianceError, checked_covariance
+from .messages import (DwellReport, DwellRequest, Finish, ProtocolError, SearchOrder, SearchPlan, StartInfo,
+                       StopLocalTracking, Subscription, TrackRow, TxOrder, Wake, WakeAt, parse_event)
 
 
 class TestArticle:
@@ -38,6 +40,9 @@ class TestArticle:
         self.now_s: float = 0.0
         self._requests: list = []
         self._tracks: list = []
+        #: Track rows whose covariance was slightly indefinite and was repaired before sending
+        #: (:mod:`mimo_ta.covariance`); said in one line on stderr at the end of the run.
+        self.repaired_covariances = 0
 
     # -- to override ----------------------------------------------------------------------------
 
@@ -74,6 +79,23 @@ class TestArticle:
 
     def stop_local_tracking(self, radar: str) -> None:
         self._requests.append(StopLocalTracking(radar))
+
+    def order_search(self, plan: SearchPlan, radar: Optional[str] = None) -> None:
+        """Set the background search of ``radar`` (every radar when ``None``) from now on
+        (docs/model.md §7.4). The plan is checked here (:class:`ProtocolError` naming the field)."""
+        plan.check()
+        self._requests.append(SearchOrder(plan, radar))
+
+    def request_search_dwell(self, aim_ecef, transmitters, receivers=None, earliest_s: Optional[float] = None,
+                             window_half_m: float = 225e3, tag=()) -> None:
+        """Ask for a search beam of your own (kind ``search``, recorded with ``requested_by =
+        ta``): aimed at ``aim_ecef``, ``transmitters`` as ``[(radar, n_pulses), ...]``,
+        ``receivers`` the transmitters by default (monostatic) or any radars (multistatic
+        search); the range window is ``±window_half_m`` about the aim point's range."""
+        tx = [t if isinstance(t, TxOrder) else TxOrder(*t) for t in transmitters]
+        rx = list(receivers) if receivers is not None else [t.radar for t in tx]
+        t0 = self.now_s if earliest_s is None else earliest_s
+        self._requests.append(DwellRequest("search", t0, aim_ecef, tx, rx, window_half_m, None, list(tag)))
 
     def emit_track(self, row: Optional[TrackRow] = None, **kwargs) -> None:
         """Write a row to the run's tracks table: a :class:`TrackRow` or its fields as keywords."""
@@ -112,7 +134,16 @@ class TestArticle:
         if self._requests:
             reply["requests"] = [r.to_json() for r in self._requests]
         if self._tracks:
+            for t in self._tracks:
+                try:
+                    self.repaired_covariances += int(checked_covariance(t.cov)[1])
+                except CovarianceError:
+                    pass  # refused by to_json, naming the track
             reply["tracks"] = [t.to_json() for t in self._tracks]
+        if any(isinstance(raw, dict) and raw.get("event") == "finish" for raw in message["events"]) \
+                and self.repaired_covariances:
+            self.log(f"{self.name}: warning: {self.repaired_covariances} track covariance(s) slightly not positive "
+                     "semi-definite were repaired before sending (mimo_ta.covariance)")
         return reply
 
     def run(self, stdin: IO[str] = None, stdout: IO[str] = None) -> int:

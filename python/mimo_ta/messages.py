@@ -14,6 +14,8 @@ from typing import Optional, Union
 
 import numpy as np
 
+from .covariance import CovarianceError, track_cov21, track_cov21_unchecked
+
 from .geo import FaceFrame
 from .radar import RadarParams
 
@@ -300,9 +302,118 @@ class StopLocalTracking:
 
 
 @dataclass
+class SearchBand:
+    """One elevation band of a search plan: beams whose elevation (local, at the ship) lies in
+    [el_min_deg, el_max_deg), ``n_pulses`` per dwell, swept once every ``every_frames`` frames."""
+
+    el_min_deg: float
+    el_max_deg: float
+    n_pulses: int
+    every_frames: int = 1
+
+    def check(self, where: str) -> None:
+        for name in ("el_min_deg", "el_max_deg"):
+            x = float(getattr(self, name))
+            if not (math.isfinite(x) and -90.0 <= x <= 90.0):
+                raise ProtocolError(f"{where}.{name} = {x} is outside -90…90 deg")
+        if not self.el_min_deg < self.el_max_deg:
+            raise ProtocolError(f"{where}.el_min_deg = {self.el_min_deg} is not below el_max_deg = {self.el_max_deg}")
+        for name in ("n_pulses", "every_frames"):
+            n = getattr(self, name)
+            if isinstance(n, bool) or int(n) != n or n < 1:
+                raise ProtocolError(f"{where}.{name} = {n}: a whole number >= 1")
+
+    def to_json(self) -> dict:
+        return {"el_min_deg": float(self.el_min_deg), "el_max_deg": float(self.el_max_deg),
+                "n_pulses": int(self.n_pulses), "every_frames": int(self.every_frames)}
+
+
+DEFAULT_SEARCH_BANDS = (SearchBand(0.0, 2.5, 2, 1), SearchBand(2.5, 12.0, 1, 3))
+"""The radars' own raster (docs/model.md §7.4): the low band every frame with 2 pulses, the
+upper band a third per frame with 1 pulse."""
+
+
+@dataclass
+class AzSector:
+    """A true-north azimuth sector, clockwise from ``from_deg`` to ``to_deg`` (degrees in
+    [0, 360]; ``from_deg > to_deg`` runs through north)."""
+
+    from_deg: float
+    to_deg: float
+
+    def check(self, where: str) -> None:
+        for name in ("from_deg", "to_deg"):
+            x = float(getattr(self, name))
+            if not (math.isfinite(x) and 0.0 <= x <= 360.0):
+                raise ProtocolError(f"{where}.{name} = {x} is outside 0…360 deg")
+        if self.from_deg == self.to_deg:
+            raise ProtocolError(f"{where} is empty: from_deg = to_deg = {self.from_deg}")
+
+    def to_json(self) -> dict:
+        return {"from_deg": float(self.from_deg), "to_deg": float(self.to_deg)}
+
+
+@dataclass
+class SearchPlan:
+    """A radar's background search (docs/model.md §7.4, docs/ta-protocol.md §3): elevation
+    ``bands`` (empty: no search), azimuth ``sectors`` (empty: the whole horizon), the shortest
+    ``frame_period_s`` between two frame starts (``None``: no limit) and the ``share`` of idle
+    time given to search in [0, 1] (after a search dwell of length d the radar waits
+    d·(1 − share)/share; 1: every idle moment, 0: none)."""
+
+    bands: list = field(default_factory=lambda: list(DEFAULT_SEARCH_BANDS))
+    sectors: list = field(default_factory=list)
+    frame_period_s: Optional[float] = None
+    share: float = 1.0
+
+    @staticmethod
+    def none() -> "SearchPlan":
+        """No background search: a radar with nothing else to do idles."""
+        return SearchPlan(bands=[])
+
+    def check(self) -> None:
+        """Raise :class:`ProtocolError` naming the field, as ``mimo`` would (it also checks that
+        every sector lies inside the radar's faces)."""
+        for i, b in enumerate(self.bands):
+            b.check(f"plan.bands[{i}]")
+        for i, s in enumerate(self.sectors):
+            s.check(f"plan.sectors[{i}]")
+        if self.frame_period_s is not None:
+            p = float(self.frame_period_s)
+            if not (math.isfinite(p) and p > 0.0):
+                raise ProtocolError(f"plan.frame_period_s = {p} is not a positive finite time (s)")
+        share = float(self.share)
+        if not (math.isfinite(share) and 0.0 <= share <= 1.0):
+            raise ProtocolError(f"plan.share = {share} is outside [0, 1]")
+
+    def to_json(self) -> dict:
+        self.check()
+        out = {"bands": [b.to_json() for b in self.bands], "sectors": [s.to_json() for s in self.sectors],
+               "share": float(self.share)}
+        if self.frame_period_s is not None:
+            out["frame_period_s"] = float(self.frame_period_s)
+        return out
+
+
+@dataclass
+class SearchOrder:
+    """Make ``plan`` the background search of ``radar`` (of every radar when ``None``) from now
+    on, starting at the first beam of its raster."""
+
+    plan: SearchPlan
+    radar: Optional[str] = None
+
+    def to_json(self) -> dict:
+        return {"search": {"radar": self.radar, "plan": self.plan.to_json()}}
+
+
+@dataclass
 class TrackRow:
     """One row of the tracks table (docs/design.md §3): ECEF state, ``cov`` the upper triangle
-    of the 6x6 position-velocity covariance, row-major (21 numbers; see :func:`upper_triangle`)."""
+    of the 6x6 position-velocity covariance, row-major (21 numbers; see :func:`upper_triangle`),
+    or the 6x6 matrix itself. It is sent as :func:`mimo_ta.covariance.track_cov21` makes it:
+    symmetrised, and repaired when rounding left it slightly indefinite (one beyond repair is
+    sent as it is, for mimo to refuse)."""
 
     t_s: float
     track_id: int
@@ -320,9 +431,17 @@ class TrackRow:
     def to_json(self) -> dict:
         if self.status not in TRACK_STATUSES:
             raise ProtocolError(f"track status {self.status!r}, expected one of {TRACK_STATUSES}")
-        cov = [_finite(c, "cov") for c in np.asarray(self.cov, dtype=float).reshape(-1)]
-        if len(cov) != 21:
-            raise ProtocolError(f"cov needs 21 numbers, got {len(cov)}")
+        flat = [_finite(c, "cov") for c in np.asarray(self.cov, dtype=float).reshape(-1)]
+        if len(flat) not in (21, 36):
+            raise ProtocolError(f"cov needs 21 numbers (or a 6x6 matrix), got {len(flat)}")
+        # Symmetrised and, if rounding left it slightly indefinite, repaired as mimo would
+        # (mimo_ta.covariance, docs/design.md §7). One mimo refuses whatever is done (a negative
+        # variance, beyond the bound) is sent as it is: mimo's error names the track and the
+        # smallest eigenvalue.
+        try:
+            cov = track_cov21(self.cov)
+        except CovarianceError:
+            cov = track_cov21_unchecked(self.cov)
         return {
             "t_s": _finite(self.t_s, "t_s"),
             "track_id": int(self.track_id),

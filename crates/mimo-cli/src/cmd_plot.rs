@@ -38,6 +38,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let opts = ViewOptions { run: a.run_id, from_s: a.from, to_s: a.to, ..ViewOptions::default() };
     let page = mimo_plot::plot_run(&a.run, &opts).map_err(plot_err)?;
     mimo_plot::write_page(&a.out, &page, a.force).map_err(plot_err)?;
+    // The page drew repaired covariances where the tracks held slightly indefinite ones
+    // (docs/design.md §7): said in one warning line.
+    let tracks = mimo_store::layout::RunDir::new(&a.run).table_file("tracks", a.run_id);
+    if !a.quiet && tracks.is_file() {
+        let repairs = mimo_store::checked::repaired_covariances(&tracks, &mimo_store::schema::TRACKS)?;
+        if let Some(w) = repairs.warning(&tracks.display().to_string()) {
+            eprintln!("{w}");
+        }
+    }
     if !a.quiet {
         crate::outln!("wrote {} ({:.1} MB)", a.out.display(), page.len() as f64 / 1e6);
     }

@@ -111,6 +111,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let score_dir = RunDir::new(&a.run).score();
     let lock = OutputLock::acquire(score_dir.root())?;
     mimo_store::output::check_score_dir(&score_dir)?;
+    // Files of an earlier score that were damaged are replaced with the rest of it.
+    let damaged = mimo_store::recognise::damaged_in_score_dir(&score_dir)?;
     let src = mimo_store::lineage::source_dir(&a.run, &manifest)?;
     let scenario = scenario_of(&a.run, &manifest)?;
     check_memory(&a, manifest.runs, manifest.duration_s, &scenario)?;
@@ -133,7 +135,16 @@ pub fn run(a: Args) -> Result<(), CliError> {
         threads: a.threads.unwrap_or(0),
         ..ScoreOptions::default()
     };
-    let score = mimo_metrics::score(&input, &opts).map_err(metrics_err)?;
+    let mut score = mimo_metrics::score(&input, &opts).map_err(metrics_err)?;
+    // Covariances accepted only after their repair (docs/design.md §7): counted in the summary
+    // and said in one warning line.
+    let mut repairs = mimo_store::checked::Repairs::default();
+    for f in &input.tracks {
+        repairs.add(mimo_store::checked::repaired_covariances(f, &mimo_store::schema::TRACKS)?);
+    }
+    if repairs.rows > 0 {
+        score.summary.repaired_covariances.insert("tracks".to_string(), repairs.rows);
+    }
     let t_score = t0.elapsed().as_secs_f64();
     let replaced = replace_dir_locked(score_dir.root(), &lock, |dir: &Path| -> Result<(), CliError> {
         mimo_metrics::write_outputs(&score, dir).map_err(metrics_err)?;
@@ -143,12 +154,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
         Ok(())
     })?;
+    if let Some(w) = repairs.warning(&format!("{} tracks", a.run.display())).filter(|_| !a.quiet) {
+        eprintln!("{w}");
+    }
     if !a.quiet {
         let s = &score.summary;
         let pct = |x: Option<f64>| x.map(|v| format!("{:.2} %", 100.0 * v)).unwrap_or_else(|| "n/a".into());
         let num = |x: Option<f64>| x.map(|v| format!("{v:.1}")).unwrap_or_else(|| "n/a".into());
         if replaced {
             crate::outln!("replaced {}", score_dir.root().display());
+        }
+        for d in &damaged {
+            crate::outln!("replaced the damaged {} of an earlier score", d.display());
         }
         crate::outln!(
             "{}: {} run(s), completeness {} (challenge {} %: {}), redundant {}, spurious {}, breaks {:.1}, switches {:.1}, RMSE {} m / {} m/s",

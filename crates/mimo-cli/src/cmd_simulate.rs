@@ -311,6 +311,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
     timing.insert("total".to_string(), t_start.elapsed().as_secs_f64());
     let manifest = manifest_of(&a, &world, &cfg, ta.schedule(), (tables, info), timing)?;
     let out = writer.finish(&manifest)?;
+    let repairs =
+        mimo_store::checked::Repairs { rows: stats.repaired_covariances, worst_ratio: stats.worst_covariance_ratio };
+    if let Some(w) = repairs.warning(&format!("{}: the test article's track rows", out.display())).filter(|_| !a.quiet)
+    {
+        eprintln!("{w}");
+    }
     if !a.quiet {
         crate::outln!(
             "simulated {} × {} s of {} in {:.1} s: {} dwells ({} search, {} TA), {} measurements -> {}",

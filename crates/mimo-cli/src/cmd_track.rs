@@ -77,8 +77,33 @@ fn parse_from(from: &str) -> Result<(ReplayFrom, &'static str), CliError> {
     }
 }
 
-/// Every input file of every run is there (checked before anything is written).
-fn check_inputs(run: &RunDir, runs: u32, source: &str) -> Result<(), CliError> {
+/// Every input file of every run is there (checked before anything is written). A run that
+/// never recorded the table `--from` names (a study cell records its plan's `tables`, without
+/// primitives by default: docs/studies.md) is told which tables it holds and what to run.
+fn check_inputs(run: &RunDir, m: &Manifest, source: &str) -> Result<(), CliError> {
+    for t in ["dwells", source] {
+        if !m.tables.contains_key(t) {
+            let held: Vec<&str> = m.tables.keys().map(String::as_str).collect();
+            let other = if source == "primitives" { "measurements" } else { "primitives" };
+            let hint = if t == source && m.tables.contains_key(other) {
+                format!(
+                    "; re-run it from its {other} instead: mimo track {} --from {other} --out OUT",
+                    run.root().display()
+                )
+            } else {
+                "; a run to re-track needs dwells and primitives or measurements (a study records them with \
+                 its plan's `tables`, e.g. tables = [\"truth\", \"dwells\", \"primitives\", \"measurements\", \
+                 \"tracks\"], and keeps them with keep_runs = true)"
+                    .to_string()
+            };
+            return Err(CliError::input(format!(
+                "{}: holds no '{t}' table (its manifest lists {}){hint}",
+                run.root().display(),
+                if held.is_empty() { "none".to_string() } else { held.join(", ") }
+            )));
+        }
+    }
+    let runs = m.runs;
     for k in 0..runs {
         for t in ["dwells", source] {
             let f = run.table_file(t, k);
@@ -100,8 +125,8 @@ struct Rerun<'a> {
     writer: &'a RunDirWriter,
 }
 
-/// What a re-run of one Monte Carlo run gave: its files, measurements delivered, the tracker.
-type Reran = (Vec<(&'static str, TableFile)>, u64, mimo_sim::TaInfo);
+/// What a re-run of one Monte Carlo run gave: its files, its counters, the tracker.
+type Reran = (Vec<(&'static str, TableFile)>, mimo_ta::replay::ReplayStats, mimo_sim::TaInfo);
 
 impl Rerun<'_> {
     /// Re-run run `k`, its tables streamed into the output's staging directory as they come.
@@ -137,21 +162,29 @@ impl Rerun<'_> {
             })?;
         let files = sink.finish()?;
         let info = mimo_sim::TaInfo { name: tester.name().to_string(), config: tester.config() };
-        Ok((files, stats.measurements, info))
+        Ok((files, stats, info))
     }
 }
 
 /// Files by table, in run order.
 type Tables = BTreeMap<String, Vec<TableFile>>;
 
-/// The re-runs' files by table (in run order), measurements delivered, and the tracker.
-fn gather(results: Vec<Result<Reran, CliError>>) -> Result<(Tables, u64, mimo_sim::TaInfo), CliError> {
+/// The re-runs' files by table (in run order), measurements delivered, the covariances repaired,
+/// and the tracker.
+fn gather(
+    results: Vec<Result<Reran, CliError>>,
+) -> Result<(Tables, u64, mimo_store::checked::Repairs, mimo_sim::TaInfo), CliError> {
     let mut tables = Tables::new();
     let mut n_meas = 0u64;
+    let mut repairs = mimo_store::checked::Repairs::default();
     let mut info = None;
     for r in results {
-        let (files, n, i) = r?;
-        n_meas += n;
+        let (files, st, i) = r?;
+        n_meas += st.measurements;
+        repairs.add(mimo_store::checked::Repairs {
+            rows: st.repaired_covariances,
+            worst_ratio: st.worst_covariance_ratio,
+        });
         info.get_or_insert(i);
         for (t, f) in files {
             tables.entry(t.to_string()).or_default().push(f);
@@ -161,7 +194,7 @@ fn gather(results: Vec<Result<Reran, CliError>>) -> Result<(Tables, u64, mimo_si
         v.sort_by(|x, y| x.file.cmp(&y.file));
     }
     let info = info.ok_or_else(|| CliError::Other("no run was re-run".into()))?;
-    Ok((tables, n_meas, info))
+    Ok((tables, n_meas, repairs, info))
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
@@ -182,7 +215,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // The replay needs the ships' faces, never the targets: their trajectories are not built.
     let world = World::ships_only(scenario_of(&a.run, &manifest)?);
     let input = RunDir::new(&a.run);
-    check_inputs(&input, manifest.runs, source)?;
+    check_inputs(&input, &manifest, source)?;
     let writer = RunDirWriter::create(&a.out, a.force)?;
     let (parent, parent_check) = mimo_store::lineage::link(&a.out, &a.run, &manifest)?;
     let cfg = EngineConfig {
@@ -203,7 +236,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         pool.install(|| (0..manifest.runs).into_par_iter().map(|k| rerun.one(k).inspect(|_| pb.inc(1))).collect());
     pb.finish_and_clear();
     let track_s = t_track.elapsed().as_secs_f64();
-    let (tables, n_meas, info) = gather(results)?;
+    let (tables, n_meas, repairs, info) = gather(results)?;
     let mut timing = BTreeMap::new();
     timing.insert("track".to_string(), track_s);
     timing.insert("total".to_string(), t_start.elapsed().as_secs_f64());
@@ -226,6 +259,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         timing_s: timing,
     };
     let out = writer.finish(&m)?;
+    if let Some(w) = repairs.warning(&format!("{}: the test article's track rows", out.display())).filter(|_| !a.quiet)
+    {
+        eprintln!("{w}");
+    }
     if !a.quiet {
         crate::outln!(
             "tracked {} run(s) of {} with '{}' from {} in {:.2} s ({:.0} measurements/s) -> {}",

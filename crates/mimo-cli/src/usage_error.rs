@@ -42,7 +42,7 @@ pub fn one_line(e: &clap::Error) -> String {
         // `--runs <N>` → `--runs`
         let flag = arg.split_whitespace().next().unwrap_or(&arg).to_string();
         if let Some(what) = expected(&flag) {
-            return format!("{flag}: expected {what}, got '{value}'");
+            return format!("{flag}: expected {what}, got {}", mimo_core::quote::quoted(&value));
         }
     }
     let text = e.render().to_string();

@@ -148,3 +148,34 @@ fn staging_an_interrupt_handler_could_not_finish_removing_is_removed_by_the_next
         std::fs::read_dir(d).expect("ls").flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect();
     assert_eq!(names, ["o"], "only the run is left");
 }
+
+/// Every `.NAME.tmp` file below `dir` (a table being written).
+fn temporaries(dir: &Path) -> Vec<PathBuf> {
+    hidden(dir).into_iter().filter(|p| p.file_name().is_some_and(|n| n.to_string_lossy().ends_with(".tmp"))).collect()
+}
+
+/// docs/decisions/0303: a study writes its cells in place; interrupted while its items' tables
+/// are being written (on one thread and on two), it removes every temporary file of the cells in
+/// flight before it exits 130 — with no `--resume` to clean up after it.
+#[test]
+fn an_interrupted_study_leaves_no_temporary_file_of_its_cells() {
+    for (sig, threads) in [("-INT", "1"), ("-TERM", "2")] {
+        let tmp = tempfile::tempdir().expect("tmp");
+        let d = tmp.path();
+        std::fs::write(d.join("plan.toml"), PLAN).expect("write");
+        let mut child = spawn(d, &["study", "plan.toml", "--out", "st", "--quiet", "--threads", threads]);
+        let st = d.join("st");
+        assert!(
+            wait_for(&mut child, || st.is_dir() && !temporaries(&st).is_empty()),
+            "{sig}: the study started writing a table"
+        );
+        // Well into the writing of the tables, not at their first bytes.
+        std::thread::sleep(Duration::from_millis(300));
+        let (code, err) = signal(child, sig);
+        assert_eq!(code, Some(130), "{sig}: {err}");
+        assert!(err.contains("interrupted"), "{sig}: {err}");
+        assert!(temporaries(&st).is_empty(), "{sig}: left behind: {:?}", temporaries(&st));
+        let locks: Vec<_> = hidden(d).into_iter().filter(|p| p.to_string_lossy().ends_with(".lock")).collect();
+        assert!(locks.is_empty(), "{sig}: locks left: {locks:?}");
+    }
+}

@@ -149,6 +149,33 @@ fn a_covariance_the_tracks_table_refuses_stops_the_run_at_once() {
     assert!(e.contains("invalid request: track 7 at t = 2 s: covariance variance 0 (diagonal) is -1"), "{e}");
     let e = fault("track_not_psd", &[]);
     assert!(e.contains("invalid request: track 7 at t = 2 s: covariance is not positive semi-definite"), "{e}");
+    // Beyond the bound of a repair: refused, the eigenvalues named (docs/design.md §7).
+    let e = fault("track_far_psd", &[]);
+    assert!(e.contains("smallest eigenvalue is -2.000000e-2 against a largest of 2.020000e0"), "{e}");
+}
+
+/// A reply whose covariance rounding left slightly indefinite (smallest eigenvalue -1e-6 of the
+/// largest) is repaired before its row is written, counted in one warning line, and the table
+/// written is valid: its score counts no repair.
+#[test]
+fn a_slightly_indefinite_covariance_is_repaired_and_counted_not_a_fault() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let out = tmp.path().join("out");
+    let cmd = "python3 crates/mimo-cli/tests/fixtures/fault_ta.py track_near_psd";
+    let o = mimo(&["simulate", "--scenario", "1", "--duration", "5", "--ta-cmd", cmd, "--out", p(&out)]);
+    let err = stderr_of(&o);
+    assert!(o.status.success(), "{err}");
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(warnings[0].contains("1 covariance(s)") && warnings[0].contains("-1.00e-6 of the largest"), "{err}");
+    let raw =
+        mimo_store::checked::repaired_covariances(&out.join("tracks/run-0000.parquet"), &mimo_store::schema::TRACKS)
+            .expect("tracks");
+    assert_eq!(raw.rows, 0, "the row written is the repaired one");
+    let rows: Vec<mimo_core::records::TrackRow> =
+        mimo_store::read_table(&out.join("tracks/run-0000.parquet")).expect("tracks");
+    let m = mimo_core::records::unpack_cov(&rows[0].cov);
+    assert!((m[0][1] - (1.0 + 2e-6)).abs() < 2e-6, "repaired close to what was sent: {}", m[0][1]);
 }
 
 #[test]

@@ -24,12 +24,14 @@
 #![warn(missing_docs)]
 
 pub mod assign;
+pub mod covariance;
 pub mod face;
 pub mod geo;
 pub mod ids;
 pub mod nearly_sorted;
 pub mod params;
 pub mod polarimetry;
+pub mod quote;
 pub mod records;
 pub mod registration;
 pub mod rng;

@@ -17,7 +17,8 @@
 //!   cannot order that way are refused ([`track_rows_orderable`]), so that no result depends on
 //!   the order rows are stored in;
 //! * covariances: symmetric 6×6 upper triangles with positive variances that are positive
-//!   semi-definite to rounding ([`covariance_ok`]).
+//!   semi-definite to rounding, or slightly indefinite within the bound of a repair
+//!   ([`covariance_ok`], [`crate::covariance`]).
 //!
 //! Each check returns the first offending row (0-based, within the file checked) and a reason.
 
@@ -229,36 +230,10 @@ pub fn track_rows_orderable<K: Hash + Eq + std::fmt::Display>(
     Ok(())
 }
 
-/// Whether a packed covariance (upper triangle of a symmetric 6×6, row-major, 21 values) can be
-/// one: every value finite, every variance positive, and the matrix positive semi-definite to
-/// rounding (a Cholesky factorisation of its correlation matrix, with 1e-9 added to the diagonal,
-/// succeeds). `Err` says what is wrong.
-pub fn covariance_ok(c: &[f64; 21]) -> Result<(), String> {
-    if let Some(k) = c.iter().position(|x| !x.is_finite()) {
-        return Err(format!("value {k} is {} (expected a finite number)", c[k]));
-    }
-    let m = crate::records::unpack_cov(c);
-    if let Some(i) = (0..6).find(|&i| m[i][i] <= 0.0) {
-        return Err(format!("variance {i} (diagonal) is {} (expected a positive number)", m[i][i]));
-    }
-    let sd: Vec<f64> = (0..6).map(|i| m[i][i].sqrt()).collect();
-    let mut l = [[0.0f64; 6]; 6];
-    for i in 0..6 {
-        for j in 0..=i {
-            let r = m[i][j] / (sd[i] * sd[j]) + if i == j { 1e-9 } else { 0.0 };
-            let s = r - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
-            if i == j {
-                if s <= 0.0 {
-                    return Err("is not positive semi-definite".to_string());
-                }
-                l[i][i] = s.sqrt();
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    Ok(())
-}
+/// Whether a packed covariance can be one: finite values, positive variances, and positive
+/// semi-definite to rounding or within the bound of a repair (`crate::covariance`, whose rule
+/// this is). `Err` says what is wrong.
+pub use crate::covariance::covariance_ok;
 
 /// A key of two parts shown as `a/b` in messages (run and id).
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -323,7 +298,7 @@ mod tests {
         // A correlation above 1 is not a covariance.
         m[0][3] = 3.0;
         m[3][0] = 3.0;
-        assert!(covariance_ok(&crate::records::pack_cov(&m)).expect_err("not psd").contains("semi-definite"));
+        assert!(covariance_ok(&crate::records::pack_cov(&m)).expect_err("not psd").contains("smallest eigenvalue"));
         // A rank-deficient (perfectly correlated) pair is semi-definite and passes.
         m[0][3] = (1.0f64 * 4.0).sqrt();
         m[3][0] = m[0][3];

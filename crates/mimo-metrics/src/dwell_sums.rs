@@ -116,18 +116,9 @@ pub(crate) struct Labels {
     accept: fn(&str) -> bool,
 }
 
-/// The key of a string of at most 12 bytes: its length and bytes in one integer (the layout of an
-/// inline Arrow string view), compared in one instruction.
-#[inline]
-pub(crate) fn short_key(bytes: &[u8]) -> Option<u128> {
-    let len = u32::try_from(bytes.len()).ok().filter(|&l| l <= 12)?;
-    let mut b = [0u8; 16];
-    b[..4].copy_from_slice(&len.to_le_bytes());
-    for (d, s) in b[4..].iter_mut().zip(bytes) {
-        *d = *s;
-    }
-    Some(u128::from_le_bytes(b))
-}
+/// The key of a string of at most 12 bytes (the store's page decoder gives it from the stored
+/// bytes in one load).
+pub(crate) use mimo_store::page_columns::short_key;
 
 /// Inline views remembered per column (more distinct short strings are compared as strings).
 const MAX_VIEWS: usize = 64;

@@ -107,9 +107,11 @@
 #![warn(missing_docs)]
 
 mod dwell_pages;
+mod dwell_pass;
 mod dwell_read;
 mod dwell_sums;
 mod error;
+mod first_track;
 mod frame;
 mod load;
 mod mean;
@@ -136,7 +138,6 @@ pub use purpose_rule::{BeamGeometry, Purpose};
 pub use results::*;
 
 use glam::DVec3;
-use load::*;
 use mean::GroupMean;
 use mimo_store::layout::RunDir;
 use read::list_parquet;
@@ -307,7 +308,16 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         }
     };
     let run_set: BTreeSet<u32> = tr.runs.iter().copied().collect();
-    let (dwell_sums, dwell_radars) = load_dwell_sums(&input.dwells, &run_set, opts.interval_s, threads)?;
+    let purpose_input = purpose::PurposeInput {
+        dwells: &input.dwells,
+        truth: &input.truth,
+        geometry: &input.beams,
+        interval_s: opts.interval_s,
+        threads,
+    };
+    // The dwells read once for the usage sums and the usage by purpose.
+    let mut dwells = dwell_pass::DwellPass::run(&purpose_input, &run_set);
+    let (dwell_sums, dwell_radars) = dwells.usage_sums()?;
     let TrackResults { runs, target_names, track_metrics, assignments, tally, n_scorable } = tr;
     let track_metrics_mean = mean_over_runs(&track_metrics)?;
 
@@ -321,22 +331,31 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         &usage::UsageInput { interval_s: opts.interval_s, runs: &runs, radars: &radars, n_scorable: &n_scorable },
     )?;
 
-    let purpose_input = purpose::PurposeInput {
-        dwells: &input.dwells,
-        truth: &input.truth,
-        geometry: &input.beams,
-        interval_s: opts.interval_s,
-        threads,
-    };
     let n_times: BTreeMap<u32, usize> = n_scorable.iter().map(|(&run, n)| (run, n.len())).collect();
-    let by_purpose =
-        purpose::purpose_output(&purpose::purpose_sums(&purpose_input)?, &runs, &radars, &n_times, opts.interval_s);
+    let by_purpose = purpose::purpose_output(&dwells.purpose_sums()?, &runs, &radars, &n_times, opts.interval_s);
 
+    let first_track = first_track::first_track_rows(&assignments);
     let mut summary = summarize(opts, &runs, &target_names, &track_metrics, &tally, &u)?;
     summary.usage.totals.by_purpose = by_purpose.mean;
+    summary.first_track = first_track::first_track_summary(first_track.iter());
+    let mut per_object_means = [GroupMean::default(), GroupMean::default(), GroupMean::default(), GroupMean::default()];
     for r in &mut summary.per_run {
         r.usage.by_purpose = by_purpose.per_run.get(&r.run).copied().unwrap_or_default();
+        r.first_track = first_track::first_track_summary(first_track.iter().filter(|f| f.run == r.run));
+        let per_object = u.per_object.get(&r.run).copied().unwrap_or([None; 4]);
+        [
+            r.usage.dwell_time_per_object_s,
+            r.usage.energy_per_object_j,
+            r.usage.ta_dwell_time_per_object_s,
+            r.usage.ta_energy_per_object_j,
+        ] = per_object;
+        for (m, v) in per_object_means.iter_mut().zip(per_object) {
+            m.push(v);
+        }
     }
+    let t = &mut summary.usage.totals;
+    [t.dwell_time_per_object_s, t.energy_per_object_j, t.ta_dwell_time_per_object_s, t.ta_energy_per_object_j] =
+        per_object_means.map(|m| m.value());
     Ok(Score {
         options: opts.clone(),
         runs,
@@ -349,6 +368,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         usage_radar: u.per_radar,
         usage_run: u.per_run,
         usage_by_purpose: by_purpose.rows,
+        first_track,
         summary,
     })
 }
@@ -497,6 +517,7 @@ fn run_summaries(runs: &[u32], by_run: &RowsByRun<'_>, u: &usage::UsageOutput) -
                 usage: usage_by_run
                     .get(&run)
                     .map_or_else(UsageTotals::default, |v| UsageTotals::summed(v.iter().copied())),
+                first_track: FirstTrackSummary::default(),
             }
         })
         .collect()
@@ -554,6 +575,7 @@ fn summarize(
             completeness_required: opts.completeness_required,
             met: completeness.is_some_and(|c| c >= opts.completeness_required),
         },
+        first_track: FirstTrackSummary::default(),
         ospa: DistanceSummary {
             c_m: opts.ospa_c_m,
             p: opts.ospa_p,
@@ -574,5 +596,6 @@ fn summarize(
         },
         per_run,
         per_target,
+        repaired_covariances: Default::default(),
     })
 }

@@ -135,39 +135,13 @@ pub(crate) fn load_tracks(
     Ok(out)
 }
 
-/// The dwells table reduced to what the usage figures need: the transmit sums per run, radar and
-/// scoring interval ([`DwellSums`]), and every radar named in it (any role).
-///
-/// Files are read by `threads` workers, one file each at a time, only the columns of
-/// [`dwell_cols`], each checked and reduced to its sums in one pass ([`crate::dwell_sums`]), and
-/// a long file is read in slices of [`crate::dwell_sums::DWELL_SLICE_ROWS`] rows, so memory follows `threads`
-/// slices rather than a run's duration or the whole recording. The results are taken in file
-/// order, so the first bad file in that order is the one named. The per-file sums are summed
-/// again by key, so a run split over several files gives the same figures (to rounding). The
-/// groups come out in the order a single pass over all dwells would give (order of first
-/// appearance); a sum whose interval straddles two slices may differ from that pass's in the last
-/// bit (measured: 16 of 8 000 per-interval values of a 2000-s scenario-7 run, at most 2.2e-16
-/// relative).
-pub(crate) fn load_dwell_sums(
-    paths: &[PathBuf],
-    runs: &BTreeSet<u32>,
-    interval_s: f64,
-    threads: usize,
-) -> Result<(DwellSums, BTreeSet<String>), MetricsError> {
-    if paths.is_empty() {
-        return Err(MetricsError::MissingTable {
-            table: DwellRow::TABLE,
-            path: PathBuf::from(DwellRow::TABLE),
-            detail: "no Parquet files given".into(),
-        });
+/// The error of a score given no dwells file.
+pub(crate) fn no_dwells() -> MetricsError {
+    MetricsError::MissingTable {
+        table: DwellRow::TABLE,
+        path: PathBuf::from(DwellRow::TABLE),
+        detail: "no Parquet files given".into(),
     }
-    let mut sums = DwellSums::default();
-    let per_file = crate::parallel::parallel(paths, threads, &|path: &PathBuf| dwell_file_sums(path, runs, interval_s));
-    for file_sums in per_file {
-        sums.add(file_sums?);
-    }
-    let radars = sums.radars();
-    Ok((sums, radars))
 }
 
 /// The columns of the dwells table that the usage figures need (their checks from the table's
@@ -189,22 +163,26 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [Col<'_>; 8] {
 /// One dwells file read, checked and reduced to its usage sums and the radars it names, in one
 /// pass ([`crate::dwell_read::file_sums`]). When any check fails the whole file is read with
 /// every check, whose error names the row and rule.
-fn dwell_file_sums(path: &std::path::Path, runs: &BTreeSet<u32>, interval_s: f64) -> Result<DwellSums, MetricsError> {
+pub(crate) fn dwell_file_sums(
+    path: &std::path::Path,
+    runs: &BTreeSet<u32>,
+    interval_s: f64,
+) -> Result<DwellSums, MetricsError> {
     let n_rows = crate::read::file_rows(DwellRow::TABLE, path)?;
-    // A file of run K holds run K alone: the one-pass readers take that run only (any other
-    // leaves them to the checked read, which names the row).
-    let of_file: BTreeSet<u32>;
-    let runs_here = match mimo_store::invariants::file_run(path) {
-        Some(k) => {
-            of_file = runs.iter().copied().filter(|&r| r == k).collect();
-            &of_file
-        }
-        None => runs,
-    };
+    let of_file = runs_of_file(path, runs);
+    let runs_here = of_file.as_ref().unwrap_or(runs);
     if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs_here), runs_here, interval_s, n_rows) {
         return Ok(sums);
     }
     dwell_file_sums_whole(path, runs, interval_s)
+}
+
+/// The runs of `runs` a one-pass reader of `path` takes: a file of run K holds run K alone, so
+/// those readers take that run only (any other leaves them to the checked read, which names the
+/// row); `None` (all of `runs`) for a file not named by its run.
+pub(crate) fn runs_of_file(path: &std::path::Path, runs: &BTreeSet<u32>) -> Option<BTreeSet<u32>> {
+    let k = mimo_store::invariants::file_run(path)?;
+    Some(runs.iter().copied().filter(|&r| r == k).collect())
 }
 
 /// [`dwell_file_sums`] in one checked read of the whole file (its sums in one slice).

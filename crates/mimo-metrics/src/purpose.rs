@@ -2,8 +2,9 @@
 //! attributed to one [`Purpose`] by [`crate::purpose_rule`], its count, dwell time and energy
 //! summed per run, radar and scoring interval.
 //!
-//! Each dwells file is read once, batch by batch ([`crate::purpose_read`]): search rows are added
-//! as they come; the other rows (a few per cent) are kept, grouped into their looks by
+//! Each dwells file is read once, in the one pass over the dwells that also gives the usage sums
+//! ([`crate::dwell_pass`], from the file's pages), or batch by batch by the Arrow reader
+//! ([`crate::purpose_read`]) when that pass gives up: search rows are added as they come; the other rows (a few per cent) are kept, grouped into their looks by
 //! `(run, group_id)` and classified with the truth of their run at each look's mid-time (the
 //! truth samples interpolated as the track metrics interpolate them), then added in row order,
 //! so the sums never depend on the thread count. Files are summed again in file order.
@@ -41,7 +42,7 @@ impl PurposeSum {
 }
 
 /// One file's sums per (run, index of the radar among the file's radars, interval).
-type FileSums = HashMap<(u32, usize, i64), [PurposeSum; 5]>;
+type FileSums = Vec<((u32, usize, i64), [PurposeSum; 5])>;
 
 /// Sums per (run, radar, interval), one per purpose in [`Purpose::ALL`] order.
 pub(crate) type PurposeSums = BTreeMap<(u32, String, i64), [PurposeSum; 5]>;
@@ -74,10 +75,34 @@ struct Part {
 
 /// A file's rows as read: the search sums and the other parts.
 #[derive(Default)]
-struct FileRows {
+pub(crate) struct FileRows {
     radars: Vec<String>,
-    sums: HashMap<(u32, usize, i64), [PurposeSum; 5]>,
+    sums: FileSums,
+    /// Index in `sums` of each key.
+    index: HashMap<(u32, usize, i64), usize>,
+    /// The latest key of each (run, radar) and its index in `sums`, so that most rows find
+    /// their sums without hashing.
+    latest: Vec<((u32, usize, i64), usize)>,
     parts: Vec<Part>,
+}
+
+/// The columns of some rows of a dwells file that the usage by purpose reads, its labels
+/// parsed (radars as indices among the file's radars in order of first appearance).
+pub(crate) struct PurposeCols<'a> {
+    /// Index of the first row in the file.
+    pub first_row: usize,
+    pub run: &'a [u32],
+    pub group: &'a [u64],
+    pub radar: &'a [usize],
+    pub role: &'a [Role],
+    pub kind: &'a [DwellKind],
+    pub t_s: &'a [f64],
+    pub duration_s: &'a [f64],
+    pub energy_j: &'a [f64],
+    pub face: &'a [u8],
+    pub beam_u: &'a [f64],
+    pub beam_v: &'a [f64],
+    pub aim_m: [&'a [f64]; 3],
 }
 
 /// The dwells table's column names (from its declaration).
@@ -118,16 +143,46 @@ impl FileRows {
         }
     }
 
-    /// One batch: search rows summed, other rows kept.
+    /// What was read, for comparisons in tests: radars, sums and parts in order.
+    #[cfg(test)]
+    pub(crate) fn view(&self) -> String {
+        format!("{:?} {:?} {:?}", self.radars, self.sums, self.parts)
+    }
+
+    /// The file's radars, in order of first appearance (when read by another reader).
+    pub(crate) fn set_radars(&mut self, radars: Vec<String>) {
+        self.radars = radars;
+    }
+
+    /// The sums of key (run, radar, interval), created at zero.
+    fn slot(&mut self, key: (u32, usize, i64)) -> &mut [PurposeSum; 5] {
+        let latest = self.latest.iter().position(|(k, _)| (k.0, k.1) == (key.0, key.1));
+        let i = match latest {
+            Some(l) if self.latest[l].0 == key => self.latest[l].1,
+            _ => {
+                let next = self.sums.len();
+                let i = *self.index.entry(key).or_insert(next);
+                if i == next {
+                    self.sums.push((key, [PurposeSum::default(); 5]));
+                }
+                match latest {
+                    Some(l) => self.latest[l] = (key, i),
+                    None => self.latest.push((key, i)),
+                }
+                i
+            }
+        };
+        &mut self.sums[i].1
+    }
+
+    /// One batch read by the Arrow reader: its labels parsed, then [`Self::add`].
     fn batch(&mut self, b: &Batch<'_>, interval_s: f64) -> Result<(), MetricsError> {
         let (run, group, face) = (b.u32(D.run)?, b.u64(D.group_id)?, b.u8(D.face)?);
         let (radar, role, kind) = (b.utf8(D.radar)?, b.utf8(D.role)?, b.utf8(D.kind)?);
         let (t, dur, energy) = (b.f64(D.t_s)?, b.f64(D.duration_s)?, b.f64(D.energy_j)?);
         let (bu, bv) = (b.f64(D.beam_u)?, b.f64(D.beam_v)?);
         let (ax, ay, az) = (b.f64(D.aim_x_m)?, b.f64(D.aim_y_m)?, b.f64(D.aim_z_m)?);
-        let (run, group, face) = (run.values(), group.values(), face.values());
-        let (t, dur, energy) = (t.values(), dur.values(), energy.values());
-        let (bu, bv, ax, ay, az) = (bu.values(), bv.values(), ax.values(), ay.values(), az.values());
+        let (mut roles, mut kinds, mut radars) = (Vec::new(), Vec::new(), Vec::new());
         for i in 0..b.len() {
             let Some(role) = Role::parse(role.value(i)) else {
                 return Err(b.invalid(D.role, i, role.value(i).to_string(), "tx, rx or txrx"));
@@ -135,30 +190,57 @@ impl FileRows {
             let Some(kind) = DwellKind::parse(kind.value(i)) else {
                 return Err(b.invalid(D.kind, i, kind.value(i).to_string(), "search, confirm, track or mimo"));
             };
-            let r = self.radar_index(radar.value(i));
+            roles.push(role);
+            kinds.push(kind);
+            radars.push(self.radar_index(radar.value(i)));
+        }
+        self.add(
+            &PurposeCols {
+                first_row: b.first_row,
+                run: run.values(),
+                group: group.values(),
+                radar: &radars,
+                role: &roles,
+                kind: &kinds,
+                t_s: t.values(),
+                duration_s: dur.values(),
+                energy_j: energy.values(),
+                face: face.values(),
+                beam_u: bu.values(),
+                beam_v: bv.values(),
+                aim_m: [ax.values(), ay.values(), az.values()],
+            },
+            interval_s,
+        );
+        Ok(())
+    }
+
+    /// Some rows: search rows summed (transmit ones), other rows kept.
+    pub(crate) fn add(&mut self, c: &PurposeCols<'_>, interval_s: f64) {
+        for i in 0..c.run.len() {
+            let (role, kind, r) = (c.role[i], c.kind[i], c.radar[i]);
             if kind == DwellKind::Search {
                 if role != Role::Rx {
-                    let slot = self.sums.entry((run[i], r, interval_of(t[i], interval_s))).or_default();
-                    slot[Purpose::Search.index()].add(dur[i], energy[i]);
+                    let slot = self.slot((c.run[i], r, interval_of(c.t_s[i], interval_s)));
+                    slot[Purpose::Search.index()].add(c.duration_s[i], c.energy_j[i]);
                 }
                 continue;
             }
             self.parts.push(Part {
-                row: b.first_row + i,
-                run: run[i],
-                group: group[i],
+                row: c.first_row + i,
+                run: c.run[i],
+                group: c.group[i],
                 radar: r,
                 role,
                 kind,
-                t_s: t[i],
-                duration_s: dur[i],
-                energy_j: energy[i],
-                face: face[i],
-                beam: (bu[i], bv[i]),
-                aim: DVec3::new(ax[i], ay[i], az[i]),
+                t_s: c.t_s[i],
+                duration_s: c.duration_s[i],
+                energy_j: c.energy_j[i],
+                face: c.face[i],
+                beam: (c.beam_u[i], c.beam_v[i]),
+                aim: DVec3::new(c.aim_m[0][i], c.aim_m[1][i], c.aim_m[2][i]),
             });
         }
-        Ok(())
     }
 }
 
@@ -247,14 +329,26 @@ fn classify_look(
     }
 }
 
-/// One dwells file reduced to its sums by purpose.
-fn file_sums(
-    path: &Path,
-    input: &PurposeInput<'_>,
-    truth_files: &BTreeMap<u32, Vec<usize>>,
-) -> Result<(Vec<String>, FileSums), MetricsError> {
+/// The truth files holding each run.
+pub(crate) type TruthFiles = BTreeMap<u32, Vec<usize>>;
+
+/// One file's radars and sums by purpose.
+pub(crate) type FilePurposeSums = (Vec<String>, FileSums);
+
+/// One dwells file's rows read with the Arrow reader, every column checked.
+pub(crate) fn read_rows(path: &Path, interval_s: f64) -> Result<FileRows, MetricsError> {
     let mut rows = FileRows::default();
-    for_batches(DwellRow::TABLE, path, &COLUMNS, |b| rows.batch(b, input.interval_s))?;
+    for_batches(DwellRow::TABLE, path, &COLUMNS, |b| rows.batch(b, interval_s))?;
+    Ok(rows)
+}
+
+/// One dwells file's rows reduced to its sums by purpose: the looks classified with the truth of
+/// their runs and added in row order.
+pub(crate) fn classify(
+    mut rows: FileRows,
+    input: &PurposeInput<'_>,
+    truth_files: &TruthFiles,
+) -> Result<FilePurposeSums, MetricsError> {
     let runs: BTreeSet<u32> = rows.parts.iter().map(|p| p.run).collect();
     let files: BTreeSet<usize> = runs.iter().filter_map(|r| truth_files.get(r)).flatten().copied().collect();
     let files: Vec<PathBuf> = files.into_iter().map(|i| input.truth[i].clone()).collect();
@@ -272,18 +366,18 @@ fn file_sums(
         classify_look(&rows, look, input.geometry, truth.get(&run), run_balls, &mut classified);
     }
     classified.sort_by_key(|c| c.0);
+    let parts = std::mem::take(&mut rows.parts);
     for (_, i, purpose) in classified {
-        let p = &rows.parts[i];
-        let slot = rows.sums.entry((p.run, p.radar, interval_of(p.t_s, input.interval_s))).or_default();
+        let p = &parts[i];
+        let slot = rows.slot((p.run, p.radar, interval_of(p.t_s, input.interval_s)));
         slot[purpose.index()].add(p.duration_s, p.energy_j);
     }
     Ok((rows.radars, rows.sums))
 }
 
-/// Every dwells file's transmit rows summed by run, radar, interval and purpose.
-pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, MetricsError> {
-    // Which truth files hold each run (their `run` column only), so that each dwells file reads
-    // the truth of its own runs.
+/// Which truth files hold each run (their `run` column only), so that each dwells file reads
+/// the truth of its own runs.
+pub(crate) fn truth_files(input: &PurposeInput<'_>) -> Result<TruthFiles, MetricsError> {
     let runs_of_file = crate::parallel::parallel(input.truth, input.threads, &|path: &PathBuf| {
         let mut runs = BTreeSet::new();
         for_batches(TruthRow::TABLE, path, &[T.run], |b| {
@@ -292,14 +386,18 @@ pub(crate) fn purpose_sums(input: &PurposeInput<'_>) -> Result<PurposeSums, Metr
         })
         .map(|()| runs)
     });
-    let mut truth_files: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    let mut truth_files = TruthFiles::new();
     for (i, runs) in runs_of_file.into_iter().enumerate() {
         for run in runs? {
             truth_files.entry(run).or_default().push(i);
         }
     }
-    let per_file =
-        crate::parallel::parallel(input.dwells, input.threads, &|path: &PathBuf| file_sums(path, input, &truth_files));
+    Ok(truth_files)
+}
+
+/// The files' sums by purpose summed by run, radar and interval, in file order (the first error
+/// in that order returned).
+pub(crate) fn merge(per_file: Vec<Result<FilePurposeSums, MetricsError>>) -> Result<PurposeSums, MetricsError> {
     let mut out = PurposeSums::new();
     for file in per_file {
         let (radars, sums) = file?;

@@ -80,19 +80,33 @@ pub struct UsageTotals {
     pub ta_dwell_time_s: f64,
     /// As `total_energy_j`, TA-requested dwells only (J).
     pub ta_energy_j: f64,
+    /// Σ over scoring intervals of the transmit dwell time of every radar ÷ the objects scorable
+    /// then (s; docs/design.md §6, eq. 5 summed over the run); in `usage`, the mean over runs
+    /// where defined. Null when nothing is ever scorable.
+    pub dwell_time_per_object_s: Option<f64>,
+    /// The same of the transmitted energy (J; eq. 6 summed).
+    pub energy_per_object_j: Option<f64>,
+    /// As `dwell_time_per_object_s`, TA-requested dwells only (s).
+    pub ta_dwell_time_per_object_s: Option<f64>,
+    /// As `energy_per_object_j`, TA-requested dwells only (J).
+    pub ta_energy_per_object_j: Option<f64>,
     /// The totals over radars by purpose.
     pub by_purpose: PurposeUsage,
 }
 
 impl UsageTotals {
-    /// The sums of the radars' sensor totals, in the order given (usage by purpose left at zero,
-    /// for the caller to fill in).
+    /// The sums of the radars' sensor totals, in the order given (usage by purpose left at zero
+    /// and the per-object figures null, for the caller to fill in).
     pub fn summed<'a>(radars: impl Iterator<Item = &'a SensorTotals> + Clone) -> UsageTotals {
         UsageTotals {
             total_dwell_time_s: radars.clone().map(|r| r.dwell_time_s).sum(),
             total_energy_j: radars.clone().map(|r| r.energy_j).sum(),
             ta_dwell_time_s: radars.clone().map(|r| r.ta_dwell_time_s).sum(),
             ta_energy_j: radars.map(|r| r.ta_energy_j).sum(),
+            dwell_time_per_object_s: None,
+            energy_per_object_j: None,
+            ta_dwell_time_per_object_s: None,
+            ta_energy_per_object_j: None,
             by_purpose: PurposeUsage::default(),
         }
     }
@@ -136,6 +150,8 @@ impl PurposeUsage {
 }
 
 mimo_store::score_usage_by_purpose_table!(mimo_store::column_rows);
+
+mimo_store::score_first_track_table!(mimo_store::column_rows);
 
 /// Track figures over a set of (run, scoring time)s: every run's (`summary.json` `track`,
 /// [`TrackSummary`], breaks and switches per run as means over runs) or one run's (in a
@@ -218,6 +234,23 @@ pub struct RunSummary {
     /// The run's totals over radars (also by purpose).
     #[serde(flatten)]
     pub usage: UsageTotals,
+    /// How soon the run's targets were found.
+    pub first_track: FirstTrackSummary,
+}
+
+/// How soon targets are first tracked (docs/design.md §6, "Time to first track"): over the
+/// (run, target)s scorable at some scoring time, the time from the first scorable scoring time
+/// to the first at which the target is assigned a confirmed track (`score/first_track.parquet`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct FirstTrackSummary {
+    /// (run, target)s scorable at some scoring time.
+    pub targets: u32,
+    /// Mean time to first track over those that got a track (s); null if none did.
+    pub mean_s: Option<f64>,
+    /// The longest of those times (s); null if none got a track.
+    pub max_s: Option<f64>,
+    /// (run, target)s never assigned a confirmed track.
+    pub never_tracked: u32,
 }
 
 /// One target's figures over all runs (extra `per_target` map in `summary.json`).
@@ -263,6 +296,8 @@ pub struct Summary {
     pub usage: UsageSummary,
     /// Whether the completeness challenge is met.
     pub challenge: Challenge,
+    /// How soon targets are first tracked, over every run.
+    pub first_track: FirstTrackSummary,
     /// OSPA settings and mean.
     pub ospa: DistanceSummary,
     /// GOSPA settings and mean.
@@ -273,6 +308,10 @@ pub struct Summary {
     pub per_run: Vec<RunSummary>,
     /// Each target's figures over all runs.
     pub per_target: NamedList<TargetSummary>,
+    /// Rows whose covariance was slightly indefinite and was repaired, per table (docs/design.md
+    /// §7); written only when some row was, so the summary of valid input is unchanged.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub repaired_covariances: std::collections::BTreeMap<String, u64>,
 }
 
 /// The result of [`score`].
@@ -300,6 +339,8 @@ pub struct Score {
     pub usage_run: Vec<RunRadarUsage>,
     /// Per run, radar, scoring interval and purpose.
     pub usage_by_purpose: Vec<UsageByPurposeRow>,
+    /// Per run and target scorable at some scoring time.
+    pub first_track: Vec<FirstTrackRow>,
     /// What `summary.json` holds.
     pub summary: Summary,
 }

@@ -29,6 +29,45 @@ pub(crate) struct UsageOutput {
     pub total: Vec<UsageTotalRow>,
     pub per_radar: Vec<RadarUsage>,
     pub per_run: Vec<RunRadarUsage>,
+    /// Per run, the per-object figures summed over scoring intervals ([`per_object_by_run`]).
+    pub per_object: BTreeMap<u32, [Option<f64>; 4]>,
+}
+
+/// The usage sums by (run, radar name, scoring interval).
+fn sums_by_key(sums: &DwellSums) -> HashMap<(u32, &str, i64), [f64; 4]> {
+    sums.groups
+        .iter()
+        .zip(&sums.sums)
+        .map(|(&(run, radar, k), s)| ((run, sums.radar_names[radar].as_str(), k), s.value()))
+        .collect()
+}
+
+/// Per run, Σ over scoring times `k` with `N_k > 0` of the run's usage sums in interval `k`
+/// (every radar) ÷ `N_k`: dwell time, energy, TA dwell time, TA energy per scorable object
+/// (equations 5 and 6 of docs/design.md §6 summed over the run); `None` when nothing is ever
+/// scorable. Added interval by interval, radar by radar, in order.
+fn per_object_by_run(sums: &DwellSums, input: &UsageInput<'_>) -> BTreeMap<u32, [Option<f64>; 4]> {
+    let by_key = sums_by_key(sums);
+    let mut out = BTreeMap::new();
+    for &run in input.runs {
+        let counts = input.n_scorable.get(&run).map(Vec::as_slice).unwrap_or(&[]);
+        let mut acc: [Option<f64>; 4] = [None; 4];
+        for (i, &n) in counts.iter().enumerate().filter(|(_, n)| **n > 0) {
+            let k = i64::try_from(i).unwrap_or(i64::MAX - 1) + 1;
+            let mut slot = [0.0; 4];
+            for radar in input.radars {
+                let s = by_key.get(&(run, radar.as_str(), k)).copied().unwrap_or([0.0; 4]);
+                for (a, v) in slot.iter_mut().zip(s) {
+                    *a += v;
+                }
+            }
+            for (a, v) in acc.iter_mut().zip(slot) {
+                *a = Some(a.unwrap_or(0.0) + v / f64::from(n));
+            }
+        }
+        out.insert(run, acc);
+    }
+    out
 }
 
 /// Per radar and interval, the means over the runs that reach that scoring time (in the runs'
@@ -42,12 +81,7 @@ struct Cell {
 }
 
 fn cells<'a>(sums: &'a DwellSums, input: &UsageInput<'a>) -> BTreeMap<(&'a str, u32), Cell> {
-    let by_key: HashMap<(u32, &str, i64), [f64; 4]> = sums
-        .groups
-        .iter()
-        .zip(&sums.sums)
-        .map(|(&(run, radar, k), s)| ((run, sums.radar_names[radar].as_str(), k), s.value()))
-        .collect();
+    let by_key = sums_by_key(sums);
     let mut cells: BTreeMap<(&str, u32), Cell> = BTreeMap::new();
     for &run in input.runs {
         let counts = input.n_scorable.get(&run).map(Vec::as_slice).unwrap_or(&[]);
@@ -155,7 +189,8 @@ pub(crate) fn usage(sums: &DwellSums, input: &UsageInput<'_>) -> Result<UsageOut
     let total = totals(&per_interval, input.interval_s);
     let (per_run, n_runs) = run_rows(sums, input);
     let per_radar = radar_means(&per_run, input.radars, n_runs);
-    Ok(UsageOutput { per_interval, total, per_radar, per_run })
+    let per_object = per_object_by_run(sums, input);
+    Ok(UsageOutput { per_interval, total, per_radar, per_run, per_object })
 }
 
 /// The four usage sums over every interval group of each (run, radar), added in group order.

@@ -643,6 +643,18 @@ fn usage_by_hand() {
     assert!(approx(pr("R1").ta_dwell_time_s, 0.045) && approx(pr("R1").ta_energy_j, 5.5));
     assert!(approx(pr("R2").dwell_time_s, 0.03) && approx(pr("R2").energy_j, 6.0) && pr("R2").ta_energy_j == 0.0);
     assert!(approx(pr("R3").energy_j, 2.0) && approx(pr("R3").ta_energy_j, 2.0));
+    // Per scorable object over the run: run 0 spends 3 J on N = 2, 7 J on N = 1, (5 J on N = 0:
+    // left out) and 6 J on N = 1: 14.5 J, of which the test article's 1 + 7 + 6 = 14 J; its dwell
+    // time 0.03/2 + 0.06 + 0.04 = 0.115 s (its own 0.02/2 + 0.06 + 0.04). Run 1 spends nothing: 0.
+    let r0 = &s.summary.per_run[0].usage;
+    assert!(approx_opt(r0.energy_per_object_j, 14.5) && approx_opt(r0.ta_energy_per_object_j, 14.0));
+    assert!(approx_opt(r0.dwell_time_per_object_s, 0.115) && approx_opt(r0.ta_dwell_time_per_object_s, 0.11));
+    assert_eq!(s.summary.per_run[1].usage.energy_per_object_j, Some(0.0));
+    assert!(approx_opt(u.totals.energy_per_object_j, 7.25) && approx_opt(u.totals.dwell_time_per_object_s, 0.0575));
+    // No track at all: every (run, target) scorable at some time is never tracked.
+    let ft = s.summary.first_track;
+    assert_eq!((ft.targets, ft.never_tracked, ft.mean_s, ft.max_s), (4, 4, None, None));
+    assert!(s.first_track.iter().all(|r| r.first_track_s.is_none() && r.scorable_from_s == 1.0));
     assert!(pr("R4").energy_j == 0.0 && pr("R4").dwell_time_s == 0.0);
     assert!(approx(u.totals.total_dwell_time_s, 0.095) && approx(u.totals.total_energy_j, 14.0));
     assert!(approx(u.totals.ta_dwell_time_s, 0.06) && approx(u.totals.ta_energy_j, 7.5));

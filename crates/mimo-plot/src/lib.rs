@@ -59,7 +59,8 @@ pub fn check_out(out: &Path, force: bool) -> Result<(), PlotError> {
 }
 
 /// Write a page to `out` atomically (a hidden temporary file beside it, then a rename; the
-/// temporary file is removed if the write fails, and on an interrupt). An existing file is
+/// temporary file is removed if the write fails, and on an interrupt), creating its folder if
+/// it is missing, as every command creates its output's (docs/design.md §7). An existing file is
 /// replaced only with `force`, and only if it is a page `mimo plot` wrote (its head carries
 /// [`mimo_store::recognise::PLOT_MARK`]): any other file is refused, even with `force`.
 pub fn write_page(out: &Path, page: &str, force: bool) -> Result<(), PlotError> {
@@ -67,6 +68,9 @@ pub fn write_page(out: &Path, page: &str, force: bool) -> Result<(), PlotError> 
     check_out(out, force)?;
     let tmp = output::sibling(out, "tmp")?;
     let io = |e: std::io::Error| PlotError::Io { path: out.to_path_buf(), why: e.to_string() };
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
     output::register(&tmp);
     let written = std::fs::write(&tmp, page).and_then(|()| std::fs::rename(&tmp, out)).map_err(io);
     if written.is_err() {

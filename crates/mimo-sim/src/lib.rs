@@ -20,6 +20,7 @@
 pub mod engine;
 pub mod messages;
 pub mod search;
+pub mod search_plan;
 pub mod test_article;
 pub mod track_check;
 pub mod world;

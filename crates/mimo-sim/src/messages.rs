@@ -12,6 +12,9 @@ use mimo_core::ids::RadarId;
 use mimo_core::params::RadarParams;
 use mimo_core::records::{DwellKind, MeasurementRow, PrimitiveRow, Requester, TrackRow};
 use mimo_scenario::Ship;
+
+pub use crate::search::SearchBand;
+pub use crate::search_plan::{AzSector, SearchOrder, SearchPlan};
 use serde::{Deserialize, Serialize};
 
 /// Version of the protocol; sent in every `start` event. Bump it whenever a message changes.
@@ -199,7 +202,9 @@ pub struct TxOrder {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DwellRequest {
-    /// `confirm`, `track` or `mimo` (reported back; `search` is the radars' own).
+    /// `confirm`, `track`, `mimo` or `search` (reported back and recorded; a `search` dwell
+    /// requested by the test article is recorded with `requested_by = ta`, e.g. a cued or a
+    /// multistatic search beam).
     pub kind: DwellKind,
     /// Earliest start time (s): the dwell starts at the first time every participant is free
     /// at or after it.
@@ -232,6 +237,9 @@ pub enum Request {
     /// Tell a radar to stop tracking on its own (the test article tracks for it). The built-in
     /// radars run background search only, so this is recorded and has no further effect.
     StopLocalTracking(RadarId),
+    /// Set the background search of one radar or of every radar from now on (docs/model.md
+    /// §7.4). A test article that never sends one gets the default raster.
+    Search(SearchOrder),
 }
 
 /// Which dwells a test article is sent.

@@ -7,6 +7,7 @@
 //! sector (half-width `min(180°/n_faces, 0.95 θ_max)` about the face boresight), so that faces
 //! share the horizon without searching it twice. Beams are visited face by face, row by row.
 
+use crate::search_plan::AzSector;
 use mimo_core::face::face_from_enu;
 use mimo_core::params::RadarParams;
 use serde::{Deserialize, Serialize};
@@ -22,7 +23,12 @@ pub struct SearchBand {
     /// Pulses per search dwell in this band.
     pub n_pulses: u32,
     /// The band is swept once every this many frames of the first band (1 = every frame).
+    #[serde(default = "one_frame")]
     pub every_frames: u32,
+}
+
+fn one_frame() -> u32 {
+    1
 }
 
 /// Background-search settings (one set for all radars; recorded in the manifest).
@@ -74,10 +80,22 @@ pub struct SearchBeam {
     pub n_pulses: u32,
 }
 
-/// Beams of one band (ship heading `heading_deg`; faces from `params`), face by face, row by row.
-fn band_beams(params: &RadarParams, heading_deg: f64, band: &SearchBand, spacing: f64) -> Vec<SearchBeam> {
+/// Half-width of each face's own azimuth sector (deg): `min(180°/n_faces, 0.95 θ_max)`.
+pub fn face_half_sector_deg(params: &RadarParams) -> f64 {
     let n_faces = params.face_azimuths_deg.len().max(1);
-    let half_sector = (180.0 / n_faces as f64).min(0.95 * params.max_scan_deg);
+    (180.0 / n_faces as f64).min(0.95 * params.max_scan_deg)
+}
+
+/// Beams of one band (ship heading `heading_deg`; faces from `params`), face by face, row by row,
+/// kept when their true-north azimuth lies in one of `sectors` (all when `sectors` is empty).
+fn band_beams(
+    params: &RadarParams,
+    heading_deg: f64,
+    band: &SearchBand,
+    spacing: f64,
+    sectors: &[AzSector],
+) -> Vec<SearchBeam> {
+    let half_sector = face_half_sector_deg(params);
     let (du, dv) = (spacing * params.beamwidth_u(), spacing * params.beamwidth_v());
     let min_w = params.min_scan_w();
     let mut beams = Vec::new();
@@ -106,6 +124,9 @@ fn band_beams(params: &RadarParams, heading_deg: f64, band: &SearchBand, spacing
                 if rel.abs() > half_sector {
                     continue;
                 }
+                if !sectors.is_empty() && !sectors.iter().any(|s| s.contains(az)) {
+                    continue;
+                }
                 beams.push(SearchBeam { face: fi as u8, u, v, n_pulses: band.n_pulses.clamp(1, params.max_pulses) });
             }
         }
@@ -116,17 +137,39 @@ fn band_beams(params: &RadarParams, heading_deg: f64, band: &SearchBand, spacing
 /// A radar's search sequence, visited cyclically: each frame sweeps every band whose
 /// `every_frames` is 1 and the next share of each slower band.
 pub fn raster(params: &RadarParams, heading_deg: f64, cfg: &SearchConfig) -> Vec<SearchBeam> {
-    let bands: Vec<(Vec<SearchBeam>, u32)> = cfg
-        .bands
-        .iter()
-        .map(|b| (band_beams(params, heading_deg, b, cfg.spacing_beamwidths), b.every_frames.max(1)))
-        .collect();
+    raster_of(params, heading_deg, &cfg.bands, cfg.spacing_beamwidths, &[]).beams
+}
+
+/// A search sequence and where its frames start.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Raster {
+    /// The beams, visited cyclically.
+    pub beams: Vec<SearchBeam>,
+    /// Index in `beams` of the first beam of each frame, increasing (empty frames left out).
+    pub frame_starts: Vec<usize>,
+}
+
+/// The raster of `bands` with lattice spacing `spacing` (beamwidths), restricted to the
+/// true-north azimuth `sectors` (none: the whole horizon); see [`raster`].
+pub fn raster_of(
+    params: &RadarParams,
+    heading_deg: f64,
+    bands: &[SearchBand],
+    spacing: f64,
+    sectors: &[AzSector],
+) -> Raster {
+    let bands: Vec<(Vec<SearchBeam>, u32)> =
+        bands.iter().map(|b| (band_beams(params, heading_deg, b, spacing, sectors), b.every_frames.max(1))).collect();
     let cycle = bands.iter().map(|(_, k)| *k).fold(1u32, lcm);
-    let mut out = Vec::new();
+    let mut out = Raster::default();
     for frame in 0..cycle {
+        let first = out.beams.len();
         for (beams, k) in &bands {
             let share = frame % k;
-            out.extend(beams.iter().enumerate().filter(|(i, _)| (*i as u32) % k == share).map(|(_, b)| *b));
+            out.beams.extend(beams.iter().enumerate().filter(|(i, _)| (*i as u32) % k == share).map(|(_, b)| *b));
+        }
+        if out.beams.len() > first {
+            out.frame_starts.push(first);
         }
     }
     out
@@ -150,8 +193,8 @@ mod tests {
         let beams = raster(&p, 30.0, &cfg);
         // Low band every frame, upper band a third per frame: a cycle of three frames holds the
         // low band three times and the upper band once.
-        let low = band_beams(&p, 30.0, &cfg.bands[0], cfg.spacing_beamwidths);
-        let high = band_beams(&p, 30.0, &cfg.bands[1], cfg.spacing_beamwidths);
+        let low = band_beams(&p, 30.0, &cfg.bands[0], cfg.spacing_beamwidths, &[]);
+        let high = band_beams(&p, 30.0, &cfg.bands[1], cfg.spacing_beamwidths, &[]);
         assert_eq!(beams.len(), 3 * low.len() + high.len());
         assert!(!beams.is_empty());
         // Every azimuth at 2° elevation is within half a lattice diagonal of some beam of the face

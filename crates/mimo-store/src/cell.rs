@@ -153,8 +153,10 @@ impl Cell for [f64; 21] {
         let item = Arc::new(Field::new("item", DataType::Float64, false));
         Arc::new(FixedSizeListArray::new(item, 21, Arc::new(values), None))
     }
+    /// Slightly indefinite covariances (accepted by the column's check) are read repaired
+    /// (`mimo_core::covariance::repair`, docs/design.md §7); valid ones bit for bit.
     fn read(b: &Batch<'_>, name: &str) -> Result<Vec<Self>, StoreError> {
-        b.cov21(name)
+        Ok(b.cov21(name)?.iter().map(mimo_core::covariance::repair).collect())
     }
 }
 

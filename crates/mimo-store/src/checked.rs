@@ -8,6 +8,9 @@
 //! * [`check_array`]: a column's values keep the spec's [`Rule`] (no null where none is allowed,
 //!   finite numbers, positive variances, labels of the enumeration, covariances that are ones);
 //! * [`check_file_run`]: every row of `run-K.parquet` is run K;
+//! * [`repaired_covariances`]: how many rows of a file hold a covariance accepted only after its
+//!   repair (`mimo_core::covariance`: slightly indefinite, within the bound), for the count
+//!   `mimo score` reports and the warning every command prints;
 //! * every `t_s` within the run: from 0 on (the column rule) and up to its manifest's
 //!   `duration_s` ([`crate::run_window`]).
 //!
@@ -49,7 +52,9 @@ fn check_metadata(path: &Path, md: &arrow::datatypes::Metadata, spec: &TableSpec
     let table_err = |why: String| StoreError::BadTable { file: path.into(), why };
     match md.get(schema::META_TABLE) {
         Some(t) if t == spec.name => {}
-        Some(t) => return Err(table_err(format!("holds table '{t}', expected '{}'", spec.name))),
+        Some(t) => {
+            return Err(table_err(format!("holds table {}, expected '{}'", mimo_core::quote::quoted(t), spec.name)));
+        }
         None => {
             return Err(table_err(format!("has no '{}' metadata: not written by mimo", schema::META_TABLE)));
         }
@@ -154,7 +159,8 @@ fn check_labels(
             continue;
         }
         if !ok(v) {
-            return Err(bad(path, c.name, format!("is '{v}' at row {} (expected one of {what})", first_row + i)));
+            let v = mimo_core::quote::quoted(v);
+            return Err(bad(path, c.name, format!("is {v} at row {} (expected one of {what})", first_row + i)));
         }
         last = Some(v);
     }
@@ -182,6 +188,82 @@ fn check_covariances(path: &Path, c: &ColumnSpec, array: &dyn Array, first_row: 
             .map_err(|why| bad(path, c.name, format!("at row {}: {why}", first_row + i)))?;
     }
     Ok(())
+}
+
+/// The rows of a file whose covariance was repaired ([`repaired_covariances`]): how many, and
+/// the most negative smallest-to-largest eigenvalue ratio among them.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Repairs {
+    /// Rows repaired.
+    pub rows: u64,
+    /// The most negative ratio of smallest to largest eigenvalue found (0 when none).
+    pub worst_ratio: f64,
+}
+
+impl Repairs {
+    /// Add another file's repairs.
+    pub fn add(&mut self, o: Repairs) {
+        self.rows += o.rows;
+        self.worst_ratio = self.worst_ratio.min(o.worst_ratio);
+    }
+
+    /// Count one covariance (already checked) if it needed a repair.
+    pub fn note(&mut self, c: &[f64; 21]) {
+        if let Ok(mimo_core::covariance::Accepted::Repaired { min_eigenvalue, max_eigenvalue, .. }) =
+            mimo_core::covariance::check(c)
+        {
+            self.rows += 1;
+            self.worst_ratio = self.worst_ratio.min(min_eigenvalue / max_eigenvalue);
+        }
+    }
+
+    /// The one warning line for `what` (a file or a table), or `None` when nothing was repaired.
+    pub fn warning(&self, what: &str) -> Option<String> {
+        (self.rows > 0).then(|| {
+            format!(
+                "warning: {what}: {} covariance(s) slightly not positive semi-definite (smallest eigenvalue down to \
+                 {:.2e} of the largest, within the bound -{:e}) were repaired to the nearest positive definite matrix \
+                 (docs/design.md §7)",
+                self.rows,
+                self.worst_ratio,
+                mimo_core::covariance::NEGATIVE_EIGENVALUE_BOUND
+            )
+        })
+    }
+}
+
+/// The rows of table file `path` (of table `spec`) whose covariance is accepted only after a
+/// repair: slightly indefinite within the bound of `mimo_core::covariance`. The file is opened
+/// with the checks of [`open`]; a table without a covariance column has none. Call it on a file
+/// its reader has already checked: a covariance beyond the bound is not counted here.
+pub fn repaired_covariances(path: &Path, spec: &TableSpec) -> Result<Repairs, StoreError> {
+    let builder = open(path, spec)?;
+    let names: Vec<&str> = spec.columns.iter().filter(|c| c.rule == Rule::Covariance).map(|c| c.name).collect();
+    let mut out = Repairs::default();
+    if names.is_empty() {
+        return Ok(out);
+    }
+    let schema = builder.schema().clone();
+    let roots: Vec<usize> = names.iter().filter_map(|n| schema.index_of(n).ok()).collect();
+    let mask = parquet::arrow::ProjectionMask::roots(builder.parquet_schema(), roots);
+    let parquet_err =
+        |e: parquet::errors::ParquetError| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() };
+    let reader = builder.with_projection(mask).build().map_err(parquet_err)?;
+    for batch in reader {
+        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
+        for name in &names {
+            let Some(list) = batch.column_by_name(name).and_then(|a| a.as_fixed_size_list_opt()) else { continue };
+            let Some(values) = list.values().as_primitive_opt::<Float64Type>() else { continue };
+            let values = values.values();
+            for i in (0..list.len()).filter(|&i| list.is_valid(i)) {
+                let at = list.value_offset_at(i);
+                if let Some(c) = values.get(at..at + 21).and_then(|s| <&[f64; 21]>::try_from(s).ok()) {
+                    out.note(c);
+                }
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Every row of a file named `run-K.parquet` is run K (`run` values of the rows from

@@ -44,6 +44,7 @@ pub mod lineage;
 pub mod manifest;
 pub mod output;
 pub mod page_columns;
+mod page_delta;
 pub mod recognise;
 pub mod rows;
 pub mod run_sink;
@@ -288,7 +289,7 @@ pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), S
     let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp"));
     let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
-    let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
+    let file = output::create_registered(&tmp)?;
     let written = ArrowWriter::try_new(file, batch.schema(), Some(writer_props(&batch.schema())))
         .and_then(|mut w| w.write(batch).and_then(|()| w.close()))
         .map_err(|e| write_err(e.to_string()))
@@ -296,6 +297,7 @@ pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), S
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    output::unregister(&tmp);
     written
 }
 

@@ -45,13 +45,36 @@ pub fn unregister(path: &Path) {
     }
 }
 
-/// Remove everything registered (the interrupt handler's job). Best effort: it runs while the
-/// process is being stopped.
+/// Set by [`remove_pending`]: the process is being stopped, and no new temporary file may start.
+static CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Create the temporary file `path` and register it, in one step under the lock
+/// [`remove_pending`] holds while it removes: a file is either created before the handler runs
+/// (and removed by it) or refused after (an interrupted study's workers start no file that
+/// nobody would remove). Unregister it once renamed or removed.
+pub fn create_registered(path: &Path) -> Result<File, StoreError> {
+    let mut pending = PENDING.lock().map_err(|_| StoreError::Write {
+        path: path.to_path_buf(),
+        why: "the list of files to remove on interrupt is poisoned".into(),
+    })?;
+    if CLOSED.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(StoreError::Write { path: path.to_path_buf(), why: "interrupted".into() });
+    }
+    let file = File::create(path).map_err(|e| StoreError::Write { path: path.to_path_buf(), why: e.to_string() })?;
+    pending.push(path.to_path_buf());
+    Ok(file)
+}
+
+/// Remove everything registered (the interrupt handler's job), holding the list's lock so that
+/// no new temporary file starts meanwhile ([`create_registered`]). Best effort: it runs while
+/// the process is being stopped.
 pub fn remove_pending() {
-    let paths = match PENDING.lock() {
-        Ok(mut p) => std::mem::take(&mut *p),
-        Err(_) => return,
+    let mut pending = match PENDING.lock() {
+        Ok(p) => p,
+        Err(e) => e.into_inner(),
     };
+    CLOSED.store(true, std::sync::atomic::Ordering::SeqCst);
+    let paths = std::mem::take(&mut *pending);
     for p in paths {
         if p.is_dir() {
             // Renamed first, atomically: the run workers may still be writing, and while
@@ -183,7 +206,16 @@ pub fn check_score_dir(dir: &crate::layout::ScoreDir) -> Result<(), StoreError> 
         }),
         Ok(_) => {
             let foreign = recognise::foreign_in_score_dir(dir)?;
-            if foreign.is_empty() { Ok(()) } else { Err(recognise::refuse_foreign(root, &foreign, "mimo score")) }
+            if foreign.is_empty() {
+                return Ok(());
+            }
+            let mut why = recognise::foreign_why(&foreign, "mimo score");
+            why.push_str(&format!(
+                " (a file of a score that is damaged beyond recognition is among them if you did not put it there: \
+                 the score is derived, so remove the directory, rm -r '{}', and score again)",
+                root.display()
+            ));
+            Err(StoreError::Refused { path: root.to_path_buf(), why })
         }
     }
 }

@@ -1,38 +1,59 @@
 //! Columns of a table file decoded straight from its Parquet pages, for a reader that needs a few
-//! columns of every row and no Arrow arrays (mimo-metrics' one-pass usage sums of the dwells).
+//! columns of every row and no Arrow arrays (mimo-metrics' one pass over the dwells: usage sums
+//! and usage by purpose).
 //!
 //! The decoder reads the layout the store's writer gives (`crate::writer_props`): required,
-//! flat columns without dictionaries, `uint32` and `utf8` values in plain pages, `float64` values
-//! plain or byte-stream split, pages compressed or not. It lives beside the writer settings
-//! because it depends on them: [`DECODED_ENCODINGS`] names what it decodes, and the tests
-//! check that the writer's settings for every column it can be asked for stay within it and that
-//! the writer's own files decode to the values written. Anything else — an optional column, a
-//! dictionary page, another encoding or type, a short page — gives `None`, and the caller reads
-//! the file with the Arrow reader instead (which takes any layout).
+//! flat columns without dictionaries, `uint8`, `uint32` and `utf8` values in plain pages,
+//! `float64` values plain or byte-stream split, `uint64` ids delta-encoded
+//! ([`crate::page_delta`]), pages zstd-compressed or not. It lives beside the writer settings
+//! because it depends on them: [`DECODED_ENCODINGS`] names what it decodes, and the tests check
+//! that the writer's settings for every column it can be asked for stay within it and that the
+//! writer's own files decode to the values written. Anything else — an optional column, a
+//! dictionary page, another encoding, type or codec, a short page — gives `None`, and the caller
+//! reads the file with the Arrow reader instead (which takes any layout).
+//!
+//! Pages are decompressed here, with one zstd context per opened file reused for every page of
+//! every column and row group: the Parquet crate's page reader makes a codec (a compression and
+//! a decompression context) per column chunk, whose set-up cost more than the decompression of
+//! the dwells' small pages (docs/decisions/0299-one-pass-dwell-reader.md).
 
-use parquet::basic::{ConvertedType, Encoding, Type as PhysicalType};
+use parquet::basic::{Compression, ConvertedType, Encoding, Type as PhysicalType};
 use parquet::column::page::Page;
-use parquet::file::reader::{FileReader, RowGroupReader};
-use parquet::file::serialized_reader::SerializedFileReader;
+use parquet::file::reader::FileReader;
+use parquet::file::serialized_reader::{SerializedFileReader, SerializedPageReader};
+use std::cell::RefCell;
 use std::fs::File;
 use std::path::Path;
+use std::sync::Arc;
 
-/// The value encodings the decoder takes: plain values (every column) and the byte-stream split
-/// (`float64` columns).
-pub const DECODED_ENCODINGS: [Encoding; 2] = [Encoding::PLAIN, Encoding::BYTE_STREAM_SPLIT];
+/// The value encodings the decoder takes: plain values (every column), the byte-stream split
+/// (`float64` columns) and the delta encoding (`uint64` columns, which may also be plain).
+pub const DECODED_ENCODINGS: [Encoding; 3] =
+    [Encoding::PLAIN, Encoding::BYTE_STREAM_SPLIT, Encoding::DELTA_BINARY_PACKED];
 
 /// Whether the decoder takes values of `physical` type written with `encoding`.
 pub fn decodes(physical: PhysicalType, encoding: Encoding) -> bool {
     match physical {
-        PhysicalType::DOUBLE => DECODED_ENCODINGS.contains(&encoding),
+        PhysicalType::DOUBLE => encoding == Encoding::PLAIN || encoding == Encoding::BYTE_STREAM_SPLIT,
+        PhysicalType::INT64 => encoding == Encoding::DELTA_BINARY_PACKED || encoding == Encoding::PLAIN,
         PhysicalType::INT32 | PhysicalType::BYTE_ARRAY => encoding == Encoding::PLAIN,
         _ => false,
     }
 }
 
+/// The zstd context of a file and the buffer its pages are decompressed into.
+struct Inflate {
+    zstd: zstd::bulk::Decompressor<'static>,
+    page: Vec<u8>,
+}
+
 /// A table file opened for page decoding, with the columns asked for found.
 pub struct PageFile {
     reader: SerializedFileReader<File>,
+    /// The file again, for the page readers of its column chunks.
+    file: Arc<File>,
+    /// One decompression context for every page of the file.
+    inflate: RefCell<Inflate>,
     /// Leaf index in the file of each column asked for, and its physical and converted type.
     columns: Vec<(usize, PhysicalType, ConvertedType)>,
 }
@@ -41,7 +62,8 @@ impl PageFile {
     /// Open `path` for decoding the columns `names`, each a required top-level column; `None`
     /// if the file cannot be opened or a column is missing, nested or optional.
     pub fn open(path: &Path, names: &[&str]) -> Option<PageFile> {
-        let reader = SerializedFileReader::new(File::open(path).ok()?).ok()?;
+        let file = File::open(path).ok()?;
+        let reader = SerializedFileReader::new(file.try_clone().ok()?).ok()?;
         let schema = reader.metadata().file_metadata().schema_descr();
         let mut columns = Vec::with_capacity(names.len());
         for name in names {
@@ -55,7 +77,8 @@ impl PageFile {
             }
             columns.push((i, c.physical_type(), c.converted_type()));
         }
-        Some(PageFile { reader, columns })
+        let inflate = RefCell::new(Inflate { zstd: zstd::bulk::Decompressor::new().ok()?, page: Vec::new() });
+        Some(PageFile { reader, file: Arc::new(file), inflate, columns })
     }
 
     /// Row groups in the file.
@@ -65,35 +88,60 @@ impl PageFile {
 
     /// Row group `g`.
     pub fn row_group(&self, g: usize) -> Option<PageRowGroup<'_>> {
-        Some(PageRowGroup { reader: self.reader.get_row_group(g).ok()?, columns: &self.columns })
+        (g < self.num_row_groups()).then_some(PageRowGroup { file: self, g })
     }
 }
 
 /// One row group of a [`PageFile`]; columns are named by their position in the names asked for.
 pub struct PageRowGroup<'f> {
-    reader: Box<dyn RowGroupReader + 'f>,
-    columns: &'f [(usize, PhysicalType, ConvertedType)],
+    file: &'f PageFile,
+    g: usize,
 }
 
 impl PageRowGroup<'_> {
     /// Rows in the row group.
     pub fn num_rows(&self) -> Option<usize> {
-        usize::try_from(self.reader.metadata().num_rows()).ok()
+        usize::try_from(self.file.reader.metadata().row_group(self.g).num_rows()).ok()
     }
 
     /// Column `col`'s leaf index if it has the physical and converted type given.
     fn leaf(&self, col: usize, physical: PhysicalType, converted: ConvertedType) -> Option<usize> {
-        let &(i, p, c) = self.columns.get(col)?;
+        let &(i, p, c) = self.file.columns.get(col)?;
         (p == physical && c == converted).then_some(i)
     }
 
-    /// Every data page of leaf `leaf`, in order, handed to `each` with its values' bytes, count
-    /// and encoding.
+    /// Every data page of leaf `leaf`, in order, handed to `each` with its values' bytes
+    /// (decompressed), count and encoding.
     fn for_pages(&self, leaf: usize, mut each: impl FnMut(&[u8], usize, Encoding) -> Option<()>) -> Option<()> {
-        for page in self.reader.get_column_page_reader(leaf).ok()? {
+        let rg = self.file.reader.metadata().row_group(self.g);
+        let chunk = rg.columns().get(leaf)?;
+        let zstd_chunk = match chunk.compression() {
+            Compression::UNCOMPRESSED => false,
+            Compression::ZSTD(_) => true,
+            _ => return None,
+        };
+        // The chunk's pages as stored: the page reader is told they are not compressed, so that
+        // it makes no codec, and each page is decompressed here with the file's one context.
+        let stored = chunk.clone().into_builder().set_compression(Compression::UNCOMPRESSED).build().ok()?;
+        let rows = usize::try_from(rg.num_rows()).ok()?;
+        let pages = SerializedPageReader::new(Arc::clone(&self.file.file), &stored, rows, None).ok()?;
+        let mut inflate = self.file.inflate.borrow_mut();
+        let Inflate { zstd: context, page: buf } = &mut *inflate;
+        for page in pages {
             let page = page.ok()?;
-            let (values, n, encoding) = page_values(&page)?;
-            each(values, n, encoding)?;
+            let (values, n, encoding, compressed) = page_values(&page)?;
+            if zstd_chunk && compressed {
+                let size = zstd::zstd_safe::get_frame_content_size(values).ok()??;
+                let size = usize::try_from(size).ok()?;
+                buf.clear();
+                buf.reserve(size);
+                if context.decompress_to_buffer(values, buf).ok()? != size {
+                    return None;
+                }
+                each(buf, n, encoding)?;
+            } else {
+                each(values, n, encoding)?;
+            }
         }
         Some(())
     }
@@ -108,6 +156,36 @@ impl PageRowGroup<'_> {
             }
             out.extend(values[..4 * n].chunks_exact(4).map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]])));
             Some(())
+        })
+    }
+
+    /// A `uint8` column's values into `out` (cleared first).
+    pub fn u8s(&self, col: usize, out: &mut Vec<u8>) -> Option<()> {
+        let leaf = self.leaf(col, PhysicalType::INT32, ConvertedType::UINT_8)?;
+        out.clear();
+        self.for_pages(leaf, |values, n, encoding| {
+            if encoding != Encoding::PLAIN || values.len() < 4 * n {
+                return None;
+            }
+            for b in values[..4 * n].chunks_exact(4) {
+                out.push(u8::try_from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])).ok()?);
+            }
+            Some(())
+        })
+    }
+
+    /// A `uint64` column's values into `out` (cleared first), delta-encoded or plain.
+    pub fn u64s(&self, col: usize, out: &mut Vec<u64>) -> Option<()> {
+        let leaf = self.leaf(col, PhysicalType::INT64, ConvertedType::UINT_64)?;
+        out.clear();
+        self.for_pages(leaf, |values, n, encoding| match encoding {
+            Encoding::DELTA_BINARY_PACKED => crate::page_delta::decode_u64s(values, n, out),
+            Encoding::PLAIN => {
+                let values = values.get(..8 * n)?;
+                out.extend(values.chunks_exact(8).map(|b| u64::from_le_bytes(b.try_into().unwrap_or([0xff; 8]))));
+                Some(())
+            }
+            _ => None,
         })
     }
 
@@ -141,6 +219,12 @@ impl PageRowGroup<'_> {
     /// A `utf8` column's values, each value's bytes handed to `each` in row order (no string is
     /// built; `each` may refuse one with `None`). The bytes are not checked to be UTF-8.
     pub fn strs(&self, col: usize, mut each: impl FnMut(&[u8]) -> Option<()>) -> Option<()> {
+        self.keyed_strs(col, |_, bytes| each(bytes))
+    }
+
+    /// [`Self::strs`] with each value's [`short_key`] (`None` for a value over 12 bytes), taken
+    /// from the stored bytes in one load.
+    pub fn keyed_strs(&self, col: usize, mut each: impl FnMut(Option<u128>, &[u8]) -> Option<()>) -> Option<()> {
         let leaf = self.leaf(col, PhysicalType::BYTE_ARRAY, ConvertedType::UTF8)?;
         self.for_pages(leaf, |values, n, encoding| {
             if encoding != Encoding::PLAIN {
@@ -150,7 +234,8 @@ impl PageRowGroup<'_> {
             for _ in 0..n {
                 let len = values.get(pos..pos + 4)?;
                 let len = u32::from_le_bytes([len[0], len[1], len[2], len[3]]) as usize;
-                each(values.get(pos + 4..pos + 4 + len)?)?;
+                let bytes = values.get(pos + 4..pos + 4 + len)?;
+                each(stored_key(&values[pos..], len), bytes)?;
                 pos += 4 + len;
             }
             Some(())
@@ -158,16 +243,54 @@ impl PageRowGroup<'_> {
     }
 }
 
-/// The values of one data page (levels skipped: the columns are required and flat), or `None`
-/// for a page this decoder does not take (a dictionary page, a page with nulls).
-fn page_values(page: &Page) -> Option<(&[u8], usize, Encoding)> {
+/// The key of a string of at most 12 bytes: its length (4 bytes, little-endian) and its bytes in
+/// one integer, zero-padded (the layout of an inline Arrow string view), so that a label is
+/// recognised in one comparison; `None` for a longer string.
+#[inline]
+pub fn short_key(bytes: &[u8]) -> Option<u128> {
+    let len = u32::try_from(bytes.len()).ok().filter(|&l| l <= 12)?;
+    let mut b = [0u8; 16];
+    b[..4].copy_from_slice(&len.to_le_bytes());
+    for (d, s) in b[4..].iter_mut().zip(bytes) {
+        *d = *s;
+    }
+    Some(u128::from_le_bytes(b))
+}
+
+/// [`short_key`] of the plain-encoded value at the start of `stored` (its 4-byte length, then
+/// its bytes), read in one load where 16 bytes are left: the stored layout is the key's.
+#[inline]
+fn stored_key(stored: &[u8], len: usize) -> Option<u128> {
+    if len > 12 {
+        return None;
+    }
+    match stored.get(..16) {
+        Some(b) => {
+            let all = u128::from_le_bytes(b.try_into().ok()?);
+            Some(all & (u128::MAX >> (128 - 8 * (4 + len))))
+        }
+        None => short_key(stored.get(4..4 + len)?),
+    }
+}
+
+/// The values of one data page (levels skipped: the columns are required and flat), their
+/// count and encoding and whether they are compressed, or `None` for a page this decoder does not
+/// take (a dictionary page, a page with nulls, levels inside a compressed version-1 page).
+fn page_values(page: &Page) -> Option<(&[u8], usize, Encoding, bool)> {
     match page {
-        Page::DataPage { buf, num_values, encoding, .. } => Some((buf, *num_values as usize, *encoding)),
+        Page::DataPage { buf, num_values, encoding, .. } => Some((buf, *num_values as usize, *encoding, true)),
         Page::DataPageV2 {
-            buf, num_values, encoding, num_nulls: 0, def_levels_byte_len, rep_levels_byte_len, ..
+            buf,
+            num_values,
+            encoding,
+            num_nulls: 0,
+            def_levels_byte_len,
+            rep_levels_byte_len,
+            is_compressed,
+            ..
         } => {
             let levels = *def_levels_byte_len as usize + *rep_levels_byte_len as usize;
-            Some((buf.get(levels..)?, *num_values as usize, *encoding))
+            Some((buf.get(levels..)?, *num_values as usize, *encoding, *is_compressed))
         }
         _ => None,
     }
@@ -179,9 +302,33 @@ mod tests {
     use mimo_core::records::DwellRow;
     use parquet::file::properties::WriterProperties;
 
-    /// Dwell rows of run 3 whose every decoded column varies (times 13.7 ms apart).
+    /// Dwell rows of run 3 whose every decoded column varies (times 13.7 ms apart), ids too:
+    /// group ids jump up and down by up to 2^40, dwell ids wrap around `u64::MAX`.
     fn dwells(n: usize) -> Vec<DwellRow> {
-        crate::testing::varied_dwell_rows(3, &(0..n).map(|i| 0.0137 * i as f64).collect::<Vec<_>>())
+        let mut rows = crate::testing::varied_dwell_rows(3, &(0..n).map(|i| 0.0137 * i as f64).collect::<Vec<_>>());
+        for (i, r) in rows.iter_mut().enumerate() {
+            let i = i as u64;
+            r.group_id = (i * i * 7919) % (1 << 40) + (i % 5);
+            r.dwell_id = (u64::MAX - 3 * n as u64 / 2).wrapping_add(3 * i);
+        }
+        rows
+    }
+
+    /// The id and face columns of every row group, concatenated; `None` where the decoder gives up.
+    fn decode_ids(path: &Path) -> Option<(Vec<u64>, Vec<u64>, Vec<u8>)> {
+        let f = PageFile::open(path, &["dwell_id", "group_id", "face"])?;
+        let mut all = (Vec::new(), Vec::new(), Vec::new());
+        let (mut u, mut b) = (Vec::new(), Vec::new());
+        for g in 0..f.num_row_groups() {
+            let rg = f.row_group(g)?;
+            rg.u64s(0, &mut u)?;
+            all.0.extend(&u);
+            rg.u64s(1, &mut u)?;
+            all.1.extend(&u);
+            rg.u8s(2, &mut b)?;
+            all.2.extend(&b);
+        }
+        Some(all)
     }
 
     const NAMES: [&str; 6] = ["run", "radar", "role", "t_s", "duration_s", "energy_j"];
@@ -232,11 +379,15 @@ mod tests {
             assert_eq!(got.3, rows.iter().map(|r| r.t_s).collect::<Vec<_>>());
             assert_eq!(got.4, rows.iter().map(|r| r.duration_s).collect::<Vec<_>>());
             assert_eq!(got.5, rows.iter().map(|r| r.energy_j).collect::<Vec<_>>());
+            let ids = decode_ids(path).expect("the store's ids and faces take the page decoder");
+            assert_eq!(ids.0, rows.iter().map(|r| r.dwell_id).collect::<Vec<_>>());
+            assert_eq!(ids.1, rows.iter().map(|r| r.group_id).collect::<Vec<_>>());
+            assert_eq!(ids.2, rows.iter().map(|r| r.face).collect::<Vec<_>>());
         }
     }
 
     /// The writer's settings for every column of every run table of a type the decoder reads
-    /// (`uint32`, `float64`, `utf8`) are settings it decodes: no dictionary, and an encoding of
+    /// (`uint8`, `uint32`, `uint64`, `float64`, `utf8`) are settings it decodes: no dictionary, and an encoding of
     /// [`decodes`]. A change of the settings that would turn the fast path off fails here.
     #[test]
     fn the_writer_settings_stay_within_what_the_decoder_takes() {
@@ -247,7 +398,8 @@ mod tests {
             let props = crate::writer_props(&schema);
             for field in schema.fields() {
                 let physical = match field.data_type() {
-                    DataType::UInt32 => PhysicalType::INT32,
+                    DataType::UInt8 | DataType::UInt32 => PhysicalType::INT32,
+                    DataType::UInt64 => PhysicalType::INT64,
                     DataType::Float64 => PhysicalType::DOUBLE,
                     DataType::Utf8 => PhysicalType::BYTE_ARRAY,
                     _ => continue,
@@ -256,11 +408,10 @@ mod tests {
                 let what = format!("{}.{}", spec.name, field.name());
                 assert!(!props.dictionary_enabled(&path), "{what}: dictionary pages");
                 let encoding = props.encoding(&path).unwrap_or(Encoding::PLAIN);
-                // Delta-encoded ids are not asked of the decoder; every other column must decode.
-                if encoding != Encoding::DELTA_BINARY_PACKED {
-                    assert!(decodes(physical, encoding), "{what}: {encoding:?} pages");
-                    checked += 1;
-                }
+                assert!(decodes(physical, encoding), "{what}: {encoding:?} pages");
+                let codec = props.compression(&path);
+                assert!(matches!(codec, Compression::UNCOMPRESSED | Compression::ZSTD(_)), "{what}: {codec:?}");
+                checked += 1;
             }
         }
         assert!(checked > 40, "{checked} columns checked");

@@ -6,7 +6,11 @@
 //!   records (JSON) and mimo's own hidden lock and staging entries.
 //! * A **score directory**: `summary.json` a JSON object with the summary's `challenge` and
 //!   `usage`, Parquet files whose metadata names a mimo table, and `charts/` holding only charts
-//!   mimo drew (below).
+//!   mimo drew (below). A file of mimo's score that was **damaged** (cut short, emptied) is
+//!   still recognised, by its name and what is left of its content ([`damaged_in_score_dir`]):
+//!   a score table's name with the Parquet magic `PAR1` but no readable footer (or no byte at
+//!   all), a `summary.json` that opens as mimo writes one (`{` then `"scenario":`) but does not
+//!   parse. `mimo score` replaces it with the rest of the score and says so.
 //! * A **page `mimo plot` wrote**: it carries [`PLOT_MARK`] in its head.
 //! * An **image `scenarios --map` wrote**: a PNG with a `tEXt` chunk, or an SVG opening with a
 //!   comment, holding [`MAP_MARK`] ([`mark_image`]).
@@ -158,8 +162,42 @@ fn entries(dir: &Path) -> Result<Vec<(String, PathBuf)>, StoreError> {
     Ok(out)
 }
 
+/// Whether `path` is a file of mimo's own score that was damaged: named as one of the score's
+/// tables or its summary, and holding what is left of one (module docs).
+fn is_damaged_score_file(dir: &ScoreDir, path: &Path) -> bool {
+    let Ok(meta) = std::fs::symlink_metadata(path) else { return false };
+    if !meta.is_file() {
+        return false;
+    }
+    if path == dir.summary() {
+        let text = head(path, 64);
+        let opens_as_mimo = text.starts_with(b"{") && {
+            let rest = String::from_utf8_lossy(&text[1..]).to_string();
+            rest.trim_start().starts_with("\"scenario\":")
+        };
+        return (meta.len() == 0 || opens_as_mimo) && !is_json(path);
+    }
+    let named = crate::score_schema::SCORE_TABLES.iter().any(|spec| dir.table(spec) == path);
+    named && (meta.len() == 0 || (head(path, 4) == b"PAR1" && !is_readable_parquet(path)))
+}
+
+/// Whether `path` has a Parquet footer the reader accepts.
+fn is_readable_parquet(path: &Path) -> bool {
+    std::fs::File::open(path)
+        .is_ok_and(|f| parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(f).is_ok())
+}
+
+/// The files of mimo's own score in `dir` that were damaged (module docs): replaced by the
+/// next `mimo score`, which names them.
+pub fn damaged_in_score_dir(dir: &ScoreDir) -> Result<Vec<PathBuf>, StoreError> {
+    if !dir.root().is_dir() {
+        return Ok(Vec::new());
+    }
+    Ok(entries(dir.root())?.into_iter().map(|(_, p)| p).filter(|p| is_damaged_score_file(dir, p)).collect())
+}
+
 /// The entries of a score directory mimo did not write (all of it if it is not a score
-/// directory at all).
+/// directory at all). Damaged files of mimo's own score are mimo's ([`damaged_in_score_dir`]).
 pub fn foreign_in_score_dir(dir: &ScoreDir) -> Result<Vec<PathBuf>, StoreError> {
     let mut foreign = Vec::new();
     for (name, path) in entries(dir.root())? {
@@ -168,12 +206,13 @@ pub fn foreign_in_score_dir(dir: &ScoreDir) -> Result<Vec<PathBuf>, StoreError> 
                 .ok()
                 .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
                 .is_some_and(|v| v.get("challenge").is_some() && v.get("usage").is_some())
+                || is_damaged_score_file(dir, &path)
         } else if path == dir.charts() && path.is_dir() {
             let inside = entries(&path)?;
             foreign.extend(inside.into_iter().filter(|(_, p)| !(p.is_file() && is_chart_image(p))).map(|(_, p)| p));
             true
         } else {
-            is_own_hidden(&name) || (path.is_file() && is_mimo_parquet(&path))
+            is_own_hidden(&name) || (path.is_file() && is_mimo_parquet(&path)) || is_damaged_score_file(dir, &path)
         };
         if !ours {
             foreign.push(path);
@@ -227,6 +266,26 @@ pub fn refuse_foreign(target: &Path, foreign: &[PathBuf], what: &str) -> StoreEr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn damaged_files_of_a_score_are_mimos_and_a_users_are_not() {
+        let tmp = tempfile::tempdir().expect("tmp");
+        let dir = ScoreDir::new(tmp.path().join("score"));
+        std::fs::create_dir_all(dir.root()).expect("mkdir");
+        let tm = dir.table(&crate::score_schema::SCORE_TABLES[0]);
+        // A score table cut short: the magic, then nothing readable.
+        std::fs::write(&tm, b"PAR1\x15\x04\x15").expect("write");
+        std::fs::write(dir.summary(), "{\n  \"scenario\": \"7\",\n  \"runs\"").expect("write");
+        let damaged = damaged_in_score_dir(&dir).expect("ls");
+        assert_eq!(damaged, vec![dir.summary(), tm.clone()]);
+        assert!(foreign_in_score_dir(&dir).expect("ls").is_empty());
+        // A user's summary (valid JSON without mimo's keys) and a user's file under another name
+        // stay foreign; so does a PAR1 file under a name that is not a score table's.
+        std::fs::write(dir.summary(), "{}").expect("write");
+        std::fs::write(dir.root().join("mine.parquet"), b"PAR1xx").expect("write");
+        let foreign = foreign_in_score_dir(&dir).expect("ls");
+        assert_eq!(foreign, vec![dir.root().join("mine.parquet"), dir.summary()]);
+    }
 
     #[test]
     fn crc_of_a_known_chunk() {

@@ -207,7 +207,8 @@ impl<'a> Batch<'a> {
         (0..a.len())
             .map(|i| {
                 let s = a.value(i);
-                parse(s).ok_or_else(|| self.bad(name, format!("row {i}: '{s}' is not {what}")))
+                parse(s)
+                    .ok_or_else(|| self.bad(name, format!("row {i}: {} is not {what}", mimo_core::quote::quoted(s))))
             })
             .collect()
     }

@@ -60,7 +60,10 @@ impl RunDirWriter {
     pub fn create(target: &Path, force: bool) -> Result<RunDirWriter, StoreError> {
         let lock = OutputLock::acquire(target)?;
         let replacing = output::check_replaceable(target, force)?;
-        let score_lock = if replacing { Some(OutputLock::acquire(RunDir::new(target).score().root())?) } else { None };
+        // Only a run has a score to lock: the lock file of an empty directory's would make it
+        // a directory that is neither empty nor a run when it is checked again at `finish`.
+        let is_run = replacing && RunDir::new(target).manifest().is_file();
+        let score_lock = if is_run { Some(OutputLock::acquire(RunDir::new(target).score().root())?) } else { None };
         output::remove_stale(target)?;
         let staging = staging_for(target, "partial")?;
         output::register(&staging);

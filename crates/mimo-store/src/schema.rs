@@ -226,13 +226,14 @@ pub use crate::study_schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_S
 pub const ALL_TABLES: [TableSpec; 7] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS, BIASES];
 
 /// The tables a study writes.
-pub const STUDY_TABLES: [TableSpec; 6] = [
+pub const STUDY_TABLES: [TableSpec; 7] = [
     STUDY_RESULTS,
     STUDY_COSTS,
     STUDY_SUMMARY,
     crate::challenge_schema::STUDY_CHALLENGE,
     crate::challenge_schema::STUDY_CHALLENGE_RATIOS,
     crate::failure_point_schema::STUDY_FAILURE_POINTS,
+    crate::challenge_schema::STUDY_FRONTIER,
 ];
 
 /// Every table: run tables, study tables, score tables.

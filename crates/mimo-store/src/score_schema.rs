@@ -207,6 +207,30 @@ macro_rules! score_usage_by_purpose_table {
     };
 }
 
+/// The `score_first_track` table, declared once: hands its columns to `$gen`.
+#[macro_export]
+macro_rules! score_first_track_table {
+    ($gen:path) => {
+        $crate::core_crate::table_decl! { $gen;
+            /// How soon one target was first tracked in one run (`score/first_track.parquet`).
+            #[derive(Debug, Clone, PartialEq, Serialize)]
+            pub struct FirstTrackRow / FirstTrackColumns in SCORE_FIRST_TRACK = "score_first_track":
+                "Per run and target scorable at some scoring time: the first scoring time it is scorable, the first \
+at which it is assigned a confirmed track, and the time between (docs/design.md §6, \"Time to \
+first track\"); rows by run, then by first scorable time, then in truth-table order" {
+                run: u32 => ("", "Monte Carlo run index"),
+                target_id: String => ("", "truth name, as in the truth table"),
+                scorable_from_s: f64 => ("s", "the first scoring time at which the target is scorable"),
+                first_track_s: Option<f64> => (
+                    "s",
+                    "the first scoring time at which it is assigned a confirmed track; null if never"
+                ),
+                time_to_first_track_s: Option<f64> => ("s", "first_track_s − scorable_from_s; null if never tracked"),
+            }
+        }
+    };
+}
+
 use crate::schema::TableSpec;
 
 score_track_metrics_table!(crate::table_spec);
@@ -216,9 +240,10 @@ score_usage_table!(crate::table_spec);
 score_usage_total_table!(crate::table_spec);
 score_usage_radar_table!(crate::table_spec);
 score_usage_by_purpose_table!(crate::table_spec);
+score_first_track_table!(crate::table_spec);
 
 /// Every score table, in the order `mimo score` writes them.
-pub const SCORE_TABLES: [TableSpec; 7] = [
+pub const SCORE_TABLES: [TableSpec; 8] = [
     SCORE_TRACK_METRICS,
     SCORE_TRACK_METRICS_MEAN,
     SCORE_ASSIGNMENTS,
@@ -226,6 +251,7 @@ pub const SCORE_TABLES: [TableSpec; 7] = [
     SCORE_USAGE_TOTAL,
     SCORE_USAGE_RADAR,
     SCORE_USAGE_BY_PURPOSE,
+    SCORE_FIRST_TRACK,
 ];
 
 /// The file a score table is written to inside `RUN/score/` (`score_usage` → `usage.parquet`).

@@ -132,6 +132,19 @@ study_metrics![
     ("dwell_time_confirm_false_s", "s", "transmit dwell time of confirmation looks with no truth in them"),
     ("dwell_time_track_s", "s", "transmit dwell time of track and MIMO looks with a truth in them"),
     ("dwell_time_track_false_s", "s", "transmit dwell time of track and MIMO looks with no truth in them"),
+    (
+        "dwell_time_per_object_s",
+        "s",
+        "sum over scoring intervals of all transmit dwell time (search and TA) / scorable objects"
+    ),
+    (
+        "first_track_mean_s",
+        "s",
+        "mean over the run's targets that got a track of the time from first scorable to first assignment to a \
+         confirmed track"
+    ),
+    ("first_track_max_s", "s", "the same, of the worst such target"),
+    ("never_tracked", "", "targets scorable at some scoring time of the run never assigned to a confirmed track"),
 ];
 
 /// One value per metric of [`STUDY_METRICS`], in its order (null when the run failed or the

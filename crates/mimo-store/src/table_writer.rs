@@ -5,7 +5,9 @@
 //!
 //! The file is written under a temporary name (`.NAME.tmp`) in a directory that must exist (a
 //! staging directory removed on interrupt is never re-created) and renamed by [`TableWriter::finish`];
-//! a writer dropped unfinished, or whose `finish` failed (a full disk), removes its temporary file.
+//! a writer dropped unfinished, or whose `finish` failed (a full disk), removes its temporary file,
+//! and the temporary file is registered with the interrupt handler (`crate::output`), which
+//! removes it on SIGINT/SIGTERM wherever it is (a study writes its cells in place).
 //! Chunks are a whole number of the Parquet writer's mini-batches (1024 rows), so the bytes are the
 //! ones a single write of all the rows gives.
 
@@ -36,9 +38,10 @@ impl<R: TableRow> TableWriter<R> {
         let tmp = path.with_file_name(format!(".{name}.tmp"));
         let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
         let schema = std::sync::Arc::new(R::SPEC.arrow_schema());
-        let file = File::create(&tmp).map_err(|e| write_err(e.to_string()))?;
+        let file = crate::output::create_registered(&tmp)?;
         let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema))).map_err(|e| {
             let _ = std::fs::remove_file(&tmp);
+            crate::output::unregister(&tmp);
             write_err(e.to_string())
         })?;
         Ok(TableWriter {
@@ -101,6 +104,7 @@ impl<R: TableRow> TableWriter<R> {
         }
         self.writer.finish().map_err(|e| self.write_err(e.to_string()))?;
         std::fs::rename(&self.tmp, &self.path).map_err(|e| self.write_err(e.to_string()))?;
+        crate::output::unregister(&self.tmp);
         self.finished = true;
         Ok(self.rows)
     }
@@ -110,6 +114,7 @@ impl<R: TableRow> Drop for TableWriter<R> {
     fn drop(&mut self) {
         if !self.finished {
             let _ = std::fs::remove_file(&self.tmp);
+            crate::output::unregister(&self.tmp);
         }
     }
 }

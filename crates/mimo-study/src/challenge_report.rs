@@ -1,9 +1,12 @@
 //! The section `report.md` opens with: the challenge table (per scenario and stress point, each
-//! family's energy, dwell time and power at 98 % completeness with bootstrap intervals) and the
-//! paired MIMO ÷ conventional energy ratios.
+//! family's total energy, dwell time and power at 98 % completeness on its efficient frontier,
+//! with bootstrap intervals, its test article's part, the worst target's time to first track and
+//! the bracketing frontier points) and the paired MIMO ÷ conventional energy ratios.
 
 use crate::bootstrap::RESAMPLES;
-use crate::challenge::{COMPLETENESS_REQUIRED, WithCi, reason};
+use crate::challenge::{
+    AT_DWELL, AT_ENERGY, AT_FIRST_TRACK_MAX, AT_POWER, AT_TA_ENERGY, COMPLETENESS_REQUIRED, WithCi, reason,
+};
 use crate::challenge_table::{FamilyRow, RatioRow};
 use crate::grid::Cell;
 use crate::plan::Plan;
@@ -38,42 +41,72 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
     }
     let _ = writeln!(
         o,
-        "Per scenario, each family (a `[[methods]]` entry; a swept one is a curve of points) at the first point of \
-         its knob where the mean completeness reaches {pct} % with no failed run, interpolated linearly between that \
-         point and the one before: the TA energy, dwell time and power (energy ÷ duration) per scorable object. \
-         In brackets, 95 % percentile intervals from {RESAMPLES} bootstrap resamples of the {} Monte Carlo run(s), \
-         one resample applied to every point of a family (run k of every cell shares its random draws); `…` marks \
-         an end beyond the sweep. With few runs these intervals are too narrow (three runs cover the mean about \
-         three times in four): read them as the spread of the runs, and raise `runs` for a claim.\n",
+        "Per scenario, each family (a `[[methods]]` entry; a swept one is a set of points, a curve or a grid) read \
+         on its efficient frontier: of its points, those no other point beats (at least their mean completeness for \
+         at most their mean energy). The crossing lies between the first frontier point whose mean completeness \
+         reaches {pct} % with no failed run and the frontier point before it, interpolated linearly in \
+         completeness. Energy, dwell time and power (energy ÷ duration) per scorable object are **totals**: every \
+         transmit dwell of every radar, search and test article; the test article's own part is in the TA column \
+         and in `ta_energy_at_98_j` of `challenge.parquet`. In brackets, 95 % percentile intervals from {RESAMPLES} \
+         bootstrap resamples of the {} Monte Carlo run(s), one resample applied to every point of a family (run k \
+         of every cell shares its random draws), each resample rebuilding the frontier from its own means and \
+         re-reading the crossing on it; `…` marks an end beyond the sweep. With few runs these intervals are too \
+         narrow: raise `runs` for a claim. The bracket gives the two frontier points around the crossing and their \
+         energy gap as a fraction of the energy at {pct} %; the first-track column is the mean over runs of the \
+         time from first scorable to first confirmed track of the run's worst target, at the crossing.\n",
         plan.runs
     );
     let _ = writeln!(
         o,
         "| scenario | stress | family | architecture | holds | knob at {pct} % | energy at {pct} % (J) | dwell time at \
-         {pct} % (s) | power at {pct} % (W) |\n|---|---|---|---|---|---|---|---|---|"
+         {pct} % (s) | power at {pct} % (W) | TA energy at {pct} % (J) | worst first track (s) | bracket (gap) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for f in c.families {
         let cell = &cells[f.cell];
-        let knob = |v: Option<f64>| match (&f.knob, v) {
-            (Some(k), Some(v)) => format!("{k} = {}", num(v, 3)),
-            _ => "–".into(),
-        };
-        let figures = match &f.challenge.at {
-            Ok((k, e, d, p)) => format!("{} | {} | {} | {}", knob(*k), with_ci(e, 0), with_ci(d, 3), with_ci(p, 2)),
-            Err(e) => format!("– | – ({}) | – | –", reason(e)),
-        };
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} | {} | {figures} |",
+            "| {} | {} | {} | {} | {} | {} |",
             plan.scenarios[cell.scenario].label(),
             crate::report::point_text(cell),
             f.family,
             f.architecture.name(),
             if f.challenge.holds { "yes" } else { "no" },
+            figures_md(f),
         );
     }
     ratios_md(&mut o, plan, cells, c, pct);
     o
+}
+
+/// The figures of a family's row, from the knob on.
+fn figures_md(f: &FamilyRow) -> String {
+    let a = match &f.challenge.at {
+        Ok(a) => a,
+        Err(e) => return format!("– | – ({}) | – | – | – | – | – |", reason(e)),
+    };
+    let knob = match (&f.knob, a.knob) {
+        (Some(k), Some(v)) => format!("{k} = {}", num(v, 3)),
+        _ => "–".into(),
+    };
+    let fig = |i: usize, digits: usize| a.figures[i].map_or_else(|| "–".to_string(), |w| with_ci(&w, digits));
+    let (lo, hi) = a.bracket;
+    let means = crate::challenge::all_means(&f.runs);
+    let e = |j: usize| means[j].figures[crate::challenge::RUN_ENERGY].map_or_else(|| "–".into(), |x| num(x, 0));
+    let gap = match (means[lo].figures[0], means[hi].figures[0], a.figures[AT_ENERGY]) {
+        (Some(x), Some(y), Some(w)) if w.0 > 0.0 => format!("{:.1} %", 100.0 * (y - x) / w.0),
+        _ => "–".into(),
+    };
+    let bracket =
+        format!("{} ({} J) – {} ({} J): {gap}", f.runs.points[lo].method, e(lo), f.runs.points[hi].method, e(hi));
+    format!(
+        "{knob} | {} | {} | {} | {} | {} | {bracket}",
+        fig(AT_ENERGY, 0),
+        fig(AT_DWELL, 3),
+        fig(AT_POWER, 2),
+        fig(AT_TA_ENERGY, 0),
+        fig(AT_FIRST_TRACK_MAX, 1),
+    )
 }
 
 /// The section when no family sweeps a knob: why no energy at the requirement is given.
@@ -98,19 +131,22 @@ fn ratios_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge, pct: f6
     }
     let _ = writeln!(
         o,
-        "\nMIMO ÷ conventional TA energy per scorable object at {pct} %, with the paired bootstrap interval (one \
-         resample of run indices applied to both families):\n\n\
-         | scenario | stress | MIMO family | conventional family | energy ratio (95 %) |\n|---|---|---|---|---|"
+        "\nMIMO ÷ conventional energy per scorable object at {pct} %, total (search and test article) and the test \
+         article's part, with the paired bootstrap interval (one resample of run indices applied to both families, \
+         each rebuilding both frontiers):\n\n\
+         | scenario | stress | MIMO family | conventional family | energy ratio (95 %) | TA energy ratio (95 %) |\n\
+         |---|---|---|---|---|---|"
     );
     for r in c.ratios {
         let cell = &cells[c.families[r.mimo].cell];
-        let ratio = match &r.ratio {
+        let text = |r: &Result<WithCi, String>| match r {
             Ok(w) => with_ci(w, 3),
             Err(why) => format!("– ({why})"),
         };
+        let (ratio, ta_ratio) = (text(&r.ratio), text(&r.ta_ratio));
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} | {ratio} |",
+            "| {} | {} | {} | {} | {ratio} | {ta_ratio} |",
             plan.scenarios[cell.scenario].label(),
             crate::report::point_text(cell),
             c.families[r.mimo].family,

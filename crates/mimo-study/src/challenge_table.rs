@@ -1,17 +1,22 @@
-//! `DIR/challenge.parquet` and `DIR/challenge_ratios.parquet` (declared in
-//! `mimo_store::challenge_schema`): the challenge figures of every family on every scenario and
-//! stress point, and the paired MIMO ÷ conventional energy ratios, from the item records. Rows
+//! `DIR/challenge.parquet`, `DIR/challenge_ratios.parquet` and `DIR/frontier.parquet` (declared
+//! in `mimo_store::challenge_schema`): the challenge figures of every family on every scenario
+//! and stress point, the paired MIMO ÷ conventional energy ratios (total and the test article's
+//! part), and each family's points with its efficient frontier, from the item records. Rows
 //! follow the plan: scenarios, then stress points, then families (or family pairs) in plan order.
 
 use crate::bootstrap::{RESAMPLES, resamples};
-use crate::challenge::{Challenge, FamilyRuns, PointRuns, challenge, energy_ratio, reason};
+use crate::challenge::{
+    AT_DWELL, AT_ENERGY, AT_FIRST_TRACK_MAX, AT_POWER, AT_TA_DWELL, AT_TA_ENERGY, AT_TA_POWER, Challenge, FamilyRuns,
+    PointRuns, RUN_ENERGY, WithCi, all_means, challenge, energy_ratio, reason,
+};
 use crate::grid::{self, Cell};
 use crate::plan::{Architecture, Plan};
 use crate::tables::ResultRow;
 use crate::tables::point_ids;
 use mimo_store::StoreError;
 use mimo_store::challenge_schema::{
-    STUDY_CHALLENGE, STUDY_CHALLENGE_RATIOS, StudyChallengeRatiosRow, StudyChallengeRow,
+    STUDY_CHALLENGE, STUDY_CHALLENGE_RATIOS, STUDY_FRONTIER, StudyChallengeRatiosRow, StudyChallengeRow,
+    StudyFrontierRow,
 };
 use mimo_store::columns::write_rows;
 use mimo_store::layout::StudyDir;
@@ -25,11 +30,13 @@ pub struct FamilyRow {
     pub family: String,
     /// MIMO or conventional.
     pub architecture: Architecture,
-    /// Its knob's key path.
+    /// Its knob's key path (key paths joined by ` × ` for a grid).
     pub knob: Option<String>,
+    /// Refinement rounds run for this family, scenario and stress point.
+    pub refine_rounds: u32,
     /// A cell of the row (for the scenario and stress point).
     pub cell: usize,
-    /// The cells of its points, ordered by knob value.
+    /// The cells of its points, ordered by knob value (a grid's by its values, key by key).
     pub cells: Vec<usize>,
     /// Its runs.
     pub runs: FamilyRuns,
@@ -37,14 +44,21 @@ pub struct FamilyRow {
     pub challenge: Challenge,
 }
 
-pub(crate) fn point_runs(recs: &[ResultRow], knob: Option<f64>) -> PointRuns {
+pub(crate) fn point_runs(recs: &[ResultRow], method: &str, knob: Option<f64>) -> PointRuns {
     let m = |r: &ResultRow, name: &str| if r.failure.is_some() { None } else { r.metric(name) };
+    let of = |name: &str| recs.iter().map(|r| m(r, name)).collect::<Vec<_>>();
     PointRuns {
+        method: method.to_string(),
         knob,
         failed: recs.iter().map(|r| r.failure.is_some()).collect(),
-        completeness: recs.iter().map(|r| m(r, "completeness")).collect(),
-        energy_j: recs.iter().map(|r| m(r, "ta_energy_per_object_j")).collect(),
-        dwell_s: recs.iter().map(|r| m(r, "ta_dwell_time_per_object_s")).collect(),
+        completeness: of("completeness"),
+        figures: [
+            of("energy_per_object_j"),
+            of("dwell_time_per_object_s"),
+            of("ta_energy_per_object_j"),
+            of("ta_dwell_time_per_object_s"),
+            of("first_track_max_s"),
+        ],
     }
 }
 
@@ -70,14 +84,24 @@ pub fn family_rows(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> V
                             && plan.methods[cell.method].family == *fam
                     })
                     .collect();
-                let knob = |c: &usize| plan.methods[cells[*c].method].knob_value.unwrap_or(0.0);
-                of.sort_by(|a, b| knob(a).total_cmp(&knob(b)));
+                let grid = |c: &usize| plan.methods[cells[*c].method].grid.iter().map(|g| g.1).collect::<Vec<_>>();
+                of.sort_by(|a, b| {
+                    grid(a)
+                        .iter()
+                        .zip(grid(b).iter())
+                        .map(|(x, y)| x.total_cmp(y))
+                        .find(|o| o.is_ne())
+                        .unwrap_or(a.cmp(b))
+                });
                 let Some(&first) = of.first() else { continue };
                 let method = &plan.methods[cells[first].method];
                 let runs = FamilyRuns {
                     points: of
                         .iter()
-                        .map(|&c| point_runs(&records[c], plan.methods[cells[c].method].knob_value))
+                        .map(|&c| {
+                            let m = &plan.methods[cells[c].method];
+                            point_runs(&records[c], &m.name, m.knob_value)
+                        })
                         .collect(),
                     duration_s: records[first].first().map_or(f64::NAN, |r| r.duration_s),
                 };
@@ -86,6 +110,7 @@ pub fn family_rows(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> V
                     family: fam.to_string(),
                     architecture: method.architecture,
                     knob: method.knob.clone(),
+                    refine_rounds: of.iter().filter(|&&c| plan.methods[cells[c].method].refined).count() as u32,
                     cell: first,
                     cells: of,
                     runs,
@@ -105,10 +130,12 @@ pub struct RatioRow {
     pub mimo: usize,
     /// Index of the conventional family's row.
     pub conventional: usize,
-    /// The ratio and its interval, or why it is null.
-    pub ratio: Result<crate::challenge::WithCi, String>,
+    /// The ratio of total energies and its interval, or why it is null.
+    pub ratio: Result<WithCi, String>,
     /// Resamples with both crossings inside their sweeps.
     pub defined: u32,
+    /// The ratio of the test article's energies and its interval, or why it is null.
+    pub ta_ratio: Result<WithCi, String>,
 }
 
 /// Every (MIMO, conventional) pair of families on each scenario and stress point.
@@ -122,8 +149,9 @@ pub fn ratio_rows(plan: &Plan, cells: &[Cell], rows: &[FamilyRow]) -> Vec<RatioR
     for (i, m) in rows.iter().enumerate().filter(|(_, r)| r.architecture == Architecture::Mimo) {
         for (j, c) in rows.iter().enumerate().filter(|(_, r)| r.architecture == Architecture::Conventional) {
             if same_place(m, c) {
-                let (ratio, defined) = energy_ratio(&m.runs, &c.runs, &boot);
-                out.push(RatioRow { mimo: i, conventional: j, ratio, defined });
+                let (ratio, defined) = energy_ratio(&m.runs, &c.runs, &boot, AT_ENERGY);
+                let (ta_ratio, _) = energy_ratio(&m.runs, &c.runs, &boot, AT_TA_ENERGY);
+                out.push(RatioRow { mimo: i, conventional: j, ratio, defined, ta_ratio });
             }
         }
     }
@@ -131,16 +159,100 @@ pub fn ratio_rows(plan: &Plan, cells: &[Cell], rows: &[FamilyRow]) -> Vec<RatioR
     out
 }
 
-/// The figures of a row at 98 %: (knob, energy, dwell time, power), each figure with its
-/// interval; all null when the crossing is not defined.
-fn at_98(r: &FamilyRow) -> (Option<f64>, [Estimate; 3]) {
-    match r.challenge.at.as_ref() {
-        Ok(a) => (a.0, [a.1, a.2, a.3].map(|w| (Some(w.0), w.1, w.2))),
-        Err(_) => (None, [(None, None, None); 3]),
+/// Figure `i` of a row at 98 % with its interval; all null when the crossing or the figure is
+/// not defined.
+fn at_98(r: &FamilyRow, i: usize) -> Estimate {
+    match r.challenge.at.as_ref().ok().and_then(|a| a.figures[i]) {
+        Some(w) => (Some(w.0), w.1, w.2),
+        None => (None, None, None),
     }
 }
 
-/// Write `challenge.parquet` and `challenge_ratios.parquet` into `dir`.
+/// The bracket columns of a row: (lo method, hi method, lo energy, hi energy, gap).
+type Bracket = (Option<String>, Option<String>, Option<f64>, Option<f64>, Option<f64>);
+
+fn bracket(r: &FamilyRow) -> Bracket {
+    let Ok(a) = r.challenge.at.as_ref() else { return (None, None, None, None, None) };
+    let means = all_means(&r.runs);
+    let (lo, hi) = a.bracket;
+    let (e_lo, e_hi) = (means[lo].figures[RUN_ENERGY], means[hi].figures[RUN_ENERGY]);
+    let gap = match (e_lo, e_hi, a.figures[AT_ENERGY]) {
+        (Some(x), Some(y), Some((e, _, _))) if e > 0.0 => Some((y - x) / e),
+        _ => None,
+    };
+    (Some(r.runs.points[lo].method.clone()), Some(r.runs.points[hi].method.clone()), e_lo, e_hi, gap)
+}
+
+fn challenge_row(plan: &Plan, cells: &[Cell], r: &FamilyRow) -> StudyChallengeRow {
+    let (scenario, point) = (plan.scenarios[cells[r.cell].scenario].label(), point_ids(&cells[r.cell]));
+    let [energy, dwell, power, ta_energy, ta_dwell, ta_power] =
+        [AT_ENERGY, AT_DWELL, AT_POWER, AT_TA_ENERGY, AT_TA_DWELL, AT_TA_POWER].map(|i| at_98(r, i));
+    let (bracket_lo_method, bracket_hi_method, bracket_lo_energy_j, bracket_hi_energy_j, bracket_gap) = bracket(r);
+    StudyChallengeRow {
+        family: r.family.clone(),
+        architecture: r.architecture.name().to_string(),
+        knob: r.knob.clone(),
+        scenario,
+        point,
+        points: r.cells.len() as u32,
+        runs: plan.runs,
+        completeness_required: crate::challenge::COMPLETENESS_REQUIRED,
+        holds: r.challenge.holds,
+        crossings: r.challenge.crossings,
+        reason: r.challenge.at.as_ref().err().map(|e| reason(e).to_string()),
+        knob_at_98: r.challenge.at.as_ref().ok().and_then(|a| a.knob),
+        energy_at_98_j: energy.0,
+        energy_at_98_ci_lo_j: energy.1,
+        energy_at_98_ci_hi_j: energy.2,
+        dwell_time_at_98_s: dwell.0,
+        dwell_time_at_98_ci_lo_s: dwell.1,
+        dwell_time_at_98_ci_hi_s: dwell.2,
+        power_at_98_w: power.0,
+        power_at_98_ci_lo_w: power.1,
+        power_at_98_ci_hi_w: power.2,
+        ta_energy_at_98_j: ta_energy.0,
+        ta_energy_at_98_ci_lo_j: ta_energy.1,
+        ta_energy_at_98_ci_hi_j: ta_energy.2,
+        ta_dwell_time_at_98_s: ta_dwell.0,
+        ta_dwell_time_at_98_ci_lo_s: ta_dwell.1,
+        ta_dwell_time_at_98_ci_hi_s: ta_dwell.2,
+        ta_power_at_98_w: ta_power.0,
+        ta_power_at_98_ci_lo_w: ta_power.1,
+        ta_power_at_98_ci_hi_w: ta_power.2,
+        first_track_max_at_98_s: at_98(r, AT_FIRST_TRACK_MAX).0,
+        frontier_points: r.challenge.frontier.len() as u32,
+        bracket_lo_method,
+        bracket_hi_method,
+        bracket_lo_energy_j,
+        bracket_hi_energy_j,
+        bracket_gap,
+        refine_rounds: r.refine_rounds,
+        resamples: RESAMPLES as u32,
+        resamples_crossing: r.challenge.resamples_crossing,
+    }
+}
+
+/// The rows of `frontier.parquet`: every point of every family row, in the family's order.
+fn frontier_rows(plan: &Plan, cells: &[Cell], rows: &[FamilyRow]) -> Vec<StudyFrontierRow> {
+    let mut out = Vec::new();
+    for r in rows {
+        let means = all_means(&r.runs);
+        for (j, &c) in r.cells.iter().enumerate() {
+            out.push(StudyFrontierRow {
+                family: r.family.clone(),
+                method: plan.methods[cells[c].method].name.clone(),
+                scenario: plan.scenarios[cells[c].scenario].label(),
+                point: point_ids(&cells[c]),
+                energy_per_object_j: means[j].figures[RUN_ENERGY],
+                completeness: means[j].completeness,
+                on_frontier: r.challenge.frontier.contains(&j),
+            });
+        }
+    }
+    out
+}
+
+/// Write `challenge.parquet`, `challenge_ratios.parquet` and `frontier.parquet` into `dir`.
 pub fn write_challenge(
     plan: &Plan,
     cells: &[Cell],
@@ -148,45 +260,15 @@ pub fn write_challenge(
     ratios: &[RatioRow],
     dir: &Path,
 ) -> Result<(), StoreError> {
-    let place = |c: usize| (plan.scenarios[cells[c].scenario].label(), point_ids(&cells[c]));
-    let challenge: Vec<StudyChallengeRow> = rows
-        .iter()
-        .map(|r| {
-            let (scenario, point) = place(r.cell);
-            let (knob_at_98, [energy, dwell, power]) = at_98(r);
-            StudyChallengeRow {
-                family: r.family.clone(),
-                architecture: r.architecture.name().to_string(),
-                knob: r.knob.clone(),
-                scenario,
-                point,
-                points: r.cells.len() as u32,
-                runs: plan.runs,
-                completeness_required: crate::challenge::COMPLETENESS_REQUIRED,
-                holds: r.challenge.holds,
-                crossings: r.challenge.crossings,
-                reason: r.challenge.at.as_ref().err().map(|e| reason(e).to_string()),
-                knob_at_98,
-                energy_at_98_j: energy.0,
-                energy_at_98_ci_lo_j: energy.1,
-                energy_at_98_ci_hi_j: energy.2,
-                dwell_time_at_98_s: dwell.0,
-                dwell_time_at_98_ci_lo_s: dwell.1,
-                dwell_time_at_98_ci_hi_s: dwell.2,
-                power_at_98_w: power.0,
-                power_at_98_ci_lo_w: power.1,
-                power_at_98_ci_hi_w: power.2,
-                resamples: RESAMPLES as u32,
-                resamples_crossing: r.challenge.resamples_crossing,
-            }
-        })
-        .collect();
+    let challenge: Vec<StudyChallengeRow> = rows.iter().map(|r| challenge_row(plan, cells, r)).collect();
     write_rows(&StudyDir::new(dir).table(&STUDY_CHALLENGE), &challenge)?;
+    let place = |c: usize| (plan.scenarios[cells[c].scenario].label(), point_ids(&cells[c]));
     let ratios: Vec<StudyChallengeRatiosRow> = ratios
         .iter()
         .map(|r| {
             let (scenario, point) = place(rows[r.mimo].cell);
             let ratio = r.ratio.as_ref().ok();
+            let ta = r.ta_ratio.as_ref().ok();
             StudyChallengeRatiosRow {
                 scenario,
                 point,
@@ -195,6 +277,9 @@ pub fn write_challenge(
                 energy_ratio: ratio.map(|w| w.0),
                 energy_ratio_ci_lo: ratio.and_then(|w| w.1),
                 energy_ratio_ci_hi: ratio.and_then(|w| w.2),
+                ta_energy_ratio: ta.map(|w| w.0),
+                ta_energy_ratio_ci_lo: ta.and_then(|w| w.1),
+                ta_energy_ratio_ci_hi: ta.and_then(|w| w.2),
                 reason: r.ratio.as_ref().err().cloned(),
                 resamples: RESAMPLES as u32,
                 resamples_defined: r.defined,
@@ -202,5 +287,6 @@ pub fn write_challenge(
         })
         .collect();
     write_rows(&StudyDir::new(dir).table(&STUDY_CHALLENGE_RATIOS), &ratios)?;
+    write_rows(&StudyDir::new(dir).table(&STUDY_FRONTIER), &frontier_rows(plan, cells, rows))?;
     Ok(())
 }

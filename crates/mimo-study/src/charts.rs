@@ -42,13 +42,21 @@ fn frontier_families(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], row
             points: r
                 .cells
                 .iter()
-                .map(|&c| FamilyPoint {
+                .enumerate()
+                .map(|(j, &c)| FamilyPoint {
                     knob: plan.methods[cells[c].method].knob_value,
-                    energy_j: estimate(&summaries[c], "ta_energy_per_object_j"),
+                    energy_j: estimate(&summaries[c], "energy_per_object_j"),
+                    on_frontier: r.challenge.frontier.contains(&j),
                     completeness: estimate(&summaries[c], "completeness"),
                 })
                 .collect(),
-            crossing: r.challenge.at.as_ref().ok().map(|a| Estimate { mean: Some(a.1.0), lo: a.1.1, hi: a.1.2 }),
+            crossing: r
+                .challenge
+                .at
+                .as_ref()
+                .ok()
+                .and_then(|a| a.figures[crate::challenge::AT_ENERGY])
+                .map(|w| Estimate { mean: Some(w.0), lo: w.1, hi: w.2 }),
         })
         .collect()
 }

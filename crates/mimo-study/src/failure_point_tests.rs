@@ -5,11 +5,11 @@ use mimo_core::rng::Stream;
 /// A point whose runs have these completenesses (`None`: the run failed).
 fn point(runs: &[Option<f64>]) -> PointRuns {
     PointRuns {
+        method: String::new(),
         knob: None,
         failed: runs.iter().map(Option::is_none).collect(),
         completeness: runs.to_vec(),
-        energy_j: vec![None; runs.len()],
-        dwell_s: vec![None; runs.len()],
+        figures: std::array::from_fn(|_| vec![None; runs.len()]),
     }
 }
 

@@ -66,7 +66,7 @@ fn shares_draws(records: &[&Vec<ResultRow>]) -> bool {
 }
 
 fn point_runs(recs: &[ResultRow]) -> crate::challenge::PointRuns {
-    crate::challenge_table::point_runs(recs, None)
+    crate::challenge_table::point_runs(recs, "", None)
 }
 
 /// Every method × scenario × axis of the study with a sweep, in table order.

@@ -109,6 +109,10 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
         ("energy_per_object_j", per_object(1)),
         ("ta_energy_per_object_j", per_object(3)),
         ("ta_dwell_time_per_object_s", per_object(2)),
+        ("dwell_time_per_object_s", per_object(0)),
+        ("first_track_mean_s", r.first_track.mean_s),
+        ("first_track_max_s", r.first_track.max_s),
+        ("never_tracked", Some(f64::from(r.first_track.never_tracked))),
     ];
     let purposes = Purpose::ALL.map(|p| (p.as_str(), r.usage.by_purpose.get(p)));
     for (name, pair) in purposes {

@@ -71,6 +71,16 @@ fn read_cell(plan: &Plan, dir: &Path) -> Result<(Vec<ResultRow>, CellFiles), Stu
     Ok((rows, files))
 }
 
+/// The result rows of every cell (each with all its records), in cell order.
+pub(crate) fn read_rows(plan: &Plan, dirs: &[PathBuf]) -> Result<Vec<Vec<ResultRow>>, StudyError> {
+    dirs.iter().map(|d| read_cell(plan, d).map(|(rows, _)| rows)).collect()
+}
+
+/// Whether every item of the cells in `dirs` has its record.
+pub(crate) fn all_done(plan: &Plan, dirs: &[PathBuf]) -> bool {
+    dirs.iter().all(|d| (0..plan.runs).all(|run| record_path(d, run).is_file()))
+}
+
 /// A cell's manifest.
 fn cell_manifest(plan: &Plan, prep: &Prepared, c: usize, files: CellFiles) -> Result<Manifest, StudyError> {
     let cell = &prep.cells[c];

@@ -1,5 +1,5 @@
 //! Paired differences between a MIMO method and its conventional counterpart (docs/studies.md):
-//! the same test article (built-in name or command) at the same knob value, one MIMO and one
+//! the same test article (built-in name or command) at the same knob value(s), one MIMO and one
 //! conventional, on the same scenario and stress point. Run `k` of both cells shares its random
 //! draws, so the difference is taken run by run and its interval is the paired t interval.
 
@@ -19,7 +19,7 @@ pub struct PairedRow {
     pub runs: usize,
     /// Completeness difference, within [−1, 1].
     pub completeness: (Option<f64>, Option<f64>, Option<f64>),
-    /// TA energy per scorable object difference (J).
+    /// Total energy (search and TA) per scorable object difference (J).
     pub energy_j: (Option<f64>, Option<f64>, Option<f64>),
 }
 
@@ -47,8 +47,7 @@ pub fn paired_rows(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> V
             let mb = &plan.methods[cb.method];
             let counterpart = mb.architecture == Architecture::Conventional
                 && same_ta(&ma.ta, &mb.ta)
-                && ma.knob == mb.knob
-                && ma.knob_value == mb.knob_value
+                && ma.grid == mb.grid
                 && ca.scenario == cb.scenario
                 && ca.point == cb.point
                 && ca.swept == cb.swept;
@@ -63,7 +62,7 @@ pub fn paired_rows(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> V
                 conventional: b,
                 runs,
                 completeness: diff("completeness", (-1.0, 1.0)),
-                energy_j: diff("ta_energy_per_object_j", (f64::NEG_INFINITY, f64::INFINITY)),
+                energy_j: diff("energy_per_object_j", (f64::NEG_INFINITY, f64::INFINITY)),
             });
         }
     }

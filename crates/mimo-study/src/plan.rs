@@ -32,6 +32,10 @@
 //! [limits]                                  # optional: when a run counts as failed
 //! wall_s_per_run = 900.0
 //! max_tracks = 1000
+//!
+//! [refine]                                  # optional: refine every swept family where it
+//! fraction = 0.05                           # crosses 98 % (a [[methods]] entry's own
+//! rounds = 3                                # `refine = { … }` overrides it; docs/studies.md)
 //! ```
 //!
 //! Every error names the plan file, the key path (`methods[1].config.resource_manager.mimoo`)
@@ -121,10 +125,18 @@ pub struct Method {
     pub family: String,
     /// The configuration key path the entry sweeps (`None`: not swept).
     pub knob: Option<String>,
-    /// The knob's value at this method.
+    /// The knob's value at this method (a family sweeping one key).
     pub knob_value: Option<f64>,
+    /// Every swept key path with its value at this method, in the plan's key order (one for a
+    /// curve, several for a grid, none when not swept).
+    pub grid: Vec<(String, f64)>,
     /// MIMO or conventional (for the challenge's paired comparison).
     pub architecture: Architecture,
+    /// How the family is refined where its frontier crosses the requirement (its own `refine`,
+    /// else the plan's `[refine]`; `None`: not refined).
+    pub refine: Option<crate::refine::Refine>,
+    /// Added by refinement (docs/studies.md, "Refinement"), not listed in the plan.
+    pub refined: bool,
 }
 
 /// A stress axis of a study (its key in plans is the snake-case name, [`Axis::name`]).
@@ -305,6 +317,8 @@ pub struct Plan {
     pub keep_runs: bool,
     /// Failure limits.
     pub limits: Limits,
+    /// The most refinement rounds of any family (0: the plan refines nothing).
+    pub refine_rounds: u32,
 }
 
 pub(crate) struct Ctx<'a> {
@@ -467,7 +481,7 @@ search_pulses = [1, 2]
                 "name = \"conv\"",
                 "name = \"conv\"\ntracker = \"x\"",
                 "studies/x.toml:11:1: methods[1].tracker: unknown key (expected one of: name, ta, ta_cmd, config, sweep, \
-                 architecture)",
+                 architecture, refine)",
             ),
             (
                 "pfa = [1e-6, 1e-5]",

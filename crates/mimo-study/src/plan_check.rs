@@ -9,6 +9,7 @@ use crate::plan::{
     config_err,
 };
 use crate::plan_toml::{RawLimits, RawMethod, RawPlan};
+use crate::refine::Refine;
 use mimo_ta::registry;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -127,7 +128,7 @@ fn method_ta(ctx: &Ctx, p: &str, m: &RawMethod, overrides: &Value) -> Result<Met
 }
 
 /// The methods of entry `methods[i]`: one, or one per value of its sweep.
-fn method(ctx: &Ctx, i: usize, m: RawMethod) -> Result<Vec<Method>, PlanError> {
+fn method(ctx: &Ctx, i: usize, m: RawMethod, global: Option<&Refine>) -> Result<Vec<Method>, PlanError> {
     let p = format!("methods[{i}]");
     let knob = m.sweep.as_ref().map(|k| method_sweep::read_knob(ctx, &p, k)).transpose()?;
     let name = m.name.as_deref().ok_or_else(|| ctx.err(format!("{p}.name"), "missing: every method needs a name"))?;
@@ -150,16 +151,28 @@ fn method(ctx: &Ctx, i: usize, m: RawMethod) -> Result<Vec<Method>, PlanError> {
         family: name.to_string(),
         knob: None,
         knob_value: None,
+        grid: Vec::new(),
         architecture: Architecture::Mimo,
+        refine: None,
+        refined: false,
     };
     out.architecture = method_sweep::read_architecture(ctx, &p, m.architecture.as_deref(), &out)?;
+    out.refine = match (&m.refine, global) {
+        (Some(r), _) => crate::refine::read(ctx, &format!("{p}.refine"), r)?,
+        (None, Some(g)) if knob.is_some() => Some(*g),
+        (None, _) => None,
+    };
+    if out.refine.is_some() {
+        let at = if m.refine.is_some() { format!("{p}.refine") } else { "refine".to_string() };
+        crate::refine::check_family(ctx, &p, &at, &out, knob.as_ref())?;
+    }
     method_sweep::expand(ctx, &p, out, knob)
 }
 
-fn methods(ctx: &Ctx, raw: Option<Vec<RawMethod>>) -> Result<Vec<Method>, PlanError> {
+fn methods(ctx: &Ctx, raw: Option<Vec<RawMethod>>, global: Option<&Refine>) -> Result<Vec<Method>, PlanError> {
     let raw =
         raw.filter(|a| !a.is_empty()).ok_or_else(|| ctx.err("methods", "expected at least one [[methods]] table"))?;
-    let entries = raw.into_iter().enumerate().map(|(i, m)| method(ctx, i, m)).collect::<Result<Vec<_>, _>>()?;
+    let entries = raw.into_iter().enumerate().map(|(i, m)| method(ctx, i, m, global)).collect::<Result<Vec<_>, _>>()?;
     // Entry names never hold '@', so distinct entries expand into distinct method names.
     for (i, m) in entries.iter().enumerate() {
         if entries[..i].iter().any(|o| o[0].family == m[0].family) {
@@ -196,6 +209,12 @@ impl RawPlan {
             Some("each") => Sweep::Each,
             Some(o) => return Err(ctx.err("sweep", format!("expected \"grid\" or \"each\", got \"{o}\""))),
         };
+        let global = match &self.refine {
+            Some(r) => crate::refine::read(ctx, "refine", r)?,
+            None => None,
+        };
+        let methods = methods(ctx, self.methods, global.as_ref())?;
+        let refine_rounds = methods.iter().filter_map(|m| m.refine.map(|r| r.rounds)).max().unwrap_or(0);
         Ok(Plan {
             file: path.to_path_buf(),
             title,
@@ -207,7 +226,8 @@ impl RawPlan {
             sweep,
             tables: tables(ctx, self.tables)?,
             keep_runs: self.keep_runs.unwrap_or(false),
-            methods: methods(ctx, self.methods)?,
+            methods,
+            refine_rounds,
             axes: axes(ctx, self.axes)?,
             limits: limits(ctx, self.limits)?,
         })

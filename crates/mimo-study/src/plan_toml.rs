@@ -26,6 +26,15 @@ pub(crate) struct RawPlan {
     pub(crate) methods: Option<Vec<RawMethod>>,
     pub(crate) axes: Option<BTreeMap<Axis, Vec<f64>>>,
     pub(crate) limits: Option<RawLimits>,
+    pub(crate) refine: Option<RawRefine>,
+}
+
+/// A `[refine]` table, or a `[[methods]]` entry's `refine`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRefine {
+    pub(crate) fraction: Option<f64>,
+    pub(crate) rounds: Option<i64>,
 }
 
 /// A `[[methods]]` entry.
@@ -38,6 +47,7 @@ pub(crate) struct RawMethod {
     pub(crate) config: Option<toml::Table>,
     pub(crate) sweep: Option<Toml>,
     pub(crate) architecture: Option<String>,
+    pub(crate) refine: Option<RawRefine>,
 }
 
 /// The `[limits]` table.
@@ -83,6 +93,9 @@ fn expects(key: &str) -> Option<String> {
         "limits" => s("expected a table"),
         "limits.wall_s_per_run" => s("expected a positive number of seconds"),
         "limits.max_tracks" => s("expected a whole number >= 1"),
+        "refine" | "methods[].refine" => s("expected a table { fraction = 0.05, rounds = 3 }"),
+        "refine.fraction" | "methods[].refine.fraction" => s("expected a number in (0, 1)"),
+        "refine.rounds" | "methods[].refine.rounds" => s("expected a whole number from 0 to 20"),
         _ if k.starts_with("axes.") && k.ends_with("[]") => s("expected a number"),
         _ if k.starts_with("axes.") => s("expected a non-empty list of numbers"),
         _ => None,

@@ -144,12 +144,13 @@ fn energy_md(s: &StudyFigures) -> String {
     let _ = writeln!(
         o,
         "![energy against completeness](charts/energy_vs_completeness.png)\n\n\
-         x: energy of the dwells the test article requested, per scorable object (the sum over 1-s scoring \
-         intervals of energy ÷ objects some radar can see; background search is the same for every method and \
-         left out); y: mean track completeness. Each family is a curve through its points in knob order (labels: \
-         knob values; an unswept method is one point), MIMO solid, conventional dashed; bars are 95 % confidence \
-         intervals of the Monte Carlo means; triangles mark where a curve crosses the requirement, with the \
-         bootstrap interval of its energy.\n"
+         x: total energy per scorable object, every transmit dwell of every radar, search and test article (the \
+         sum over 1-s scoring intervals of energy ÷ objects some radar can see); y: mean track completeness. Each \
+         family is its points (labels: knob values; an unswept method is one point) and its efficient frontier, \
+         the line through the points no other point of the family beats (at least their completeness for at most \
+         their energy), MIMO solid, conventional dashed, points off the frontier smaller; bars are 95 % \
+         confidence intervals of the Monte Carlo means; triangles mark where a frontier crosses the requirement, \
+         with the bootstrap interval of its energy.\n"
     );
     for (si, sc) in plan.scenarios.iter().enumerate() {
         let mut seen = std::collections::BTreeSet::new();
@@ -161,10 +162,10 @@ fn energy_md(s: &StudyFigures) -> String {
             continue;
         }
         let ok: Vec<usize> = base.iter().copied().filter(|&c| meets(&sums[c])).collect();
-        let energy = |c: usize| sums[c].estimates[k("ta_energy_per_object_j")].0.unwrap_or(f64::INFINITY);
+        let energy = |c: usize| sums[c].estimates[k("energy_per_object_j")].0.unwrap_or(f64::INFINITY);
         let line = match ok.iter().copied().min_by(|&a, &b| energy(a).total_cmp(&energy(b))) {
             Some(best) => format!(
-                "meets {} % with the least energy: **{}** ({} J per object); {} of {} method(s) meet it",
+                "meets {} % with the least total energy: **{}** ({} J per object); {} of {} method(s) meet it",
                 100.0 * COMPLETENESS_REQUIRED,
                 plan.methods[cells[best].method].name,
                 num(Some(energy(best)), 1.0, 0),
@@ -197,23 +198,25 @@ fn summary_md(s: &StudyFigures) -> String {
         o,
         "Means over the completed runs with 95 % confidence intervals in brackets (Student t over the runs, clipped \
          to the range the metric can take; none with fewer than two runs). Energy and dwell time are per scorable \
-         object.\n"
+         object: the total (search and test article) first, then the test article's part.\n"
     );
     let _ = writeln!(
         o,
-        "| method | scenario | stress | runs (failed) | completeness % | TA energy (J) | TA dwell (s) | breaks | switches | position RMSE (m) | GOSPA (m) |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|"
+        "| method | scenario | stress | runs (failed) | completeness % | energy (J) | dwell (s) | TA energy (J) | TA dwell (s) | breaks | switches | position RMSE (m) | GOSPA (m) |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for (c, s) in cells.iter().zip(sums) {
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} ({}) | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             plan.methods[c.method].name,
             plan.scenarios[c.scenario].label(),
             point_text(c),
             s.runs,
             s.failed,
             with_ci(s, "completeness", 100.0, 2),
+            with_ci(s, "energy_per_object_j", 1.0, 0),
+            with_ci(s, "dwell_time_per_object_s", 1.0, 2),
             with_ci(s, "ta_energy_per_object_j", 1.0, 0),
             with_ci(s, "ta_dwell_time_per_object_s", 1.0, 2),
             with_ci(s, "breaks", 1.0, 1),
@@ -285,7 +288,7 @@ fn paired_md(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> String 
     );
     let _ = writeln!(
         o,
-        "| scenario | stress | MIMO | conventional | runs | Δ completeness (points of %) | Δ TA energy per object (J) |\n\
+        "| scenario | stress | MIMO | conventional | runs | Δ completeness (points of %) | Δ energy per object (J, search and TA) |\n\
          |---|---|---|---|---|---|---|"
     );
     for r in rows {

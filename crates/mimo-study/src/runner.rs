@@ -187,42 +187,106 @@ pub fn run_study(
     for c in &prep.cells {
         c.check_rel_dir(plan)?;
     }
+    // One whole-study writer at a time (docs/studies.md "Shards"): two `--resume` (or a run and
+    // a `--merge`) of one study would do the same items into the same files. Shards split the
+    // items and take no lock.
+    // (A merge of no study is refused by `open`, before a lock's folder is made.)
+    let whole = opts.shard.is_none() && !opts.init && (!opts.merge || opts.out.exists());
+    let _lock = if whole { Some(study_lock(&opts.out)?) } else { None };
     let shared = opts.resume || opts.shard.is_some() || opts.init;
     open(&opts.out, &mark, Access { resume: shared, force: opts.force, merge: opts.merge })?;
-    let dirs = cell_dirs(plan, &prep.cells, &opts.out);
+    let mut dirs = cell_dirs(plan, &prep.cells, &opts.out);
     let all = grid::items(prep.cells.len(), plan.runs);
     let mut outcome = Outcome { cells: prep.cells.len(), items: all.len(), ..Outcome::default() };
     if opts.init {
         return Ok(outcome);
     }
-    let mine: Vec<Item> = match (opts.merge, opts.shard) {
-        (true, _) => Vec::new(),
-        (false, Some(s)) => s.select(&all),
-        (false, None) => all,
-    };
-    let todo: Vec<Item> = mine.iter().copied().filter(|it| !record_path(&dirs[it.cell], it.run).is_file()).collect();
-    (outcome.ran, outcome.skipped) = (todo.len(), mine.len() - todo.len());
-    drop(mine);
     let threads =
         if opts.threads == 0 { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { opts.threads };
     let mut state = opts.shard.map(ShardState::starting);
     if let Some(st) = &state {
         st.write(&opts.out).map_err(|e| shard_io(&opts.out, e))?;
     }
-    let ran = run_items(plan, &prep, &dirs, &todo, threads, progress);
+    // Stage 0 is the plan's cells; each refinement round a stage of its own, derived from the
+    // records of the stages before it once they are all done (docs/studies.md, "Refinement").
+    let (mut plan, mut prep) = (plan.clone(), prep);
+    let mut stage_start = 0;
+    let mut ran: Result<usize, StudyError> = Ok(0);
+    let mut todo_all = 0;
+    for round in 0..=plan.refine_rounds {
+        if round > 0 {
+            if !crate::merge::all_done(&plan, &dirs) {
+                break;
+            }
+            let rows = crate::merge::read_rows(&plan, &dirs)?;
+            let stage = crate::refine::next_stage(&plan, &prep.cells, &rows, round)?;
+            if stage.cells.is_empty() {
+                break;
+            }
+            stage_start = prep.cells.len();
+            extend(&mut plan, &mut prep, stage);
+            dirs = cell_dirs(&plan, &prep.cells, &opts.out);
+        }
+        let all = grid::items(prep.cells.len(), plan.runs);
+        // Shards split every stage's items by their index in the whole item list, as the first.
+        let mine: Vec<Item> = all
+            .iter()
+            .enumerate()
+            .filter(|(i, it)| it.cell >= stage_start && !opts.merge && opts.shard.is_none_or(|s| i % s.n == s.k))
+            .map(|(_, it)| *it)
+            .collect();
+        let todo: Vec<Item> =
+            mine.iter().copied().filter(|it| !record_path(&dirs[it.cell], it.run).is_file()).collect();
+        outcome.ran += todo.len();
+        outcome.skipped += mine.len() - todo.len();
+        todo_all += todo.len();
+        let before = ran.as_ref().map_or(0, |x| *x);
+        ran = run_items(&plan, &prep, &dirs, &todo, threads, progress).map(|f| f + before);
+        if ran.is_err() {
+            break;
+        }
+    }
+    (outcome.cells, outcome.items) = (prep.cells.len(), prep.cells.len() * plan.runs as usize);
     if let Some(st) = state.as_mut() {
         st.stopped_unix_s = Some(crate::shard_log::now_unix_s());
         match &ran {
-            Ok(failed) => (st.ran, st.failed) = (todo.len(), *failed),
+            Ok(failed) => (st.ran, st.failed) = (todo_all, *failed),
             Err(e) => st.error = Some(e.to_string()),
         }
         st.write(&opts.out).map_err(|e| shard_io(&opts.out, e))?;
     }
     outcome.failed = ran?;
     if opts.shard.is_none() || opts.merge {
-        outcome.merged = Some(merge(plan, &prep, &dirs, &opts.out)?);
+        outcome.merged = Some(merge(&plan, &prep, &dirs, &opts.out)?);
     }
     Ok(outcome)
+}
+
+/// The lock of a whole-study run (`.DIR.lock` beside the study, `mimo_store::output`), or a
+/// refusal saying who holds it and what to do instead.
+fn study_lock(out: &Path) -> Result<mimo_store::output::OutputLock, StudyError> {
+    mimo_store::output::OutputLock::acquire(out).map_err(|e| match e {
+        StoreError::Busy { path, why } => StudyError::Store(StoreError::Busy {
+            path,
+            why: format!(
+                "{why}. A study is run whole by one process at a time (a run, --resume or --merge); \
+                 to run it in several processes at once, give each a part with --shard K/N, then --merge"
+            ),
+        }),
+        e => e.into(),
+    })
+}
+
+/// Add a refinement stage's methods and cells to the plan and its prepared cells; a new cell
+/// flies in the world of the plan's cells at the same scenario and stress point.
+fn extend(plan: &mut Plan, prep: &mut Prepared, stage: crate::refine::Stage) {
+    plan.methods.extend(stage.methods);
+    for cell in stage.cells {
+        let same = |c: &Cell| c.scenario == cell.scenario && c.point == cell.point && c.swept == cell.swept;
+        let world = prep.cells.iter().position(same).map_or(0, |c| prep.world_of[c]);
+        prep.cells.push(cell);
+        prep.world_of.push(world);
+    }
 }
 
 fn shard_io(out: &Path, source: std::io::Error) -> StudyError {

@@ -1,18 +1,24 @@
 //! The challenge figures on hand-made families: the interpolated crossing of a known curve, the
 //! reasons for null figures, bootstrap intervals that contain the estimate and respect bounds,
-//! and the paired ratio of a family with itself.
+//! the paired ratio of a family with itself, a grid family read on its frontier, and intervals
+//! from a coarse grid that cover a dense grid's answer on a synthetic study.
 
 use mimo_study::bootstrap::{RESAMPLES, resamples};
-use mimo_study::challenge::{Crossing, FamilyRuns, PointRuns, challenge, crossings, energy_ratio};
+use mimo_study::challenge::{
+    AT_DWELL, AT_ENERGY, AT_FIRST_TRACK_MAX, AT_POWER, AT_TA_ENERGY, AT_TA_POWER, Crossing, FamilyRuns, PointRuns,
+    RUN_ENERGY, challenge, crossings, energy_ratio,
+};
 
-/// A point whose runs have the given completeness and energy (dwell time = energy / 1000).
+/// A point whose runs have the given completeness and total energy (dwell time = energy / 1000,
+/// the test article's part a tenth of each, the worst first track 10 s per 100 J).
 fn point(knob: f64, completeness: &[f64], energy_j: &[f64]) -> PointRuns {
+    let of = |f: fn(f64) -> f64| energy_j.iter().map(|e| Some(f(*e))).collect::<Vec<_>>();
     PointRuns {
+        method: format!("f@{knob}"),
         knob: Some(knob),
         failed: vec![false; completeness.len()],
         completeness: completeness.iter().map(|c| Some(*c)).collect(),
-        energy_j: energy_j.iter().map(|e| Some(*e)).collect(),
-        dwell_s: energy_j.iter().map(|e| Some(e / 1000.0)).collect(),
+        figures: [of(|e| e), of(|e| e / 1000.0), of(|e| e / 10.0), of(|e| e / 10_000.0), of(|e| e / 10.0)],
     }
 }
 
@@ -23,8 +29,7 @@ fn family(points: Vec<PointRuns>) -> FamilyRuns {
 #[test]
 fn a_known_curve_crosses_where_interpolation_says() {
     // Completeness 0.90, 0.96, 1.00 at knobs 1, 2, 4 with energies 100, 200, 400 J: 98 % is half
-    // way from knob 2 to knob 4, so knob 3, 300 J, 0.3 s, 300 J / 500 s = 0.6 W. Every run alike:
-    // the intervals have zero width.
+    // way from knob 2 to knob 4, so knob 3, 300 J, 0.3 s, 300 J / 500 s = 0.6 W.
     let f = family(vec![
         point(1.0, &[0.90; 4], &[100.0; 4]),
         point(2.0, &[0.96; 4], &[200.0; 4]),
@@ -34,11 +39,19 @@ fn a_known_curve_crosses_where_interpolation_says() {
     let c = challenge(&f, &boot);
     assert!(c.holds);
     assert_eq!(c.crossings, 1);
-    let (knob, e, d, p) = c.at.expect("a crossing");
-    assert!((knob.expect("knob") - 3.0).abs() < 1e-9);
-    assert!((e.0 - 300.0).abs() < 1e-9 && e.1 == Some(e.0) && e.2 == Some(e.0), "{e:?}");
+    let a = c.at.expect("a crossing");
+    let fig = |i: usize| a.figures[i].expect("defined");
+    let (e, d, p) = (fig(AT_ENERGY), fig(AT_DWELL), fig(AT_POWER));
+    assert!((a.knob.expect("knob") - 3.0).abs() < 1e-9);
+    // Every run alike: the interval is the grid's part alone, the bracketing points' 200–400 J.
+    assert!((e.0 - 300.0).abs() < 1e-9 && e.1 == Some(200.0) && e.2 == Some(400.0), "{e:?}");
     assert!((d.0 - 0.3).abs() < 1e-12);
     assert!((p.0 - 0.6).abs() < 1e-12);
+    // The test article's part and the worst first track, interpolated the same way.
+    assert!((fig(AT_TA_ENERGY).0 - 30.0).abs() < 1e-9 && (fig(AT_TA_POWER).0 - 0.06).abs() < 1e-12);
+    assert!((fig(AT_FIRST_TRACK_MAX).0 - 30.0).abs() < 1e-9);
+    assert_eq!(a.bracket, (1, 2));
+    assert_eq!(c.frontier, vec![0, 1, 2]);
     assert_eq!(c.resamples_crossing as usize, RESAMPLES);
 }
 
@@ -52,7 +65,9 @@ fn intervals_contain_the_estimate_and_respect_bounds() {
         point(4.0, &[0.995, 1.0, 0.99, 0.985, 1.0], &[390.0, 410.0, 400.0, 420.0, 380.0]),
     ]);
     let c = challenge(&f, &resamples(20261122, 5, RESAMPLES));
-    let (_, e, d, p) = c.at.expect("a crossing");
+    let a = c.at.clone().expect("a crossing");
+    let (e, d, p) =
+        (a.figures[AT_ENERGY].expect("e"), a.figures[AT_DWELL].expect("d"), a.figures[AT_POWER].expect("p"));
     for (x, lo, hi) in [e, d, p] {
         let (lo, hi) = (lo.expect("lo"), hi.expect("hi"));
         assert!(lo <= x && x <= hi, "{lo} <= {x} <= {hi}");
@@ -96,9 +111,11 @@ fn a_non_monotone_curve_takes_its_first_upward_crossing() {
     ]);
     let c = challenge(&f, &resamples(5, 2, RESAMPLES));
     assert_eq!(c.crossings, 3);
-    let (knob, e, _, _) = c.at.expect("a crossing");
-    assert!((knob.expect("knob") - (1.0 + 2.0 / 3.0)).abs() < 1e-9);
-    assert!((e.0 - (10.0 + 10.0 * 2.0 / 3.0)).abs() < 1e-9);
+    let a = c.at.expect("a crossing");
+    assert!((a.knob.expect("knob") - (1.0 + 2.0 / 3.0)).abs() < 1e-9);
+    assert!((a.figures[AT_ENERGY].expect("e").0 - (10.0 + 10.0 * 2.0 / 3.0)).abs() < 1e-9);
+    // The frontier leaves out 30 J (beaten by 20 J) and 40 J (no more complete than 20 J).
+    assert_eq!(c.frontier, vec![0, 1]);
     let means: Vec<_> = f.points.iter().map(|p| p.means(&[0, 1])).collect();
     assert_eq!(crossings(&means), 3);
 }
@@ -110,21 +127,24 @@ fn a_family_against_itself_has_ratio_one_exactly() {
         point(2.0, &[0.99, 1.0, 0.995, 0.985], &[190.0, 210.0, 200.0, 220.0]),
     ]);
     let boot = resamples(9, 4, RESAMPLES);
-    let (r, defined) = energy_ratio(&f, &f.clone(), &boot);
+    let (r, defined) = energy_ratio(&f, &f.clone(), &boot, AT_ENERGY);
     assert_eq!(r, Ok((1.0, Some(1.0), Some(1.0))));
     assert_eq!(defined as usize, RESAMPLES);
     // A family spending twice the energy for the same completeness: ratio 1/2, and the pairing
     // keeps the interval at zero width.
     let mut g = f.clone();
     for p in &mut g.points {
-        for e in p.energy_j.iter_mut() {
+        for e in p.figures[RUN_ENERGY].iter_mut() {
             *e = e.map(|x| 2.0 * x);
         }
     }
-    let (r, _) = energy_ratio(&f, &g, &boot);
+    let (r, _) = energy_ratio(&f, &g, &boot, AT_ENERGY);
     assert_eq!(r, Ok((0.5, Some(0.5), Some(0.5))));
+    // Its test article's part is unchanged: ratio 1.
+    let (r, _) = energy_ratio(&f, &g, &boot, AT_TA_ENERGY);
+    assert_eq!(r, Ok((1.0, Some(1.0), Some(1.0))));
     let nowhere = family(vec![point(1.0, &[0.5; 4], &[1.0; 4]), point(2.0, &[0.6; 4], &[2.0; 4])]);
-    let (r, defined) = energy_ratio(&f, &nowhere, &boot);
+    let (r, defined) = energy_ratio(&f, &nowhere, &boot, AT_ENERGY);
     assert!(r.expect_err("no crossing").contains("conventional family"));
     assert_eq!(defined, 0);
 }

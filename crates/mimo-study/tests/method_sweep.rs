@@ -53,10 +53,7 @@ fn a_sweep_expands_into_one_method_per_value() {
 fn every_bad_sweep_names_the_plan_and_the_key() {
     let sweep = "sweep = { \"resource_manager.max_ta_share\" = [0.5, 0.25, 0.125] }";
     let cases: &[(&str, &str)] = &[
-        (
-            "sweep = { \"resource_manager.max_ta_share\" = [0.5], \"resource_manager.pd_target\" = [0.9] }",
-            "methods[0].sweep",
-        ),
+        ("sweep = {}", "methods[0].sweep"),
         ("sweep = { \"resource_manager.max_ta_sharez\" = [0.5] }", "methods[0].sweep.resource_manager.max_ta_sharez"),
         (
             "sweep = { \"resource_manager.max_ta_share\" = [\"half\"] }",
@@ -95,4 +92,77 @@ fn every_bad_sweep_names_the_plan_and_the_key() {
     let e = parse(&PLAN.replacen("[0.5, 0.25, 0.125]", "[0.25, 0.0]", 1)).expect_err("a share of 0");
     assert_eq!(e.key, "methods[0].sweep.resource_manager.max_ta_share[1]", "{e}");
     assert!(e.expected.contains("(0, 1]"), "{e}");
+}
+
+#[test]
+fn a_grid_sweep_expands_into_every_combination() {
+    let text = PLAN.replacen(
+        "sweep = { \"resource_manager.max_ta_share\" = [0.5, 0.25, 0.125] }",
+        "sweep = { \"resource_manager.max_ta_share\" = [0.5, 0.25], \"resource_manager.pd_target\" = [0.8, 0.9, 0.95] }",
+        1,
+    );
+    let p = parse(&text).expect("plan");
+    let names: Vec<&str> = p.methods.iter().filter(|m| m.family == "mimo").map(|m| m.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "mimo@max_ta_share:0.5,pd_target:0.8",
+            "mimo@max_ta_share:0.5,pd_target:0.9",
+            "mimo@max_ta_share:0.5,pd_target:0.95",
+            "mimo@max_ta_share:0.25,pd_target:0.8",
+            "mimo@max_ta_share:0.25,pd_target:0.9",
+            "mimo@max_ta_share:0.25,pd_target:0.95",
+        ]
+    );
+    let m = &p.methods[4];
+    let MethodTa::Builtin { config, .. } = &m.ta else { panic!("builtin") };
+    assert_eq!(config["resource_manager"]["max_ta_share"], serde_json::json!(0.25));
+    assert_eq!(config["resource_manager"]["pd_target"], serde_json::json!(0.9));
+    assert_eq!(m.knob.as_deref(), Some("resource_manager.max_ta_share × resource_manager.pd_target"));
+    assert_eq!(m.knob_value, None, "a grid has no single knob value");
+    assert_eq!(
+        m.grid,
+        vec![("resource_manager.max_ta_share".into(), 0.25), ("resource_manager.pd_target".into(), 0.9)]
+    );
+    // A grid value the test article refuses is named by its key and index.
+    let bad = text.replacen("[0.8, 0.9, 0.95]", "[0.8, 1.5]", 1);
+    let e = parse(&bad).expect_err("pd_target 1.5");
+    assert_eq!(e.key, "methods[0].sweep.resource_manager.pd_target[1]", "{e}");
+}
+
+#[test]
+fn refinement_settings_are_read_and_bad_ones_named() {
+    let with = |refine: &str| {
+        PLAN.replacen("[[methods]]\nname = \"mimo\"", &format!("{refine}\n[[methods]]\nname = \"mimo\""), 1)
+    };
+    let p = parse(&with("[refine]\nfraction = 0.1\nrounds = 2")).expect("plan");
+    assert_eq!(p.refine_rounds, 2);
+    let r = p.methods[0].refine.expect("the swept family is refined");
+    assert_eq!((r.fraction, r.rounds), (0.1, 2));
+    assert_eq!(p.methods[5].refine, None, "an unswept method is not refined by [refine]");
+    assert_eq!(parse(PLAN).expect("plan").refine_rounds, 0);
+    // An entry's own refine overrides the plan's.
+    let own = PLAN.replacen("name = \"conv\"", "name = \"conv\"\nrefine = { fraction = 0.02, rounds = 5 }", 1);
+    let p = parse(&own).expect("plan");
+    assert_eq!(p.methods[3].refine.map(|r| (r.fraction, r.rounds)), Some((0.02, 5)));
+    assert_eq!((p.methods[0].refine, p.refine_rounds), (None, 5));
+    let cases: &[(&str, &str, &str)] = &[
+        ("[refine]\nfraction = 0.0", "refine.fraction", "(0, 1)"),
+        ("[refine]\nfraction = 1.0", "refine.fraction", "(0, 1)"),
+        ("[refine]\nfraction = -0.5", "refine.fraction", "(0, 1)"),
+        ("[refine]\nrounds = -1", "refine.rounds", "0 to 20"),
+        ("[refine]\nrounds = 21", "refine.rounds", "0 to 20"),
+        ("[refine]\nfractions = 0.1", "refine.fractions", "unknown key"),
+    ];
+    for (refine, key, expected) in cases {
+        let e = parse(&with(refine)).expect_err(key);
+        assert_eq!(e.key, *key, "{e}");
+        assert!(e.expected.contains(expected), "{e}");
+        assert!(e.to_string().starts_with("studies/sweep.toml"), "{e}");
+    }
+    // Refining a family that sweeps nothing, or a key that takes whole numbers only.
+    let single = PLAN.replacen("ta = \"imm\"", "ta = \"imm\"\nrefine = { fraction = 0.05, rounds = 1 }", 1);
+    let e = parse(&single).expect_err("no sweep");
+    assert_eq!(e.key, "methods[2].refine", "{e}");
+    assert!(e.expected.contains("swept family"), "{e}");
 }

@@ -66,6 +66,8 @@ pub fn parse_reply(line: &str, t_s: f64) -> Result<ReplyMessage, TaFault> {
     let text = line.trim_end();
     let fault = |why: String| {
         let shown: String = text.chars().take(120).filter(|c| !c.is_control()).collect();
+        // A parser's message quotes the bad value whole (an unknown variant of megabytes).
+        let why = mimo_core::quote::bounded(&why, 300);
         TaFault::BadMessage(format!("{why} in reply to the message at t = {t_s} s: `{shown}`"))
     };
     if !text.trim_start().starts_with('{') {

@@ -78,6 +78,10 @@ pub struct ReplayStats {
     pub measurements: u64,
     /// Requests the test article made (ignored: the schedule is the recording's).
     pub ignored_requests: u64,
+    /// Track rows whose covariance was slightly indefinite and was repaired (docs/design.md §7).
+    pub repaired_covariances: u64,
+    /// The most negative smallest-to-largest eigenvalue ratio among them (0 if none).
+    pub worst_covariance_ratio: f64,
 }
 
 /// The columns of a dwells row a re-run needs before it knows which groups it delivers.
@@ -319,10 +323,10 @@ impl Taker {
     /// Take one reply.
     fn take(&mut self, reply: Reply, stats: &mut ReplayStats, sink: &mut dyn RunSink) -> Result<(), ReplayError> {
         stats.ignored_requests += reply.requests.len() as u64;
-        self.track_check
-            .check(&reply.tracks)
-            .map_err(|fault| ReplayError::Run(EngineError::ta(&self.ta_name, fault)))?;
         let mut rows: Vec<TrackRow> = reply.tracks;
+        self.track_check.check(&mut rows).map_err(|fault| ReplayError::Run(EngineError::ta(&self.ta_name, fault)))?;
+        stats.repaired_covariances = self.track_check.repaired();
+        stats.worst_covariance_ratio = self.track_check.worst_ratio();
         rows.iter_mut().for_each(|r| r.run = self.run);
         if !rows.is_empty() {
             sink.tracks(rows)?;

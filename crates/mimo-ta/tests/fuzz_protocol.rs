@@ -101,7 +101,7 @@ proptest! {
             rows.push(row(1, t, 0.0));
         }
         let mut check = TrackRowCheck::default();
-        let first_fail = rows.iter().position(|r| check.check(std::slice::from_ref(r)).is_err());
+        let first_fail = rows.iter_mut().position(|r| check.check(std::slice::from_mut(r)).is_err());
         prop_assert_eq!(first_fail, expected_fail);
     }
 }

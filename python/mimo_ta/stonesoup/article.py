@@ -41,6 +41,7 @@ from stonesoup.types.detection import Detection
 from ..article import TestArticle
 from ..geo import EnuFrame
 from ..looks import LookPlanner, in_beam, revisit_interval_s
+from ..covariance import CovarianceError, checked_covariance
 from ..messages import Subscription, TrackRow, upper_triangle
 from .model import MimoBistaticModel
 
@@ -442,8 +443,15 @@ class StoneSoupArticle(TestArticle):
         pos, vel = self.enu.to_ecef(sv[POS]), rot @ sv[VEL]
         b.t_s = max(t_s, b.t_s)
         n = sum(1 for s in (trk or self.tracks[tid]) if getattr(s, "hypothesis", None) is not None)
-        self.emit_track(TrackRow(b.t_s, tid, status, *pos, *vel, upper_triangle(0.5 * (cov + cov.T)), max(n, 1),
-                                 b.last_meas_id))
+        # Symmetrised, and repaired if the EKF's rounding left it slightly indefinite (the base
+        # class counts and says it); beyond the bound it is a fault of the tracker.
+        try:
+            sent, repaired = checked_covariance(cov)
+        except CovarianceError as e:
+            raise TrackerFault(f"track {tid}: covariance {e} (t = {t_s:.6f} s)") from e
+        self.repaired_covariances += int(repaired)
+        cov21 = upper_triangle(sent)
+        self.emit_track(TrackRow(b.t_s, tid, status, *pos, *vel, cov21, max(n, 1), b.last_meas_id))
 
     # -- scheduling -----------------------------------------------------------------------------
 

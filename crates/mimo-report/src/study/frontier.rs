@@ -1,8 +1,10 @@
 //! The energy-frontier chart (`energy_vs_completeness`): per scenario, each family of the study
-//! as a curve through its points (x: TA energy per scorable object, y: mean completeness), in
-//! knob order, with 95 % confidence bars on both axes; MIMO families solid with filled dots,
-//! conventional ones dashed with open squares; the required completeness as a dashed line and
-//! each family's interpolated crossing as a triangle with its bootstrap interval.
+//! as its points (x: total energy, search and test article, per scorable object; y: mean
+//! completeness) with 95 % confidence bars on both axes, and its efficient frontier as a line
+//! through the points on it, by energy (docs/studies.md, "The challenge"); MIMO families solid
+//! with filled dots, conventional ones dashed with open squares, points off the frontier smaller;
+//! the required completeness as a dashed line and each family's crossing on its frontier as a
+//! triangle with its bootstrap interval.
 
 use super::figure::{StudyChart, StudyPanel};
 use super::paint::{framed, padded, range};
@@ -11,15 +13,15 @@ use crate::draw::{DrawResult, FONT, LEGEND_PX, PALETTE, Swatch, darken, e, fmt_n
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-/// One point of a curve: (x, x bar, y, y bar, knob label).
-type CurvePoint = (f64, Option<(f64, f64)>, f64, Option<(f64, f64)>, Option<String>);
+/// One point of a curve: (x, x bar, y, y bar, knob label, on the frontier).
+type CurvePoint = (f64, Option<(f64, f64)>, f64, Option<(f64, f64)>, Option<String>, bool);
 
 /// One family's curve on a panel.
 #[derive(Debug, Clone)]
 pub(super) struct Curve {
     color: RGBColor,
     mimo: bool,
-    /// (x, x bar, y, y bar, knob label)
+    /// (x, x bar, y, y bar, knob label, on the frontier)
     points: Vec<CurvePoint>,
     /// (x, x bar ends where inside the sweep)
     crossing: Option<(f64, Option<f64>, Option<f64>)>,
@@ -60,7 +62,7 @@ fn curve(charts: &StudyCharts, f: &StudyFamily) -> Curve {
         .filter_map(|p| {
             let (x, y) = (p.energy_j.mean?, p.completeness.mean?);
             let x_bar = bar(p.energy_j, 1.0).map(|(lo, hi)| (log_j(lo), log_j(hi)));
-            Some((log_j(x), x_bar, 100.0 * y, bar(p.completeness, 100.0), p.knob.map(fmt_num)))
+            Some((log_j(x), x_bar, 100.0 * y, bar(p.completeness, 100.0), p.knob.map(fmt_num), p.on_frontier))
         })
         .collect();
     Curve {
@@ -96,11 +98,12 @@ pub(super) fn energy_frontier(charts: &StudyCharts) -> StudyChart {
     legend.push((format!("{req} % required"), Swatch::Dashed(BLACK)));
     legend.push((format!("crossing of {req} % (bar: bootstrap 95 %)"), Swatch::Triangle(RGBColor(40, 40, 40))));
     legend.push((
-        "bars: 95 % confidence intervals of the means; labels: knob values".into(),
+        "lines: efficient frontiers; bars: 95 % confidence intervals of the means; labels: knob values".into(),
         Swatch::Line(RGBColor(90, 90, 90), 1),
     ));
     StudyChart {
-        title: "TA energy against track completeness (energy on a log scale)".to_string(),
+        title: "Total energy against track completeness, with each family's efficient frontier (energy on a log scale)"
+            .to_string(),
         columns: charts.scenarios.len().clamp(1, 3),
         panels,
         legend,
@@ -140,13 +143,14 @@ fn clip(v: f64, r: (f64, f64)) -> f64 {
 /// Draw a panel of curves.
 pub(super) fn draw_curves<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &CurvePanel) -> DrawResult {
     let (x, y) = axis_ranges(p);
-    let labels = ("TA energy per scorable object (J, log scale)", "mean track completeness (%)");
+    let labels = ("energy per scorable object, search and TA (J, log scale)", "mean track completeness (%)");
     let mut chart = framed(area, p.title.as_deref(), x, y, labels, true)?;
     chart
         .draw_series(DashedLineSeries::new(vec![(x.0, p.hline), (x.1, p.hline)], 10, 6, BLACK.stroke_width(2)))
         .map_err(e)?;
     for c in &p.curves {
-        let line: Vec<(f64, f64)> = c.points.iter().map(|q| (q.0, q.2)).collect();
+        let mut line: Vec<(f64, f64)> = c.points.iter().filter(|q| q.5).map(|q| (q.0, q.2)).collect();
+        line.sort_by(|a, b| a.0.total_cmp(&b.0));
         if c.mimo {
             chart.draw_series(LineSeries::new(line.clone(), c.color.stroke_width(3))).map_err(e)?;
         } else {
@@ -170,12 +174,14 @@ pub(super) fn draw_curves<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: 
                     )))
                     .map_err(e)?;
             }
+            // Points off the frontier are drawn smaller.
+            let r = if q.5 { 6 } else { 4 };
             if c.mimo {
-                chart.draw_series(std::iter::once(Circle::new((q.0, q.2), 6, c.color.filled()))).map_err(e)?;
+                chart.draw_series(std::iter::once(Circle::new((q.0, q.2), r, c.color.filled()))).map_err(e)?;
             } else {
-                let sq = EmptyElement::at((q.0, q.2)) + Rectangle::new([(-6, -6), (6, 6)], WHITE.filled());
+                let sq = EmptyElement::at((q.0, q.2)) + Rectangle::new([(-r, -r), (r, r)], WHITE.filled());
                 chart.draw_series(std::iter::once(sq)).map_err(e)?;
-                let sq = EmptyElement::at((q.0, q.2)) + Rectangle::new([(-6, -6), (6, 6)], c.color.stroke_width(3));
+                let sq = EmptyElement::at((q.0, q.2)) + Rectangle::new([(-r, -r), (r, r)], c.color.stroke_width(3));
                 chart.draw_series(std::iter::once(sq)).map_err(e)?;
             }
             if let Some(l) = &q.4 {

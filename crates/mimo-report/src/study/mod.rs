@@ -2,7 +2,7 @@
 //!
 //! | file stem | content |
 //! |---|---|
-//! | `energy_vs_completeness` | per scenario (one panel each), each family as a curve through its points in knob order (an unswept method is a single point): the test article's energy per scorable object (x) against mean track completeness (y), both with their 95 % confidence intervals as bars; MIMO families solid with dots, conventional ones dashed with open squares; the required completeness as a dashed line and each family's interpolated crossing as a triangle with its bootstrap interval |
+//! | `energy_vs_completeness` | per scenario (one panel each), each family's points (an unswept method is a single point): the total energy (search and test article) per scorable object (x) against mean track completeness (y), both with their 95 % confidence intervals as bars, and the family's efficient frontier as a line through the points on it; MIMO families solid with dots, conventional ones dashed with open squares, points off the frontier smaller; the required completeness as a dashed line and each family's crossing on its frontier as a triangle with its bootstrap interval |
 //! | `compute_vs_accuracy` | a point per method and scenario: the test article's CPU seconds per simulated second (log x) against position RMSE and against GOSPA |
 //! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; on the completeness panel each method's failure point (where its mean completeness falls through the requirement, interpolated between grid values) as a diamond with its 95 % bootstrap interval as a bar, stacked just below the requirement line one row per method, an end without a tick running off the grid; a method that fails already at the least stressing value marked there with a cross |
 //!
@@ -69,13 +69,15 @@ impl StudyCell {
     }
 }
 
-/// One point of a family: a method at one knob value.
+/// One point of a family: a method at one knob value (or one point of its grid).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct FamilyPoint {
-    /// The knob value (`None` for an unswept method).
+    /// The knob value (`None` for an unswept method or a grid's point).
     pub knob: Option<f64>,
-    /// TA energy per scorable object (J).
+    /// Total energy (search and TA) per scorable object (J).
     pub energy_j: Estimate,
+    /// Whether the point lies on its family's efficient frontier.
+    pub on_frontier: bool,
     /// Track completeness (fraction).
     pub completeness: Estimate,
 }
@@ -92,7 +94,7 @@ pub struct StudyFamily {
     pub scenario: String,
     /// Points in knob order.
     pub points: Vec<FamilyPoint>,
-    /// TA energy per scorable object where the curve crosses the requirement, with its
+    /// Total energy per scorable object where the frontier crosses the requirement, with its
     /// bootstrap interval (an end `None` lies beyond the sweep).
     pub crossing: Option<Estimate>,
 }
@@ -209,7 +211,12 @@ mod tests {
             scenario: "7".into(),
             points: pts
                 .iter()
-                .map(|&(k, x, y)| FamilyPoint { knob: Some(k), energy_j: est(x, 50.0), completeness: est(y, 0.005) })
+                .map(|&(k, x, y)| FamilyPoint {
+                    knob: Some(k),
+                    energy_j: est(x, 50.0),
+                    on_frontier: true,
+                    completeness: est(y, 0.005),
+                })
                 .collect(),
             crossing: crossing.map(|c| Estimate { mean: Some(c), lo: Some(c - 100.0), hi: None }),
         }

@@ -39,6 +39,7 @@ mod links;
 mod plan;
 mod quiet;
 mod registration;
+mod search_order;
 mod timeline;
 
 pub use execute::first_meas_id;
@@ -94,6 +95,17 @@ pub struct RunStats {
     pub stop_local_tracking_orders: u64,
     /// Dwell reports delivered to the test article.
     pub reports_delivered: u64,
+    /// Track rows of the test article whose covariance was slightly indefinite and was repaired
+    /// (docs/design.md §7).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub repaired_covariances: u64,
+    /// The most negative smallest-to-largest eigenvalue ratio among them (0 if none).
+    #[serde(skip)]
+    pub worst_covariance_ratio: f64,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
 }
 
 impl RunStats {
@@ -107,6 +119,8 @@ impl RunStats {
         self.measurements += o.measurements;
         self.stop_local_tracking_orders += o.stop_local_tracking_orders;
         self.reports_delivered += o.reports_delivered;
+        self.repaired_covariances += o.repaired_covariances;
+        self.worst_covariance_ratio = self.worst_covariance_ratio.min(o.worst_covariance_ratio);
     }
 }
 
@@ -295,6 +309,8 @@ impl<'a> Engine<'a> {
         self.now = self.end;
         let reply = self.ta.on_finish(self.end.as_secs()).map_err(|f| self.fault(f))?;
         self.take_tracks(reply.tracks)?;
+        self.stats.repaired_covariances = self.track_check.repaired();
+        self.stats.worst_covariance_ratio = self.track_check.worst_ratio();
         Ok(self.stats)
     }
 
@@ -334,7 +350,7 @@ impl<'a> Engine<'a> {
     }
 
     fn take_tracks(&mut self, mut rows: Vec<mimo_core::records::TrackRow>) -> Result<(), EngineError> {
-        if let Err(f) = self.track_check.check(&rows) {
+        if let Err(f) = self.track_check.check(&mut rows) {
             return Err(self.fault(f));
         }
         for r in &mut rows {
@@ -373,6 +389,7 @@ impl<'a> Engine<'a> {
                     self.push(t, Ev::Wake);
                 }
                 Request::StopLocalTracking(_) => self.stats.stop_local_tracking_orders += 1,
+                Request::Search(order) => self.order_search(order),
             }
         }
         Ok(())
@@ -426,6 +443,7 @@ impl<'a> Engine<'a> {
                 }
             }
             Request::StopLocalTracking(r) => known(*r),
+            Request::Search(order) => self.check_search(order),
         }
     }
 
@@ -442,13 +460,18 @@ impl<'a> Engine<'a> {
         gid
     }
 
-    /// A free radar runs its next search beam, unless it would run into a reservation.
+    /// A free radar runs its next search beam, unless it would run into a reservation or its
+    /// test article's plan makes it wait (a radar with no search idles).
     fn decide(&mut self, r: usize) -> Result<(), EngineError> {
         let now = self.now;
         let tl = &self.timelines[r];
         if tl.busy_until > now || tl.raster.is_empty() {
             return Ok(());
         }
+        if tl.shape.is_some() && self.search_waits(r) {
+            return Ok(());
+        }
+        let tl = &self.timelines[r];
         let beam = tl.raster[tl.cursor];
         let radar = RadarId(r as u8);
         let duration_s = dwell_duration_s(self.world.params(radar), beam.n_pulses);
@@ -460,7 +483,11 @@ impl<'a> Engine<'a> {
             return Ok(()); // wait for the reservation; its Start event takes over
         }
         let n = tl.raster.len();
-        self.timelines[r].cursor = (self.timelines[r].cursor + 1) % n;
+        let cursor = tl.cursor;
+        if let Some(shape) = self.timelines[r].shape.as_mut() {
+            shape.ran(cursor, now, search_end);
+        }
+        self.timelines[r].cursor = (cursor + 1) % n;
         let mut parts = std::mem::take(&mut self.spare_parts);
         parts.clear();
         parts.push(Part {

@@ -1,5 +1,6 @@
 //! Configuration of the default test article: the tracker's and the resource manager's.
 
+use super::search_manager::SearchManagerConfig;
 use mimo_track::TrackerConfig;
 use serde::{Deserialize, Serialize};
 
@@ -79,6 +80,10 @@ pub struct ResourceConfig {
     pub power_budget_w: Option<f64>,
     /// Window of `power_budget_w` (s). Default 10.
     pub power_window_s: f64,
+    /// Under a power budget, hold the confirmed tracks the budget can pay for, cheapest first,
+    /// and give the others only what the held tracks leave (docs/model.md §7.6, rule 4), instead
+    /// of stretching every track's revisit alike. Default true; no effect without a budget.
+    pub hold_tracks: bool,
 }
 
 impl Default for ResourceConfig {
@@ -105,6 +110,7 @@ impl Default for ResourceConfig {
             group_lookahead_s: 1.0,
             power_budget_w: None,
             power_window_s: 10.0,
+            hold_tracks: true,
         }
     }
 }
@@ -170,11 +176,18 @@ impl ResourceConfig {
 /// takes any JSON value when merged (its default is `null`), so one that is not a number is named
 /// here with its key path rather than by the parser.
 pub fn check_optional_numbers(merged: &serde_json::Value) -> Result<(), (String, String)> {
-    let key = "resource_manager.power_budget_w";
-    match merged.get("resource_manager").and_then(|r| r.get("power_budget_w")) {
-        None | Some(serde_json::Value::Null | serde_json::Value::Number(_)) => Ok(()),
-        Some(v) => Err((key.into(), format!("a power in watts, positive and finite, got {v}"))),
+    let optional = [
+        ("resource_manager", "power_budget_w", "a power in watts, positive and finite"),
+        ("search_manager", "held_share", "a share in [0, 1]"),
+        ("search_manager", "frame_period_s", "a positive finite time (s)"),
+    ];
+    for (section, key, expected) in optional {
+        match merged.get(section).and_then(|r| r.get(key)) {
+            None | Some(serde_json::Value::Null | serde_json::Value::Number(_)) => {}
+            Some(v) => return Err((format!("{section}.{key}"), format!("{expected}, got {v}"))),
+        }
     }
+    Ok(())
 }
 
 /// The whole configuration of the default test article, as recorded in the manifest and as
@@ -188,6 +201,8 @@ pub struct DefaultTaConfig {
     pub resource_manager: ResourceConfig,
     /// Online registration of the radars (docs/model.md §6.9); off by default.
     pub registration: crate::registration::RegistrationConfig,
+    /// The search manager (background search of every radar, docs/model.md §7.4).
+    pub search_manager: SearchManagerConfig,
 }
 
 #[cfg(test)]

@@ -20,11 +20,14 @@ mod due_index;
 #[cfg(test)]
 mod fixture;
 pub mod group;
+mod hold;
 pub mod planner;
 pub mod power;
+pub mod search_manager;
 pub mod snapshot;
 
 pub use config::{DefaultTaConfig, ResourceConfig, check_optional_numbers};
+pub use search_manager::SearchManagerConfig;
 
 use crate::geometry::ShipGeometry;
 use afford::Afford;
@@ -37,6 +40,7 @@ use mimo_sim::messages::{DwellReport, DwellRequest, PartReport, Reply, Request, 
 use mimo_sim::test_article::{TaFault, TestArticle};
 use mimo_track::position_ball::PositionBall;
 use mimo_track::{DwellContext, Look, MultiTargetTracker, TrackDue};
+use search_manager::SearchManager;
 use snapshot::Snapshot;
 use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
@@ -96,6 +100,8 @@ pub struct DefaultTa {
     dues: DueIndex,
     /// The tracks' position balls, kept across passes ([`Snapshot::with_balls`]).
     balls: RefCell<BTreeMap<u64, PositionBall>>,
+    /// The background search it orders (nothing with the default settings).
+    search: SearchManager,
 }
 
 impl DefaultTa {
@@ -112,6 +118,7 @@ impl DefaultTa {
             afford: Afford::of(&cfg.resource_manager),
             dues: DueIndex::default(),
             balls: RefCell::default(),
+            search: SearchManager::default(),
             cfg,
         }
     }
@@ -321,7 +328,7 @@ impl TestArticle for DefaultTa {
         self.dues.clear();
         self.balls.get_mut().clear();
         self.afford = Afford::of(&self.cfg.resource_manager);
-        Ok(Reply::default())
+        Ok(Reply::requests(self.search.start(&self.cfg.search_manager, start.closed_loop)))
     }
     fn on_dwell(&mut self, report: &DwellReport) -> Result<Reply, TaFault> {
         let merged = report.measurements.iter().any(|m| m.merged);
@@ -362,13 +369,17 @@ impl TestArticle for DefaultTa {
         for &id in st.tracker.changed_tracks() {
             self.dues.refresh(&st.tracker, &self.hold_until, id);
         }
-        let requests = if changed { self.schedule(report.end_s) } else { Vec::new() };
+        let mut requests = if changed { self.schedule(report.end_s) } else { Vec::new() };
+        self.search.note_rows(&rows, report.end_s);
+        requests.extend(self.search.update(&self.cfg.search_manager, report.end_s));
         Ok(Reply { requests, tracks: rows })
     }
     fn on_wake(&mut self, t_s: f64) -> Result<Reply, TaFault> {
         if t_s + 1e-9 >= self.next_wake_s {
             self.next_wake_s = f64::INFINITY;
         }
-        Ok(Reply::requests(self.schedule(t_s)))
+        let mut requests = self.schedule(t_s);
+        requests.extend(self.search.update(&self.cfg.search_manager, t_s));
+        Ok(Reply::requests(requests))
     }
 }
