@@ -105,7 +105,10 @@ mod tests {
         let (t, want) = (at(60.0), at(60.5));
         let b = RadarBias { heading_deg: 0.5, ..RadarBias::default() };
         let (u, v) = reported_direction(t.u, t.v, up_in_face(&f), &b).expect("in front");
-        assert!((u - want.u).abs() < 1e-12 && (v - want.v).abs() < 1e-12, "{u} {v} vs {want:?}");
+        // Within 1e-9 (a micro-radian's thousandth): the ECEF round trip at 100 km leaves ~1e-10.
+        assert!((u - want.u).abs() < 1e-9 && (v - want.v).abs() < 1e-9, "{u} {v} vs {want:?}");
+        // And the turn is the bias, not nothing: half a degree moves u by ~4e-3.
+        assert!((u - t.u).abs() > 1e-3, "{u} vs {}", t.u);
     }
 
     #[test]

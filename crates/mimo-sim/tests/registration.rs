@@ -80,8 +80,14 @@ fn truth_of(world: &World, m: &MeasurementRow) -> (f64, f64, f64, DVec3) {
     (rho, s.u, s.v, up_in_face(&face))
 }
 
+/// Airliner A's unmerged measurements from the ordered MIMO looks (the radars' own background
+/// search sees A too, at low SNR and off its beam centre, which these tests are not about).
 fn of_a(t: &RunTables) -> impl Iterator<Item = &MeasurementRow> {
-    t.measurements.iter().filter(|m| m.target_hint.as_deref() == Some("A") && !m.merged)
+    let mimo: std::collections::BTreeSet<u64> =
+        t.dwells.iter().filter(|d| d.kind == DwellKind::Mimo).map(|d| d.dwell_id).collect();
+    t.measurements
+        .iter()
+        .filter(move |m| m.target_hint.as_deref() == Some("A") && !m.merged && mimo.contains(&m.dwell_id))
 }
 
 #[test]
@@ -166,10 +172,10 @@ fn measurement_errors_carry_the_set_biases() {
         let nees = s.nees_left / s.n;
         assert!((2.0..4.5).contains(&nees), "{rx}: NEES without the bias {nees}");
     }
-    // The angle biases of R2 (4 and 3 mrad, and 0.2° of heading) dwarf its noise: the covariance
-    // does not hold them.
+    // The angle biases of R2 (4 and −3 mrad, and 0.2° of heading, which turns u against its own
+    // bias here) move its directions by more than its noise: the covariance does not hold them.
     let r2 = &by_rx[&R2];
-    assert!(r2.shift[1].abs() / r2.n > 3e-3, "{r2:?}");
+    assert!(r2.shift[1].hypot(r2.shift[2]) / r2.n > 2e-3, "{r2:?}");
     assert!(r2.nees_raw / r2.n > 2.0 * r2.nees_left / r2.n, "{r2:?}");
     // R4's heading bias alone moves its directions (and, above, its bistatic measurements of R1's
     // pulses carry R4's angle biases, not R1's).
