@@ -215,7 +215,8 @@ impl Registration {
         let s = Dense::diag(&chans.iter().flat_map(|c| c.var).collect::<Vec<_>>()).plus(&b.mul(&self.cov).mul(&b.t()));
         let Some(sl) = s.cholesky() else { return };
         let q: f64 = res.iter().zip(sl.chol_solve(&res)).map(|(a, b)| a * b).sum();
-        if !(q <= chi2_999(m - 3)) {
+        // A NaN residual fails the gate too.
+        if q.is_nan() || q > chi2_999(m - 3) {
             return;
         }
         let bt = b.t();
