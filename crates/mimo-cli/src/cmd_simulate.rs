@@ -220,7 +220,9 @@ fn simulate_runs(
     let ta_info: Mutex<Option<TaInfo>> = Mutex::new(None);
     let make_ta = |_run: u32| ta.build(world);
     let make_sink = |run: u32| -> Result<ParquetRunSink, CliError> {
-        Ok(ParquetRunSink::create(writer, run, cfg.record_voltages)?)
+        let sink = ParquetRunSink::create(writer, run, cfg.record_voltages)?;
+        // The drawn registration biases, only when the scenario has them (docs/model.md §5.5).
+        if world.scenario.biases.is_off() { Ok(sink) } else { Ok(sink.with_biases(writer, run)?) }
     };
     let done = |run: u32, sink: ParquetRunSink, s: RunStats, info: TaInfo| -> Result<(), CliError> {
         let written = sink.finish()?;

@@ -222,6 +222,41 @@ const CASES: &[Case] = &[
         fragment: "peak_power_w: expected at most 1e8 W (plausible range, docs/model.md §3.4)",
     },
     Case {
+        name: "a negative bias scale",
+        setup: |d| std::fs::write(d.join("b.toml"), format!("{SMALL}\n[biases]\nscale = -1.0\n")).expect("write"),
+        args: &["simulate", "--scenario", "b.toml", "--out", "o"],
+        code: 2,
+        fragment: "b.toml: biases.scale: expected a number in [0, 100], got -1",
+    },
+    Case {
+        name: "a bias standard deviation that is not finite",
+        setup: |d| {
+            std::fs::write(d.join("b.toml"), format!("{SMALL}\n[biases]\nsigma_range_m = nan\n")).expect("write")
+        },
+        args: &["simulate", "--scenario", "b.toml", "--out", "o"],
+        code: 2,
+        fragment: "b.toml: biases.sigma_range_m: expected a standard deviation in [0, 1000], got NaN",
+    },
+    Case {
+        name: "a bias for a radar the scenario lacks",
+        setup: |d| {
+            std::fs::write(d.join("b.toml"), format!("{SMALL}\n[biases.radars.R2]\nrange_m = 5.0\n")).expect("write")
+        },
+        args: &["simulate", "--scenario", "b.toml", "--out", "o"],
+        code: 2,
+        fragment: "b.toml: biases.radars.R2: expected a radar of the scenario (R1…R1), got `R2`",
+    },
+    Case {
+        name: "a heading bias beyond its bound",
+        setup: |d| {
+            std::fs::write(d.join("b.toml"), format!("{SMALL}\n[biases.radars.R1]\nheading_deg = 45.0\n"))
+                .expect("write")
+        },
+        args: &["simulate", "--scenario", "b.toml", "--out", "o"],
+        code: 2,
+        fragment: "b.toml: biases.radars.R1.heading_deg: expected a bias in [-10, 10], got 45",
+    },
+    Case {
         name: "a 9 g turn names the scenario file",
         setup: |d| {
             let turn = "speed_mps = 200.0\nmanoeuvres = [{ kind = \"turn\", at_s = 10.0, turn_deg = 90.0, load_factor = 9.0 }]";

@@ -33,6 +33,7 @@ pub mod params;
 pub mod polarimetry;
 pub mod quote;
 pub mod records;
+pub mod registration;
 pub mod rng;
 pub mod sink;
 pub mod table_decl;

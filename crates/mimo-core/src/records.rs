@@ -374,6 +374,33 @@ macro_rules! tracks_table {
 }
 tracks_table!(crate::record_struct);
 
+/// The `biases` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! biases_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// One radar's registration biases in one run, as drawn or set (docs/model.md §5.5).
+            #[derive(Debug, Clone, PartialEq)]
+            pub struct BiasRow / BiasColumns in BIASES = "biases":
+                "One row per radar: the registration biases its measurements carried in the run (only with [biases] on)." {
+                /// Monte Carlo run index, 0-based.
+                run: u32 => ("", "Monte Carlo run index"),
+                /// The radar (`R1`…`R4` on disk).
+                radar: $crate::ids::RadarId => ("", "radar id R1…R4"),
+                /// Range bias (m); a bistatic ρ carries half the sum of its two radars'.
+                range_m: f64 => ("m", "range bias; a bistatic rho carries half the sum of both radars'"),
+                /// Bias of the direction cosine u of the radar's receiving faces.
+                u: f64 => ("", "bias of the measured direction cosine u"),
+                /// Bias of the direction cosine v of the radar's receiving faces.
+                v: f64 => ("", "bias of the measured direction cosine v"),
+                /// Heading bias (deg, clockwise): a target at azimuth A is reported at A + heading_deg.
+                heading_deg: f64 => ("deg", "heading bias, clockwise: azimuth A is reported at A + heading_deg"),
+            }
+        }
+    };
+}
+biases_table!(crate::record_struct);
+
 /// Every table of one Monte Carlo run, in memory.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunTables {
@@ -389,6 +416,8 @@ pub struct RunTables {
     pub measurements: Vec<MeasurementRow>,
     /// Rows of the `tracks` table.
     pub tracks: Vec<TrackRow>,
+    /// Rows of the `biases` table (empty unless registration biases are on).
+    pub biases: Vec<BiasRow>,
 }
 
 /// Index into the 21-element upper-triangle covariance for (i, j), i, j < 6.

@@ -22,6 +22,10 @@ pub mod domain {
     pub const SEARCH: u64 = 6;
     /// The aircraft of a raid stress (docs/model.md §8.4).
     pub const RAID: u64 = 7;
+    /// A radar's registration biases, drawn once per run (docs/model.md §5.5).
+    pub const BIAS: u64 = 8;
+    /// The jitter of a message between a ship and the test article (docs/model.md §5.6).
+    pub const LINK: u64 = 9;
     /// Tests and benchmarks only.
     pub const TEST: u64 = 99;
 }

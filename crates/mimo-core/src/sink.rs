@@ -6,7 +6,7 @@
 //! `mimo-store`'s Parquet sink writes row groups as they fill, so memory stays flat however long
 //! the run (docs/design.md §8).
 
-use crate::records::{DwellRow, MeasurementRow, PrimitiveRow, RunTables, TrackRow, TruthRow, VoltageRow};
+use crate::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RunTables, TrackRow, TruthRow, VoltageRow};
 use std::fmt;
 
 /// A sink failed to take rows (a write error, typically). The message says what and where.
@@ -35,6 +35,9 @@ pub trait RunSink {
     fn measurements(&mut self, rows: Vec<MeasurementRow>) -> Result<(), SinkError>;
     /// Track rows, as the test article hands them over.
     fn tracks(&mut self, rows: Vec<TrackRow>) -> Result<(), SinkError>;
+    /// The run's registration biases, once at its start (only when biases are on,
+    /// docs/model.md §5.5).
+    fn biases(&mut self, rows: Vec<BiasRow>) -> Result<(), SinkError>;
 }
 
 /// The in-memory sink: every row of the run, kept.
@@ -61,6 +64,10 @@ impl RunSink for RunTables {
     }
     fn tracks(&mut self, mut rows: Vec<TrackRow>) -> Result<(), SinkError> {
         self.tracks.append(&mut rows);
+        Ok(())
+    }
+    fn biases(&mut self, mut rows: Vec<BiasRow>) -> Result<(), SinkError> {
+        self.biases.append(&mut rows);
         Ok(())
     }
 }

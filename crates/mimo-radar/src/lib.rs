@@ -19,6 +19,7 @@
 //! | [`statistical`] | the measurement rung: detections drawn from the voltage level's statistics, no cells | §4.8 |
 //! | [`measure`] | primitives → measurements (the only implementation, used online and offline) | §4.5 |
 //! | [`quiet`] | a monostatic dwell that no target reaches and whose false-alarm draw is zero, recognised without building its vectors | §4.4, §4.7 |
+//! | [`registration`] | registration biases carried as a radar carries them: biased ranges and directions, beams steered through the biases | §5.5 |
 //! | [`energy`] | predicted SNR, required SNR, pointing/straddle loss, pulses per dwell, dwell time and energy | §7.2, §7.3 |
 //!
 //! ## Flow of one dwell
@@ -82,6 +83,7 @@ pub mod polarization;
 pub mod quiet;
 pub mod range;
 pub mod reach;
+pub mod registration;
 mod returns;
 pub mod statistical;
 pub mod two_target;

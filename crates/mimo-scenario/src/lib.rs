@@ -37,9 +37,11 @@
 
 #![warn(missing_docs)]
 
+pub mod biases;
 pub mod epoch_balls;
 mod error;
 mod flight;
+pub mod links;
 mod load;
 mod model;
 pub mod raid;

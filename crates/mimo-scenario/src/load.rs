@@ -60,6 +60,10 @@ struct RawFile {
     formations: Vec<Formation>,
     #[serde(default)]
     aircraft: Vec<Aircraft>,
+    /// Registration biases (docs/model.md §5.5).
+    biases: Option<crate::biases::Biases>,
+    /// Links between the ships and the test article (docs/model.md §5.6).
+    links: Option<crate::links::Links>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -101,6 +105,8 @@ struct Collected {
     types: BTreeMap<String, (AircraftType, String)>,
     formations: Vec<From<Formation>>,
     aircraft: Vec<From<Aircraft>>,
+    biases: Option<(crate::biases::Biases, String)>,
+    links: Option<(crate::links::Links, String)>,
 }
 
 impl Collected {
@@ -125,6 +131,12 @@ impl Collected {
         }
         if other.radar.is_some() {
             self.radar = other.radar;
+        }
+        if other.biases.is_some() {
+            self.biases = other.biases;
+        }
+        if other.links.is_some() {
+            self.links = other.links;
         }
         for s in other.ships {
             if let Some(prev) = self.ships.iter().find(|p| p.item.id == s.item.id) {
@@ -217,6 +229,8 @@ impl Loader {
             types: raw.aircraft_types.into_iter().map(|(k, v)| (k, (v, display.clone()))).collect(),
             formations: tag(raw.formations, &display),
             aircraft: tag(raw.aircraft, &display),
+            biases: raw.biases.map(|b| (b, display.clone())),
+            links: raw.links.map(|l| (l, display.clone())),
         };
         acc.merge(own)?;
         Ok(acc)
@@ -365,6 +379,20 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
     let duration_s = resolve_duration(acc.duration_s.as_ref())?;
     let fidelity = resolve_fidelity(acc.fidelity)?;
     let ships = resolve_ships(loader, &acc.ships, acc.radar.as_ref(), top)?;
+    let biases = match acc.biases {
+        Some((b, file)) => {
+            b.validate(ships.len(), &Ctx::new(&file, "biases"))?;
+            b
+        }
+        None => crate::biases::Biases::default(),
+    };
+    let links = match acc.links {
+        Some((l, file)) => {
+            l.validate(ships.len(), &Ctx::new(&file, "links"))?;
+            l
+        }
+        None => crate::links::Links::default(),
+    };
     for (name, (t, file)) in &acc.types {
         validate_type(t, &Ctx::new(file, format!("aircraft_types.{name}")))?;
     }
@@ -387,6 +415,8 @@ fn resolve(loader: &Loader, acc: Collected, top: &str, default_name: &str) -> Re
         targets,
         formations,
         aircraft,
+        biases,
+        links,
     };
     scenario.validate()?;
     Ok(scenario)

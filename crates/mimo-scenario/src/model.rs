@@ -42,6 +42,14 @@ pub struct Scenario {
     /// Single aircraft.
     #[serde(default)]
     pub aircraft: Vec<Aircraft>,
+    /// Registration biases of the radars (docs/model.md §5.5); off by default, and then not
+    /// written into a manifest.
+    #[serde(default, skip_serializing_if = "crate::biases::Biases::is_off")]
+    pub biases: crate::biases::Biases,
+    /// The links between the ships and the test article (docs/model.md §5.6); perfect by
+    /// default, and then not written into a manifest.
+    #[serde(default, skip_serializing_if = "crate::links::Links::is_off")]
+    pub links: crate::links::Links,
 }
 
 /// A ship and its radar. The ship steams straight (along the great circle through its start

@@ -1,7 +1,7 @@
 //! Stress transformations of a scenario, for studies that look for where a method fails
 //! (docs/design.md §9): every target's RCS offset in dB, every radar's false-alarm probability
-//! and peak power, the spacing of the formation fighters, and a raid of added aircraft
-//! ([`crate::raid`]).
+//! and peak power, the spacing of the formation fighters, a raid of added aircraft
+//! ([`crate::raid`]), the scale of the registration biases and the ships' link delay.
 //!
 //! Each is applied to a resolved [`Scenario`] before its trajectories are built, so the result
 //! is an ordinary scenario, recorded whole in the run's manifest. Values outside a physical range
@@ -26,6 +26,10 @@ pub mod bounds {
     /// Raid aircraft added to a scenario: a whole number from 0 (none) to 4096, eight times a
     /// dense raid of 512 on the network.
     pub const RAID_TARGETS: (f64, f64) = (0.0, crate::raid::MAX_RAID_TARGETS as f64);
+    /// Scale of the typical registration-bias σ's (docs/model.md §5.5): 0 (none) to 100.
+    pub const BIAS_SCALE: (f64, f64) = (0.0, mimo_core::registration::bounds::SCALE);
+    /// Every ship's link delay (s, docs/model.md §5.6): 0 (perfect) to a minute.
+    pub const LINK_DELAY_S: (f64, f64) = (0.0, crate::links::MAX_DELAY_S);
 }
 
 /// A raid: how many aircraft, and the seed they are drawn from.
@@ -51,6 +55,10 @@ pub struct Stress {
     pub peak_power_offset_db: Option<f64>,
     /// Aircraft added before the other stresses are applied, so that they apply to them too.
     pub raid: Option<Raid>,
+    /// The scale of the registration biases' σ's (`[biases] scale`); set biases are kept.
+    pub bias_scale: Option<f64>,
+    /// Every ship's link delay (s); jitters are kept within it.
+    pub link_delay_s: Option<f64>,
 }
 
 /// A stress value outside its range: the axis, the value and the range.
@@ -125,6 +133,8 @@ impl Stress {
         opt("pfa", self.pfa, bounds::PFA)?;
         opt("formation_spacing_scale", self.formation_spacing_scale, bounds::FORMATION_SPACING_SCALE)?;
         opt("peak_power_offset_db", self.peak_power_offset_db, bounds::PEAK_POWER_OFFSET_DB)?;
+        opt("bias_scale", self.bias_scale, bounds::BIAS_SCALE)?;
+        opt("link_delay_s", self.link_delay_s, bounds::LINK_DELAY_S)?;
         self.raid.map_or(Ok(()), |r| check_raid_targets(f64::from(r.targets)).map(|_| ()))
     }
 
@@ -151,6 +161,12 @@ impl Stress {
         if let Some(k) = self.formation_spacing_scale {
             s.formations.iter_mut().for_each(|f| scale_formation(f, k));
         }
+        if let Some(k) = self.bias_scale {
+            s.biases.scale = k;
+        }
+        if let Some(d) = self.link_delay_s {
+            s.links.set_delay(d);
+        }
         Ok(())
     }
 }
@@ -175,6 +191,8 @@ mod tests {
             formation_spacing_scale: Some(2.0),
             peak_power_offset_db: Some(10.0),
             raid: None,
+            bias_scale: Some(2.0),
+            link_delay_s: Some(0.5),
         };
         stress.apply(&mut s).expect("apply");
         for (a, b) in s.targets.iter().zip(&base.targets) {
@@ -185,6 +203,8 @@ mod tests {
             assert!((a.radar.peak_power_w / b.radar.peak_power_w - 10.0).abs() < 1e-12);
             assert_eq!(a.lat_deg, b.lat_deg);
         }
+        assert_eq!((s.biases.scale, s.links.delay_s), (2.0, 0.5));
+        assert!(base.biases.is_off() && base.links.is_off());
         // Twice the spacing: the line-abreast neighbours F-1/F-3 (300 m apart at t = 0) at 600 m.
         let d0 = separation_at(&base, 0.0, "F-1", "F-3");
         let d1 = separation_at(&s, 0.0, "F-1", "F-3");
@@ -207,6 +227,8 @@ mod tests {
         assert!(e.to_string().contains("[0.000000000001, 0.01]"), "{e}");
         assert!(Stress { formation_spacing_scale: Some(-1.0), ..Stress::default() }.check().is_err());
         assert!(Stress { rcs_offset_db: Some(f64::NAN), ..Stress::default() }.check().is_err());
+        assert!(Stress { bias_scale: Some(-0.5), ..Stress::default() }.check().is_err());
+        assert!(Stress { link_delay_s: Some(61.0), ..Stress::default() }.check().is_err());
         assert!(Stress::default().check().is_ok());
     }
 }

@@ -271,6 +271,8 @@ impl Scenario {
         for (i, s) in self.ships.iter().enumerate() {
             validate_ship(s, i, &ctx.sub(&format!("ships[{i}]")))?;
         }
+        self.biases.validate(self.ships.len(), &ctx.sub("biases"))?;
+        self.links.validate(self.ships.len(), &ctx.sub("links"))?;
         if self.targets.is_empty() {
             return Err(ctx.err("targets", "at least one target"));
         }

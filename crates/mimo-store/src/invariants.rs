@@ -58,6 +58,15 @@ impl RowInvariants for PrimitiveRow {
     }
 }
 
+impl RowInvariants for BiasRow {
+    fn check_rows(rows: &[Self]) -> Result<(), Violation> {
+        unique(rows.iter().map(|r| Key2(r.run, r.radar)), BiasRow::COLUMNS.radar)
+    }
+    fn run_of(row: &Self) -> u32 {
+        row.run
+    }
+}
+
 impl RowInvariants for MeasurementRow {
     fn check_rows(rows: &[Self]) -> Result<(), Violation> {
         unique(rows.iter().map(|r| Key2(r.run, r.meas_id)), MeasurementRow::COLUMNS.meas_id)

@@ -12,7 +12,7 @@ use crate::rows::TableRow;
 use crate::rundir::RunDirWriter;
 use crate::table_writer::TableWriter;
 use crate::{StoreError, io_err};
-use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow};
+use mimo_core::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow};
 use mimo_core::sink::{RunSink, SinkError};
 
 /// Where the table files of a run are written.
@@ -71,6 +71,8 @@ pub struct ParquetRunSink {
     measurements: Option<Open<MeasurementRow>>,
     tracks: Option<Open<TrackRow>>,
     voltages: Option<Open<VoltageRow>>,
+    /// The registration biases, opened by [`ParquetRunSink::with_biases`] only.
+    biases: Option<Open<BiasRow>>,
 }
 
 /// Open a table's file if `wanted` says so.
@@ -99,7 +101,16 @@ impl ParquetRunSink {
             measurements: open_if(wanted, dir, "measurements", run)?,
             tracks: open_if(wanted, dir, "tracks", run)?,
             voltages: open_if(wanted, dir, "voltages", run)?,
+            biases: None,
         })
+    }
+
+    /// Also write run `run`'s `biases` table in `dir` (a run whose scenario has registration
+    /// biases on, docs/model.md §5.5); without it, the biases' rows are dropped and no file is
+    /// made.
+    pub fn with_biases(mut self, dir: &impl RunFiles, run: u32) -> Result<ParquetRunSink, StoreError> {
+        self.biases = Some(Open::new(dir, "biases", run)?);
+        Ok(self)
     }
 
     /// Open run `run`'s files in `dir`: every table, the voltages only with `record_voltages`.
@@ -123,6 +134,7 @@ impl ParquetRunSink {
         for t in [self.measurements.map(Open::finish), self.tracks.map(Open::finish), self.voltages.map(Open::finish)] {
             out.extend(t.transpose()?);
         }
+        out.extend(self.biases.map(Open::finish).transpose()?);
         Ok(out)
     }
 }
@@ -156,5 +168,8 @@ impl RunSink for ParquetRunSink {
     }
     fn tracks(&mut self, rows: Vec<TrackRow>) -> Result<(), SinkError> {
         put(&mut self.tracks, rows)
+    }
+    fn biases(&mut self, rows: Vec<BiasRow>) -> Result<(), SinkError> {
+        put(&mut self.biases, rows)
     }
 }

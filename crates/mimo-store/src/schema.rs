@@ -219,11 +219,11 @@ impl TableSpec {
     }
 }
 
-pub use crate::run_tables::{DWELLS, MEASUREMENTS, PRIMITIVES, TRACKS, TRUTH, VOLTAGES};
+pub use crate::run_tables::{BIASES, DWELLS, MEASUREMENTS, PRIMITIVES, TRACKS, TRUTH, VOLTAGES};
 pub use crate::study_schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY};
 
 /// Every table, in pipeline order.
-pub const ALL_TABLES: [TableSpec; 6] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS];
+pub const ALL_TABLES: [TableSpec; 7] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS, BIASES];
 
 /// The tables a study writes.
 pub const STUDY_TABLES: [TableSpec; 7] = [

@@ -48,6 +48,8 @@ crate::core_crate::table_decl! { crate::column_group;
         ),
         search_pulses: Option<f64> => ("", "pulses of the low search band; null when the plan has no such axis"),
         raid_targets: Option<f64> => ("", "raid aircraft added to the scenario; null when the plan has no such axis"),
+        bias_scale: Option<f64> => ("", "scale of the registration biases' typical σ's; null when the plan has no such axis"),
+        link_delay_s: Option<f64> => ("s", "every ship's link delay; null when the plan has no such axis"),
     }
 }
 
@@ -267,7 +269,7 @@ mod tests {
         assert_eq!(STUDY_RESULTS.columns.len(), STUDY_ID_COLUMNS + 2 + m + 1);
         assert_eq!(STUDY_SUMMARY.columns.len(), STUDY_ID_COLUMNS + 3 + 3 * m);
         assert_eq!(&names(&STUDY_RESULTS)[..5], ["method", "family", "knob", "knob_value", "scenario"]);
-        assert_eq!(names(&STUDY_RESULTS)[STUDY_ID_COLUMNS - 1], "raid_targets");
+        assert_eq!(names(&STUDY_RESULTS)[STUDY_ID_COLUMNS - 1], "link_delay_s");
         assert_eq!(names(&STUDY_RESULTS)[STUDY_ID_COLUMNS + 2], STUDY_METRICS[0].0);
         let last = STUDY_METRICS[m - 1].0;
         assert_eq!(names(&STUDY_SUMMARY)[STUDY_ID_COLUMNS + 3 * m + 2], format!("{last}_ci_hi"));
@@ -295,6 +297,8 @@ mod tests {
                     peak_power_offset_db: None,
                     search_pulses: None,
                     raid_targets: None,
+                    bias_scale: None,
+                    link_delay_s: None,
                 },
             },
             runs: 4,

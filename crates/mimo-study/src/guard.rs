@@ -5,7 +5,7 @@
 //! Rows that break a check are not handed on.
 
 use crate::run_usage::RunUsage;
-use mimo_core::records::{DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow, unpack_cov};
+use mimo_core::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow, unpack_cov};
 use mimo_core::sink::{RunSink, SinkError};
 use std::collections::BTreeSet;
 use std::time::Instant;
@@ -118,6 +118,10 @@ impl RunSink for Guarded<'_> {
             return Err(self.fail(format!("{FAIL_TRACKS} (more than {n} tracks)")));
         }
         let r = self.inner.tracks(rows);
+        self.pass(r)
+    }
+    fn biases(&mut self, rows: Vec<BiasRow>) -> Result<(), SinkError> {
+        let r = self.inner.biases(rows);
         self.pass(r)
     }
 }

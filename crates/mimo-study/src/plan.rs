@@ -155,17 +155,23 @@ pub enum Axis {
     SearchPulses,
     /// Aircraft added as a raid (docs/model.md §8.4).
     RaidTargets,
+    /// Scale of the registration biases' typical σ's (docs/model.md §5.5).
+    BiasScale,
+    /// Every ship's link delay (s, docs/model.md §5.6).
+    LinkDelayS,
 }
 
 impl Axis {
     /// Every axis, in the order of paths and columns.
-    pub const ALL: [Axis; 6] = [
+    pub const ALL: [Axis; 8] = [
         Axis::RcsOffsetDb,
         Axis::Pfa,
         Axis::FormationSpacingScale,
         Axis::PeakPowerOffsetDb,
         Axis::SearchPulses,
         Axis::RaidTargets,
+        Axis::BiasScale,
+        Axis::LinkDelayS,
     ];
 
     /// The key in plans, paths and tables.
@@ -177,6 +183,8 @@ impl Axis {
             Axis::PeakPowerOffsetDb => "peak_power_offset_db",
             Axis::SearchPulses => "search_pulses",
             Axis::RaidTargets => "raid_targets",
+            Axis::BiasScale => "bias_scale",
+            Axis::LinkDelayS => "link_delay_s",
         }
     }
 
@@ -184,6 +192,7 @@ impl Axis {
     pub fn baseline(self) -> f64 {
         match self {
             Axis::RcsOffsetDb | Axis::PeakPowerOffsetDb | Axis::RaidTargets => 0.0,
+            Axis::BiasScale | Axis::LinkDelayS => 0.0,
             Axis::Pfa => mimo_core::params::RadarParams::default().pfa,
             Axis::FormationSpacingScale => 1.0,
             Axis::SearchPulses => f64::from(mimo_sim::SearchConfig::default().bands[0].n_pulses),
@@ -199,13 +208,16 @@ impl Axis {
             Axis::PeakPowerOffsetDb => "peak power offset of every radar (dB)",
             Axis::SearchPulses => "pulses per low-band search dwell",
             Axis::RaidTargets => "raid aircraft added",
+            Axis::BiasScale => "registration-bias scale (× typical σ)",
+            Axis::LinkDelayS => "link delay of every ship (s)",
         }
     }
 
-    /// Whether a larger value stresses a tracker more (more false alarms, more raid aircraft);
+    /// Whether a larger value stresses a tracker more (more false alarms, more raid aircraft,
+    /// larger biases, longer links);
     /// for every other axis a smaller value does (weaker echoes, closer targets, fewer pulses).
     pub fn harder_when_larger(self) -> bool {
-        matches!(self, Axis::Pfa | Axis::RaidTargets)
+        matches!(self, Axis::Pfa | Axis::RaidTargets | Axis::BiasScale | Axis::LinkDelayS)
     }
 
     /// Whether values are compared, drawn and interpolated on log10 of the value.
@@ -230,6 +242,8 @@ impl Axis {
             Axis::Pfa => r(bounds::PFA),
             Axis::FormationSpacingScale => r(bounds::FORMATION_SPACING_SCALE),
             Axis::PeakPowerOffsetDb => r(bounds::PEAK_POWER_OFFSET_DB),
+            Axis::BiasScale => r(bounds::BIAS_SCALE),
+            Axis::LinkDelayS => r(bounds::LINK_DELAY_S),
             Axis::RaidTargets => mimo_scenario::stress::check_raid_targets(v)
                 .map(|_| ())
                 .map_err(|e| format!("expected a whole number of aircraft in [{}, {}], got {v}", e.lo, e.hi)),

@@ -27,6 +27,8 @@ fn stress_of(cell: &Cell, seed: u64) -> Stress {
         formation_spacing_scale: cell.applied(Axis::FormationSpacingScale),
         peak_power_offset_db: cell.applied(Axis::PeakPowerOffsetDb),
         raid: cell.applied(Axis::RaidTargets).map(|n| Raid { targets: n as u32, seed }),
+        bias_scale: cell.applied(Axis::BiasScale),
+        link_delay_s: cell.applied(Axis::LinkDelayS),
     }
 }
 

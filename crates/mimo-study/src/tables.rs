@@ -122,6 +122,8 @@ pub(crate) fn point_ids(cell: &Cell) -> StudyPoint {
         peak_power_offset_db: cell.value(Axis::PeakPowerOffsetDb),
         search_pulses: cell.value(Axis::SearchPulses),
         raid_targets: cell.value(Axis::RaidTargets),
+        bias_scale: cell.value(Axis::BiasScale),
+        link_delay_s: cell.value(Axis::LinkDelayS),
     }
 }
 

@@ -22,10 +22,12 @@
 
 pub mod cued;
 pub mod default_ta;
+pub mod dense;
 pub mod geometry;
 pub mod overrides;
 pub mod passive;
 pub mod process;
+pub mod registration;
 pub mod registry;
 pub mod replay;
 

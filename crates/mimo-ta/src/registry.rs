@@ -109,6 +109,7 @@ pub fn resolve_config(name: &str, overrides: &Value) -> Result<Value, ConfigErro
             let c: DefaultTaConfig = parse(&merged)?;
             c.tracker.validate().map_err(|e| ConfigError::BadValue { key: "tracker".into(), why: e.to_string() })?;
             c.resource_manager.validate().map_err(|(key, why)| ConfigError::BadValue { key, why })?;
+            c.registration.validate().map_err(|(key, why)| ConfigError::BadValue { key, why })?;
             c.search_manager.validate().map_err(|(key, why)| ConfigError::BadValue { key, why })?;
         }
         "cued" => {

@@ -3,6 +3,7 @@
 
 use super::group::{Group, Part};
 use super::quiet::{dwell_row, search_aim};
+use super::registration::{bias_dwell, steered_beam};
 use crate::messages::{DwellReport, PartReport};
 use crate::world::World;
 use mimo_core::DVec3;
@@ -30,13 +31,15 @@ pub(crate) struct Executed {
 }
 
 /// What the engine knows of the run when it executes a group.
-pub(crate) struct RunKeys {
+pub(crate) struct RunKeys<'b> {
     pub seed: u64,
     pub run: u32,
     pub record_voltages: bool,
+    /// Every radar's registration biases; `None` when they are off (docs/model.md §5.5).
+    pub biases: Option<&'b [mimo_core::registration::RadarBias]>,
 }
 
-impl RunKeys {
+impl RunKeys<'_> {
     /// The radar model's dwell of a group at its mid-time `t_mid_s`; `stream_keys` are the
     /// group's `[run, gid]`, so the same group always draws the same numbers.
     pub(super) fn radar_dwell<'a>(
@@ -61,23 +64,31 @@ impl RunKeys {
     }
 }
 
-/// Part `p`'s transmitter on its face `frame` at mid-dwell.
-pub(super) fn transmitter<'w>(world: &'w World, p: &Part, frame: FaceFrame) -> mimo_radar::Transmitter<'w> {
+/// Part `p`'s transmitter on its face `frame` at mid-dwell, its beam steered through its biases.
+pub(super) fn transmitter<'w>(
+    world: &'w World,
+    keys: &RunKeys,
+    p: &Part,
+    frame: FaceFrame,
+) -> mimo_radar::Transmitter<'w> {
+    let (beam_u, beam_v) = steered_beam(keys.biases, p, &frame);
     mimo_radar::Transmitter {
         radar: p.radar,
         params: world.params(p.radar),
         frame,
-        beam_u: p.beam_u,
-        beam_v: p.beam_v,
+        beam_u,
+        beam_v,
         n_pulses: p.n_pulses,
         waveform: p.waveform,
     }
 }
 
 /// Part `p`'s receiver (dwell part id `dwell_id`) on its face `frame`: the whole instrumented range
-/// for search, `±window_half_m` about the aim's ρ otherwise (docs/model.md §5.2).
+/// for search, `±window_half_m` about the aim's ρ otherwise (docs/model.md §5.2); its beam
+/// steered through its biases.
 pub(super) fn receiver<'w>(
     world: &'w World,
+    keys: &RunKeys,
     g: &Group,
     p: &Part,
     dwell_id: u64,
@@ -89,14 +100,15 @@ pub(super) fn receiver<'w>(
         None => RangeWindow::Fixed { rho_min_m: params.min_range_m, rho_max_m: params.instrumented_range_m },
         Some(half) => RangeWindow::AroundAim { aim_ecef: aim, half_width_m: half },
     };
+    let (beam_u, beam_v) = steered_beam(keys.biases, p, &frame);
     mimo_radar::Receiver {
         radar: p.radar,
         dwell_id,
         params,
         face: p.face,
         frame,
-        beam_u: p.beam_u,
-        beam_v: p.beam_v,
+        beam_u,
+        beam_v,
         window,
         predicted_snr: g.predicted_snr,
     }
@@ -120,7 +132,7 @@ pub(crate) fn execute<'w>(
         .iter()
         .zip(&frames)
         .filter(|(p, _)| p.role.transmits())
-        .map(|(p, f)| transmitter(world, p, *f))
+        .map(|(p, f)| transmitter(world, keys, p, *f))
         .collect();
     let rxs: Vec<mimo_radar::Receiver> = g
         .parts
@@ -128,13 +140,16 @@ pub(crate) fn execute<'w>(
         .enumerate()
         .zip(&frames)
         .filter(|((_, p), _)| p.receives())
-        .map(|((i, p), f)| receiver(world, g, p, gid + i as u64, *f, aim))
+        .map(|((i, p), f)| receiver(world, keys, g, p, gid + i as u64, *f, aim))
         .collect();
     let stream_keys = [u64::from(keys.run), gid];
     let dwell = keys.radar_dwell(world, t_mid, &stream_keys, &txs, &rxs);
     // Only the targets the dwell's beams may reach: the same dwell, at a cost that follows them.
     world.radar_targets_reached_into(t_mid, mimo_radar::reach::DwellReach::new(&dwell).as_ref(), targets);
-    let out = mimo_radar::evaluate(&dwell, targets);
+    let mut out = mimo_radar::evaluate(&dwell, targets);
+    if let Some(biases) = keys.biases {
+        bias_dwell(biases, g, &frames, &mut out.primitives);
+    }
     let measurements = mimo_radar::measurements_from_primitives(&out.primitives, first_meas_id(gid));
     let dwells = (0..g.parts.len()).map(|i| dwell_row(world, keys.run, gid, g, i, t0_s, aim)).collect();
     Executed { dwells, primitives: out.primitives, measurements, voltages: out.voltages, frames, aim }

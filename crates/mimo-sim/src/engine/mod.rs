@@ -35,8 +35,10 @@
 
 mod execute;
 mod group;
+mod links;
 mod plan;
 mod quiet;
+mod registration;
 mod search_order;
 mod timeline;
 
@@ -155,6 +157,8 @@ enum Ev {
     End(u64),
     /// The TA asked to be woken.
     Wake,
+    /// A dwell order reached its radars (links, docs/model.md §5.6).
+    Order(u64),
 }
 
 /// One run of the engine.
@@ -184,6 +188,12 @@ pub struct Engine<'a> {
     spare_parts: Vec<Part>,
     /// The track rows returned so far, checked reply by reply.
     track_check: crate::track_check::TrackRowCheck,
+    /// Every radar's registration biases in this run; `None` when off (docs/model.md §5.5).
+    biases: Option<Vec<mimo_core::registration::RadarBias>>,
+    /// The run's links; `None` when every link is perfect (docs/model.md §5.6).
+    links: Option<links::Links>,
+    /// Dwell orders sent and not yet arrived, by order id.
+    in_transit: BTreeMap<u64, DwellRequest>,
 }
 
 impl<'a> Engine<'a> {
@@ -198,6 +208,8 @@ impl<'a> Engine<'a> {
         let timelines =
             world.scenario.ships.iter().map(|s| Timeline::new(raster(&s.radar, s.heading_deg, &cfg.search))).collect();
         let end = SimTime::from_secs(cfg.duration_s);
+        let biases = registration::run_biases(world, cfg.seed, run);
+        let links = links::Links::of(world, cfg.seed, run);
         Engine {
             world,
             cfg,
@@ -218,6 +230,9 @@ impl<'a> Engine<'a> {
             quiet_radars: quiet::quiet_radars(world),
             spare_parts: Vec::new(),
             track_check: Default::default(),
+            biases,
+            links,
+            in_transit: BTreeMap::new(),
         }
     }
 
@@ -264,6 +279,9 @@ impl<'a> Engine<'a> {
                 self.sink.truth(truth)?;
             }
         }
+        if let Some(b) = &self.biases {
+            self.sink.biases(registration::bias_rows(self.run, b))?;
+        }
         for r in 0..self.timelines.len() {
             self.push(SimTime::ZERO, Ev::Decide(r as u8));
         }
@@ -285,6 +303,7 @@ impl<'a> Engine<'a> {
                     }
                 }
                 Ev::Wake => self.deliver(TaEvent::Wake { t_s: t.as_secs() })?,
+                Ev::Order(id) => self.order_arrived(id),
             }
         }
         self.now = self.end;
@@ -364,7 +383,7 @@ impl<'a> Engine<'a> {
         });
         for req in reqs {
             match req {
-                Request::Dwell(d) => self.place(d),
+                Request::Dwell(d) => self.order(d),
                 Request::WakeAt(t_s) => {
                     let t = SimTime::from_secs(t_s).max(self.now);
                     self.push(t, Ev::Wake);
@@ -417,7 +436,7 @@ impl<'a> Engine<'a> {
                 Ok(())
             }
             Request::WakeAt(t) => {
-                if t.is_finite() && *t >= now - 1e-9 {
+                if t.is_finite() && self.wake_time(*t) >= now - 1e-9 {
                     Ok(())
                 } else {
                     Err(TaFault::InvalidRequest(format!("wake_at {t} s is not a time at or after now ({now} s)")))
@@ -531,7 +550,12 @@ impl<'a> Engine<'a> {
         for p in &g.parts {
             self.timelines[p.radar.index()].begin(gid, end);
         }
-        let keys = RunKeys { seed: self.cfg.seed, run: self.run, record_voltages: self.cfg.record_voltages };
+        let keys = RunKeys {
+            seed: self.cfg.seed,
+            run: self.run,
+            record_voltages: self.cfg.record_voltages,
+            biases: self.biases.as_deref(),
+        };
         // A quiet search dwell the test article does not want to hear of: its row only.
         if g.requested_by == Requester::Radar
             && !self.subscription.wants(g.requested_by, 0)
@@ -573,7 +597,8 @@ impl<'a> Engine<'a> {
             self.sink.measurements(ex.measurements)?;
         }
         if delivered {
-            self.push(end, Ev::End(gid));
+            let arrives = self.report_arrives(gid, &g, end);
+            self.push(arrives, Ev::End(gid));
         }
         for p in &g.parts {
             self.push(end, Ev::Decide(p.radar.0));

@@ -81,8 +81,8 @@ pub(super) fn quiet_search_row<'w>(
     let frame = world.face_at(p.radar, p.face, t_mid)?;
     let aim = search_aim(world, g, &frame);
     // The transmitter, receiver and stream keys `execute` builds for this group.
-    let tx = transmitter(world, p, frame);
-    let rx = receiver(world, g, p, gid, frame, aim);
+    let tx = transmitter(world, keys, p, frame);
+    let rx = receiver(world, keys, g, p, gid, frame, aim);
     let stream_keys = [u64::from(keys.run), gid];
     let dwell = keys.radar_dwell(world, t_mid, &stream_keys, std::slice::from_ref(&tx), std::slice::from_ref(&rx));
     // A beam far from every target's ball gates every target out whatever its exact position:

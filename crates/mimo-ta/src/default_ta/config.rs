@@ -199,6 +199,8 @@ pub struct DefaultTaConfig {
     pub tracker: TrackerConfig,
     /// The resource manager (scheduling and energy).
     pub resource_manager: ResourceConfig,
+    /// Online registration of the radars (docs/model.md §6.9); off by default.
+    pub registration: crate::registration::RegistrationConfig,
     /// The search manager (background search of every radar, docs/model.md §7.4).
     pub search_manager: SearchManagerConfig,
 }

@@ -75,6 +75,8 @@ struct Running {
     tracker: MultiTargetTracker,
     run: u32,
     closed_loop: bool,
+    /// The radars' registration, when on (docs/model.md §6.9).
+    registration: Option<crate::registration::Registration>,
 }
 
 /// The default test article.
@@ -124,6 +126,11 @@ impl DefaultTa {
     /// The configuration.
     pub fn settings(&self) -> &DefaultTaConfig {
         &self.cfg
+    }
+
+    /// The registration estimate (`None` before `start` or when registration is off).
+    pub fn registration(&self) -> Option<&crate::registration::Registration> {
+        self.state.as_ref().and_then(|s| s.registration.as_ref())
     }
 
     /// The tracker (for statistics after a run; `None` before `start`).
@@ -309,7 +316,10 @@ impl TestArticle for DefaultTa {
         let geom = ShipGeometry::from_start(start);
         let tracker = MultiTargetTracker::new(self.cfg.tracker.clone(), geom.centre());
         let radar_ids = geom.ids();
-        self.state = Some(Running { geom, radar_ids, tracker, run: start.run, closed_loop: start.closed_loop });
+        let reg = &self.cfg.registration;
+        let registration = reg.enabled.then(|| crate::registration::Registration::new(radar_ids.len(), reg));
+        self.state =
+            Some(Running { geom, radar_ids, tracker, run: start.run, closed_loop: start.closed_loop, registration });
         self.pending.clear();
         self.next_wake_s = f64::INFINITY;
         self.budget.clear();
@@ -337,7 +347,13 @@ impl TestArticle for DefaultTa {
         }
         let st = self.state.as_mut().ok_or_else(Self::not_started)?;
         let dctx = dwell_context(st.run, report.group_id, report.kind, report.t_s, &report.parts);
-        let rows = st.tracker.process_dwell(&dctx, &report.measurements, &st.geom);
+        // With registration on, the tracker sees measurements corrected by the estimate so far,
+        // and the look then teaches the estimate (docs/model.md §6.9).
+        let corrected = st.registration.as_ref().map(|r| r.correct(report, &st.geom));
+        let rows = st.tracker.process_dwell(&dctx, corrected.as_deref().unwrap_or(&report.measurements), &st.geom);
+        if let Some(r) = &mut st.registration {
+            r.learn(report, &st.geom);
+        }
         let changed = !rows.is_empty() || !report.tag.is_empty();
         if let Some(a) = &mut self.afford {
             a.on_dwell(report, report.requested_by == Requester::Ta, &rows, &st.geom);
