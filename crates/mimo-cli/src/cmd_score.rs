@@ -136,6 +136,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
         ..ScoreOptions::default()
     };
     let mut score = mimo_metrics::score(&input, &opts).map_err(metrics_err)?;
+    // The registration error, when the source drew biases and the test article reported its
+    // estimates (docs/design.md §6, "Registration error").
+    let (biases_dir, estimates_dir) =
+        (RunDir::new(&src).table_dir("biases"), RunDir::new(&a.run).table_dir("registration"));
+    if biases_dir.is_dir() && estimates_dir.is_dir() {
+        let biases: Vec<mimo_core::records::BiasRow> = mimo_store::read_table_dir(&src, "biases")?;
+        let estimates: Vec<mimo_core::records::RegistrationRow> = mimo_store::read_table_dir(&a.run, "registration")?;
+        mimo_metrics::attach_registration(&mut score, &biases, &estimates);
+    }
     // Covariances accepted only after their repair (docs/design.md §7): counted in the summary
     // and said in one warning line.
     let mut repairs = mimo_store::checked::Repairs::default();
@@ -181,6 +190,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
             num(s.track.position_rmse_m),
             num(s.track.velocity_rmse_mps),
         );
+        if let Some(r) = &s.registration {
+            let nees = r.nees_mean.map(|v| format!("{v:.2}")).unwrap_or_else(|| "n/a".into());
+            crate::outln!(
+                "registration error (RMS over {} estimates): range {:.2} m, u {:.2e}, v {:.2e}, heading {:.3}°; mean NEES {} (χ²₄: 4)",
+                r.estimates,
+                r.range_error_rms_m,
+                r.u_error_rms,
+                r.v_error_rms,
+                r.heading_error_rms_deg,
+                nees
+            );
+        }
         crate::outln!(
             "usage per run: energy {:.0} J ({:.0} J by the TA), dwell time {:.1} s ({:.1} s by the TA); scored in {:.2} s -> {}",
             s.usage.totals.total_energy_j,

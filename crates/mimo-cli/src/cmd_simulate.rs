@@ -222,7 +222,11 @@ fn simulate_runs(
     let make_sink = |run: u32| -> Result<ParquetRunSink, CliError> {
         let sink = ParquetRunSink::create(writer, run, cfg.record_voltages)?;
         // The drawn registration biases, only when the scenario has them (docs/model.md §5.5).
-        if world.scenario.biases.is_off() { Ok(sink) } else { Ok(sink.with_biases(writer, run)?) }
+        if world.scenario.biases.is_off() {
+            Ok(sink)
+        } else {
+            Ok(sink.with_biases(writer, run)?.with_registration(writer, run)?)
+        }
     };
     let done = |run: u32, sink: ParquetRunSink, s: RunStats, info: TaInfo| -> Result<(), CliError> {
         let written = sink.finish()?;

@@ -145,6 +145,10 @@ impl Rerun<'_> {
         };
         let mut tester = self.ta.build(self.world)?;
         let mut sink = ParquetRunSink::for_rerun(self.writer, k, self.from == ReplayFrom::Primitives)?;
+        // With biases on, the test article's registration estimates are kept (docs/model.md §6.9).
+        if !self.world.scenario.biases.is_off() {
+            sink = sink.with_registration(self.writer, k)?;
+        }
         let recording = Recording {
             run: k,
             keys: key_columns(&store_keys),

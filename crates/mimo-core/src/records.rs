@@ -401,6 +401,76 @@ macro_rules! biases_table {
 }
 biases_table!(crate::record_struct);
 
+/// The `registration` table, declared once (see [`crate::table_decl`]): hands its columns to `$gen`.
+#[macro_export]
+macro_rules! registration_table {
+    ($gen:path) => {
+        $crate::table_decl! { $gen;
+            /// A test article's estimate of one radar's registration biases (docs/model.md §6.9),
+            /// with the 4 × 4 block of its covariance that belongs to the radar.
+            ///
+            /// Serialized (for the test-article protocol) without `run`, which the engine fills in.
+            #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+            #[serde(deny_unknown_fields)]
+            pub struct RegistrationRow / RegistrationColumns in REGISTRATION = "registration":
+                "One row per radar and report: a test article's estimate of the radar's registration biases and its covariance." {
+                /// Monte Carlo run index, 0-based.
+                #[serde(skip)]
+                run: u32 => ("", "Monte Carlo run index"),
+                /// Time of the estimate (s since scenario start).
+                t_s: f64 => ("s", "time of the estimate", NonNegative),
+                /// The radar (`R1`…`R4` on disk).
+                radar: $crate::ids::RadarId => ("", "radar id R1…R4"),
+                /// Estimated range bias (m).
+                range_m: f64 => ("m", "estimated range bias"),
+                /// Estimated bias of the direction cosine u.
+                u: f64 => ("", "estimated bias of the direction cosine u"),
+                /// Estimated bias of the direction cosine v.
+                v: f64 => ("", "estimated bias of the direction cosine v"),
+                /// Estimated heading bias (deg, clockwise).
+                heading_deg: f64 => ("deg", "estimated heading bias, clockwise"),
+                /// Variance of `range_m` (m²).
+                var_range_m2: f64 => ("m^2", "variance of range_m", Positive),
+                /// Variance of `u`.
+                var_u: f64 => ("", "variance of u", Positive),
+                /// Variance of `v`.
+                var_v: f64 => ("", "variance of v", Positive),
+                /// Variance of `heading_deg` (deg²).
+                var_heading_deg2: f64 => ("deg^2", "variance of heading_deg", Positive),
+                /// Covariance of `range_m` and `u` (m).
+                cov_range_u_m: f64 => ("m", "covariance of range_m and u"),
+                /// Covariance of `range_m` and `v` (m).
+                cov_range_v_m: f64 => ("m", "covariance of range_m and v"),
+                /// Covariance of `range_m` and `heading_deg` (m·deg).
+                cov_range_heading_m_deg: f64 => ("m deg", "covariance of range_m and heading_deg"),
+                /// Covariance of `u` and `v`.
+                cov_u_v: f64 => ("", "covariance of u and v"),
+                /// Covariance of `u` and `heading_deg` (deg).
+                cov_u_heading_deg: f64 => ("deg", "covariance of u and heading_deg"),
+                /// Covariance of `v` and `heading_deg` (deg).
+                cov_v_heading_deg: f64 => ("deg", "covariance of v and heading_deg"),
+                /// Looks the estimate has learnt from so far.
+                looks: u64 => ("", "looks the estimate has learnt from so far"),
+            }
+        }
+    };
+}
+registration_table!(crate::record_struct);
+
+impl RegistrationRow {
+    /// The estimate as a bias.
+    pub fn bias(&self) -> crate::registration::RadarBias {
+        crate::registration::RadarBias { range_m: self.range_m, u: self.u, v: self.v, heading_deg: self.heading_deg }
+    }
+
+    /// The 4 × 4 covariance of (range, u, v, heading), in the table's units.
+    pub fn covariance(&self) -> [[f64; 4]; 4] {
+        let (a, b, c, d) = (self.cov_range_u_m, self.cov_range_v_m, self.cov_range_heading_m_deg, self.cov_u_v);
+        let (e, f) = (self.cov_u_heading_deg, self.cov_v_heading_deg);
+        [[self.var_range_m2, a, b, c], [a, self.var_u, d, e], [b, d, self.var_v, f], [c, e, f, self.var_heading_deg2]]
+    }
+}
+
 /// Every table of one Monte Carlo run, in memory.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunTables {
@@ -418,6 +488,8 @@ pub struct RunTables {
     pub tracks: Vec<TrackRow>,
     /// Rows of the `biases` table (empty unless registration biases are on).
     pub biases: Vec<BiasRow>,
+    /// Rows of the `registration` table (a test article's bias estimates, if it reports any).
+    pub registration: Vec<RegistrationRow>,
 }
 
 /// Index into the 21-element upper-triangle covariance for (i, j), i, j < 6.

@@ -6,7 +6,9 @@
 //! `mimo-store`'s Parquet sink writes row groups as they fill, so memory stays flat however long
 //! the run (docs/design.md §8).
 
-use crate::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RunTables, TrackRow, TruthRow, VoltageRow};
+use crate::records::{
+    BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RegistrationRow, RunTables, TrackRow, TruthRow, VoltageRow,
+};
 use std::fmt;
 
 /// A sink failed to take rows (a write error, typically). The message says what and where.
@@ -38,6 +40,8 @@ pub trait RunSink {
     /// The run's registration biases, once at its start (only when biases are on,
     /// docs/model.md §5.5).
     fn biases(&mut self, rows: Vec<BiasRow>) -> Result<(), SinkError>;
+    /// A test article's registration estimates, as it reports them (docs/model.md §6.9).
+    fn registration(&mut self, rows: Vec<RegistrationRow>) -> Result<(), SinkError>;
 }
 
 /// The in-memory sink: every row of the run, kept.
@@ -68,6 +72,10 @@ impl RunSink for RunTables {
     }
     fn biases(&mut self, mut rows: Vec<BiasRow>) -> Result<(), SinkError> {
         self.biases.append(&mut rows);
+        Ok(())
+    }
+    fn registration(&mut self, mut rows: Vec<RegistrationRow>) -> Result<(), SinkError> {
+        self.registration.append(&mut rows);
         Ok(())
     }
 }

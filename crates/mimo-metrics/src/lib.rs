@@ -124,6 +124,7 @@ mod purpose;
 mod purpose_read;
 pub mod purpose_rule;
 mod read;
+mod registration;
 mod results;
 mod row_order;
 mod rules;
@@ -285,6 +286,18 @@ fn mean(values: impl Iterator<Item = f64>) -> Option<f64> {
     (n > 0).then(|| s / n as f64)
 }
 
+/// Add the registration error to `score` (docs/design.md §6, "Registration error"): the drawn
+/// `biases` of its runs against a test article's `estimates`. Nothing changes when either is
+/// empty.
+pub fn attach_registration(
+    score: &mut Score,
+    biases: &[mimo_core::records::BiasRow],
+    estimates: &[mimo_core::records::RegistrationRow],
+) {
+    score.registration = registration::registration_errors(biases, estimates);
+    score.summary.registration = registration::registration_summary(&score.registration);
+}
+
 /// Score the tables of `input` with `opts`. See the crate docs for every definition.
 pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsError> {
     opts.validate()?;
@@ -369,6 +382,7 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         usage_run: u.per_run,
         usage_by_purpose: by_purpose.rows,
         first_track,
+        registration: Vec::new(),
         summary,
     })
 }
@@ -596,6 +610,7 @@ fn summarize(
         },
         per_run,
         per_target,
+        registration: None,
         repaired_covariances: Default::default(),
     })
 }

@@ -3,15 +3,15 @@
 
 use crate::error::MetricsError;
 use crate::{
-    AssignmentRow, FirstTrackRow, RadarUsage, Score, TrackMetricsMeanRow, TrackMetricsRow, UsageByPurposeRow, UsageRow,
-    UsageTotalRow,
+    AssignmentRow, FirstTrackRow, RadarUsage, RegistrationErrorRow, Score, TrackMetricsMeanRow, TrackMetricsRow,
+    UsageByPurposeRow, UsageRow, UsageTotalRow,
 };
 use mimo_store::columns::{Column, ColumnRows, write_columns};
 use mimo_store::layout::ScoreDir;
 use mimo_store::schema::TableSpec;
 use mimo_store::score_schema::{
-    SCORE_ASSIGNMENTS, SCORE_FIRST_TRACK, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN, SCORE_USAGE,
-    SCORE_USAGE_BY_PURPOSE, SCORE_USAGE_RADAR, SCORE_USAGE_TOTAL,
+    SCORE_ASSIGNMENTS, SCORE_FIRST_TRACK, SCORE_REGISTRATION, SCORE_TRACK_METRICS, SCORE_TRACK_METRICS_MEAN,
+    SCORE_USAGE, SCORE_USAGE_BY_PURPOSE, SCORE_USAGE_RADAR, SCORE_USAGE_TOTAL,
 };
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use std::fs::File;
@@ -68,8 +68,8 @@ fn write_table(score_dir: &Path, spec: &TableSpec, columns: Vec<Column>) -> Resu
 
 /// Write the score tables and `summary.json` into `score_dir` (created if needed):
 /// `track_metrics.parquet`, `track_metrics_mean.parquet`, `assignments.parquet`, `usage.parquet`,
-/// `usage_total.parquet`, `usage_radar.parquet`, `usage_by_purpose.parquet`, `first_track.parquet` and
-/// `summary.json`
+/// `usage_total.parquet`, `usage_radar.parquet`, `usage_by_purpose.parquet`, `first_track.parquet`, `registration.parquet` (only with
+/// registration errors) and `summary.json`
 /// (written last). Each file is
 /// written under a temporary name and renamed. Files already there are replaced; other files are
 /// left alone (the caller clears a stale `score/` first if it wants).
@@ -84,6 +84,9 @@ pub fn write_outputs(score: &Score, score_dir: &Path) -> Result<(), MetricsError
     write_table(score_dir, &SCORE_USAGE_RADAR, RadarUsage::columns(&score.usage_radar))?;
     write_table(score_dir, &SCORE_USAGE_BY_PURPOSE, UsageByPurposeRow::columns(&score.usage_by_purpose))?;
     write_table(score_dir, &SCORE_FIRST_TRACK, FirstTrackRow::columns(&score.first_track))?;
+    if !score.registration.is_empty() {
+        write_table(score_dir, &SCORE_REGISTRATION, RegistrationErrorRow::columns(&score.registration))?;
+    }
     let json = score.summary_json()?;
     write_atomic(&ScoreDir::new(score_dir).summary(), format!("{json}\n").as_bytes())
 }

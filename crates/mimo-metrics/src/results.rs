@@ -153,6 +153,28 @@ mimo_store::score_usage_by_purpose_table!(mimo_store::column_rows);
 
 mimo_store::score_first_track_table!(mimo_store::column_rows);
 
+mimo_store::score_registration_table!(mimo_store::column_rows);
+
+/// The registration error over every (run, radar) scored (`summary.json` `registration`, only
+/// with biases on and estimates reported; docs/design.md §6, "Registration error").
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RegistrationSummary {
+    /// (run, radar) estimates scored.
+    pub estimates: u32,
+    /// RMS of the range-bias error (m).
+    pub range_error_rms_m: f64,
+    /// RMS of the u-bias error.
+    pub u_error_rms: f64,
+    /// RMS of the v-bias error.
+    pub v_error_rms: f64,
+    /// RMS of the heading-bias error (deg).
+    pub heading_error_rms_deg: f64,
+    /// Mean NEES of the estimates against the drawn biases (`null` if no covariance was usable).
+    pub nees_mean: Option<f64>,
+    /// Degrees of freedom of each NEES (4: a consistent estimate's mean NEES).
+    pub nees_dof: u32,
+}
+
 /// Track figures over a set of (run, scoring time)s: every run's (`summary.json` `track`,
 /// [`TrackSummary`], breaks and switches per run as means over runs) or one run's (in a
 /// [`RunSummary`], breaks and switches as the run's totals, `Count` = `u32`).
@@ -308,6 +330,10 @@ pub struct Summary {
     pub per_run: Vec<RunSummary>,
     /// Each target's figures over all runs.
     pub per_target: NamedList<TargetSummary>,
+    /// The registration error (only with biases on and estimates reported, so the summary of
+    /// a run without them is unchanged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub registration: Option<RegistrationSummary>,
     /// Rows whose covariance was slightly indefinite and was repaired, per table (docs/design.md
     /// §7); written only when some row was, so the summary of valid input is unchanged.
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
@@ -341,6 +367,8 @@ pub struct Score {
     pub usage_by_purpose: Vec<UsageByPurposeRow>,
     /// Per run and target scorable at some scoring time.
     pub first_track: Vec<FirstTrackRow>,
+    /// Per run and radar with a drawn bias and an estimate (empty otherwise).
+    pub registration: Vec<RegistrationErrorRow>,
     /// What `summary.json` holds.
     pub summary: Summary,
 }

@@ -19,6 +19,7 @@
 
 pub mod engine;
 pub mod messages;
+pub mod registration_check;
 pub mod search;
 pub mod search_plan;
 pub mod test_article;

@@ -10,7 +10,7 @@ use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
 use mimo_core::params::RadarParams;
-use mimo_core::records::{DwellKind, MeasurementRow, PrimitiveRow, Requester, TrackRow};
+use mimo_core::records::{DwellKind, MeasurementRow, PrimitiveRow, RegistrationRow, Requester, TrackRow};
 use mimo_scenario::Ship;
 
 pub use crate::search::SearchBand;
@@ -320,18 +320,29 @@ pub struct Reply {
     /// Track rows (their `run` is filled in by the engine).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tracks: Vec<TrackRow>,
+    /// The test article's registration estimates, one row per radar (docs/model.md §6.9; their
+    /// `run` is filled in by the engine). Written to the run's `registration` table when the
+    /// scenario has biases on.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub registration: Vec<RegistrationRow>,
 }
 
 impl Reply {
     /// A reply with requests only.
     pub fn requests(requests: Vec<Request>) -> Reply {
-        Reply { requests, tracks: Vec::new() }
+        Reply { requests, ..Reply::default() }
+    }
+
+    /// A reply with requests and track rows.
+    pub fn with_tracks(requests: Vec<Request>, tracks: Vec<TrackRow>) -> Reply {
+        Reply { requests, tracks, ..Reply::default() }
     }
 
     /// Append another reply's requests and rows.
     pub fn extend(&mut self, other: Reply) {
         self.requests.extend(other.requests);
         self.tracks.extend(other.tracks);
+        self.registration.extend(other.registration);
     }
 }
 
@@ -346,6 +357,9 @@ pub struct ReplyMessage {
     /// Track rows.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tracks: Vec<TrackRow>,
+    /// Registration estimates (see [`Reply::registration`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub registration: Vec<RegistrationRow>,
     /// Name recorded in the manifest (start reply only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,

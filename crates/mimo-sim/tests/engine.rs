@@ -350,7 +350,7 @@ impl TestArticle for BadTa {
         "bad-test"
     }
     fn on_start(&mut self, _start: &StartInfo) -> Result<Reply, TaFault> {
-        Ok(Reply { requests: std::mem::take(&mut self.requests), tracks: std::mem::take(&mut self.rows) })
+        Ok(Reply::with_tracks(std::mem::take(&mut self.requests), std::mem::take(&mut self.rows)))
     }
     fn on_dwell(&mut self, _report: &DwellReport) -> Result<Reply, TaFault> {
         Ok(Reply::default())

@@ -181,3 +181,71 @@ fn measurement_errors_carry_the_set_biases() {
     // pulses carry R4's angle biases, not R1's).
     assert!(by_rx[&R4].shift[1].abs() / by_rx[&R4].n > 1e-3, "{:?}", by_rx[&R4]);
 }
+
+/// Reports `rows` as its registration estimate when the run finishes.
+struct Reports(Vec<mimo_core::records::RegistrationRow>);
+
+impl TestArticle for Reports {
+    fn name(&self) -> &str {
+        "registration-report-test"
+    }
+    fn on_start(&mut self, _start: &StartInfo) -> Result<Reply, TaFault> {
+        Ok(Reply::default())
+    }
+    fn on_dwell(&mut self, _report: &DwellReport) -> Result<Reply, TaFault> {
+        Ok(Reply::default())
+    }
+    fn on_wake(&mut self, _t_s: f64) -> Result<Reply, TaFault> {
+        Ok(Reply::default())
+    }
+    fn on_finish(&mut self, _t_s: f64) -> Result<Reply, TaFault> {
+        Ok(Reply { registration: std::mem::take(&mut self.0), ..Reply::default() })
+    }
+}
+
+fn estimate_row(radar: RadarId) -> mimo_core::records::RegistrationRow {
+    mimo_core::records::RegistrationRow {
+        run: 99,
+        t_s: 20.0,
+        radar,
+        range_m: 1.5,
+        u: 0.0,
+        v: 0.0,
+        heading_deg: 0.0,
+        var_range_m2: 4.0,
+        var_u: 1e-6,
+        var_v: 1e-6,
+        var_heading_deg2: 1e-2,
+        cov_range_u_m: 0.0,
+        cov_range_v_m: 0.0,
+        cov_range_heading_m_deg: 0.0,
+        cov_u_v: 0.0,
+        cov_u_heading_deg: 0.0,
+        cov_v_heading_deg: 0.0,
+        looks: 3,
+    }
+}
+
+#[test]
+fn registration_estimates_reach_the_table_stamped_and_bad_ones_are_the_test_articles_fault() {
+    let mut s = mimo_scenario::load_standard(1).expect("scenario 1");
+    s.duration_s = 20.0;
+    let w = World::new(s).expect("world");
+    let cfg = config(3, 20.0);
+    let mut tables = RunTables::default();
+    let mut ta = Reports(vec![estimate_row(R2)]);
+    mimo_sim::run_one(&w, &cfg, 4, &mut ta, &mut tables).expect("run");
+    assert_eq!(tables.registration, vec![mimo_core::records::RegistrationRow { run: 4, ..estimate_row(R2) }]);
+    // An unknown radar, a number that is not finite, a variance that is not positive.
+    let bad = [
+        (mimo_core::records::RegistrationRow { radar: RadarId(7), ..estimate_row(R1) }, "unknown radar R8"),
+        (mimo_core::records::RegistrationRow { u: f64::NAN, ..estimate_row(R1) }, "not finite"),
+        (mimo_core::records::RegistrationRow { var_v: 0.0, ..estimate_row(R1) }, "not positive"),
+    ];
+    for (row, why) in bad {
+        let mut tables = RunTables::default();
+        let e = mimo_sim::run_one(&w, &cfg, 0, &mut Reports(vec![row]), &mut tables).expect_err(why);
+        assert!(e.to_string().contains(why), "{e}");
+        assert!(tables.registration.is_empty());
+    }
+}

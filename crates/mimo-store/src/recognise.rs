@@ -177,7 +177,10 @@ fn is_damaged_score_file(dir: &ScoreDir, path: &Path) -> bool {
         };
         return (meta.len() == 0 || opens_as_mimo) && !is_json(path);
     }
-    let named = crate::score_schema::SCORE_TABLES.iter().any(|spec| dir.table(spec) == path);
+    let named = crate::score_schema::SCORE_TABLES
+        .iter()
+        .chain(&crate::score_schema::SCORE_OPTIONAL_TABLES)
+        .any(|spec| dir.table(spec) == path);
     named && (meta.len() == 0 || (head(path, 4) == b"PAR1" && !is_readable_parquet(path)))
 }
 

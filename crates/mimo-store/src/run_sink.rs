@@ -12,7 +12,9 @@ use crate::rows::TableRow;
 use crate::rundir::RunDirWriter;
 use crate::table_writer::TableWriter;
 use crate::{StoreError, io_err};
-use mimo_core::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow};
+use mimo_core::records::{
+    BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RegistrationRow, TrackRow, TruthRow, VoltageRow,
+};
 use mimo_core::sink::{RunSink, SinkError};
 
 /// Where the table files of a run are written.
@@ -73,6 +75,9 @@ pub struct ParquetRunSink {
     voltages: Option<Open<VoltageRow>>,
     /// The registration biases, opened by [`ParquetRunSink::with_biases`] only.
     biases: Option<Open<BiasRow>>,
+    /// The test article's registration estimates, opened by
+    /// [`ParquetRunSink::with_registration`] only.
+    registration: Option<Open<RegistrationRow>>,
 }
 
 /// Open a table's file if `wanted` says so.
@@ -102,6 +107,7 @@ impl ParquetRunSink {
             tracks: open_if(wanted, dir, "tracks", run)?,
             voltages: open_if(wanted, dir, "voltages", run)?,
             biases: None,
+            registration: None,
         })
     }
 
@@ -110,6 +116,13 @@ impl ParquetRunSink {
     /// made.
     pub fn with_biases(mut self, dir: &impl RunFiles, run: u32) -> Result<ParquetRunSink, StoreError> {
         self.biases = Some(Open::new(dir, "biases", run)?);
+        Ok(self)
+    }
+
+    /// Also write run `run`'s `registration` table in `dir`: the test article's estimates of the
+    /// biases (docs/model.md §6.9), empty if it reports none. Without it, their rows are dropped.
+    pub fn with_registration(mut self, dir: &impl RunFiles, run: u32) -> Result<ParquetRunSink, StoreError> {
+        self.registration = Some(Open::new(dir, "registration", run)?);
         Ok(self)
     }
 
@@ -135,6 +148,7 @@ impl ParquetRunSink {
             out.extend(t.transpose()?);
         }
         out.extend(self.biases.map(Open::finish).transpose()?);
+        out.extend(self.registration.map(Open::finish).transpose()?);
         Ok(out)
     }
 }
@@ -171,5 +185,8 @@ impl RunSink for ParquetRunSink {
     }
     fn biases(&mut self, rows: Vec<BiasRow>) -> Result<(), SinkError> {
         put(&mut self.biases, rows)
+    }
+    fn registration(&mut self, rows: Vec<RegistrationRow>) -> Result<(), SinkError> {
+        put(&mut self.registration, rows)
     }
 }

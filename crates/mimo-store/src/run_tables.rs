@@ -3,7 +3,9 @@
 //! (names, types, nullability, units, rules, descriptions) and the [`TableRow`](crate::rows::TableRow)
 //! conversions to record batches and back.
 
-use mimo_core::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow};
+use mimo_core::records::{
+    BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RegistrationRow, TrackRow, TruthRow, VoltageRow,
+};
 
 /// A column's rule: the declaration's, else its type's default.
 #[macro_export]
@@ -88,3 +90,4 @@ mimo_core::primitives_table!(run_table);
 mimo_core::measurements_table!(run_table);
 mimo_core::tracks_table!(run_table);
 mimo_core::biases_table!(run_table);
+mimo_core::registration_table!(run_table);

@@ -219,11 +219,12 @@ impl TableSpec {
     }
 }
 
-pub use crate::run_tables::{BIASES, DWELLS, MEASUREMENTS, PRIMITIVES, TRACKS, TRUTH, VOLTAGES};
+pub use crate::run_tables::{BIASES, DWELLS, MEASUREMENTS, PRIMITIVES, REGISTRATION, TRACKS, TRUTH, VOLTAGES};
 pub use crate::study_schema::{STUDY_COSTS, STUDY_METRICS, STUDY_RESULTS, STUDY_SUMMARY};
 
 /// Every table, in pipeline order.
-pub const ALL_TABLES: [TableSpec; 7] = [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS, BIASES];
+pub const ALL_TABLES: [TableSpec; 8] =
+    [TRUTH, DWELLS, VOLTAGES, PRIMITIVES, MEASUREMENTS, TRACKS, BIASES, REGISTRATION];
 
 /// The tables a study writes.
 pub const STUDY_TABLES: [TableSpec; 7] = [
@@ -238,7 +239,11 @@ pub const STUDY_TABLES: [TableSpec; 7] = [
 
 /// Every table: run tables, study tables, score tables.
 pub fn every_table() -> impl Iterator<Item = &'static TableSpec> {
-    ALL_TABLES.iter().chain(STUDY_TABLES.iter()).chain(crate::score_schema::SCORE_TABLES.iter())
+    ALL_TABLES
+        .iter()
+        .chain(STUDY_TABLES.iter())
+        .chain(crate::score_schema::SCORE_TABLES.iter())
+        .chain(crate::score_schema::SCORE_OPTIONAL_TABLES.iter())
 }
 
 /// Look up a table (run, study or score table) by name.

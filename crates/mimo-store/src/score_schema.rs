@@ -231,6 +231,36 @@ first track\"); rows by run, then by first scorable time, then in truth-table or
     };
 }
 
+/// The `score_registration` table, declared once: hands its columns to `$gen`.
+#[macro_export]
+macro_rules! score_registration_table {
+    ($gen:path) => {
+        $crate::core_crate::table_decl! { $gen;
+            /// How far a test article's last registration estimate of one radar is from the biases
+            /// drawn for it (`score/registration.parquet`, only with biases on and estimates
+            /// reported).
+            #[derive(Debug, Clone, PartialEq, Serialize)]
+            pub struct RegistrationErrorRow / RegistrationErrorColumns in SCORE_REGISTRATION = "score_registration":
+                "Per run and radar: the test article's last registration estimate minus the biases drawn, and its \
+NEES against them (docs/design.md §6, \"Registration error\"); rows by run, then radar" {
+                run: u32 => ("", "Monte Carlo run index"),
+                radar: String => ("", "radar id R1…R4"),
+                t_s: f64 => ("s", "time of the estimate"),
+                looks: u64 => ("", "looks the estimate had learnt from"),
+                range_error_m: f64 => ("m", "estimated minus true range bias"),
+                u_error: f64 => ("", "estimated minus true bias of u"),
+                v_error: f64 => ("", "estimated minus true bias of v"),
+                heading_error_deg: f64 => ("deg", "estimated minus true heading bias"),
+                nees: Option<f64> => (
+                    "",
+                    "error' P⁻¹ error with the radar's 4 × 4 covariance block (χ² with 4 degrees of freedom if \
+consistent); null if that block is singular"
+                ),
+            }
+        }
+    };
+}
+
 use crate::schema::TableSpec;
 
 score_track_metrics_table!(crate::table_spec);
@@ -241,6 +271,7 @@ score_usage_total_table!(crate::table_spec);
 score_usage_radar_table!(crate::table_spec);
 score_usage_by_purpose_table!(crate::table_spec);
 score_first_track_table!(crate::table_spec);
+score_registration_table!(crate::table_spec);
 
 /// Every score table, in the order `mimo score` writes them.
 pub const SCORE_TABLES: [TableSpec; 8] = [
@@ -253,6 +284,10 @@ pub const SCORE_TABLES: [TableSpec; 8] = [
     SCORE_USAGE_BY_PURPOSE,
     SCORE_FIRST_TRACK,
 ];
+
+/// Score tables written only when their input is there: `score_registration` with biases on and
+/// a test article's estimates reported.
+pub const SCORE_OPTIONAL_TABLES: [TableSpec; 1] = [SCORE_REGISTRATION];
 
 /// The file a score table is written to inside `RUN/score/` (`score_usage` → `usage.parquet`).
 pub fn score_file_name(spec: &TableSpec) -> String {

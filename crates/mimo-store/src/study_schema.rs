@@ -145,6 +145,17 @@ study_metrics![
     ),
     ("first_track_max_s", "s", "the same, of the worst such target"),
     ("never_tracked", "", "targets scorable at some scoring time of the run never assigned to a confirmed track"),
+    (
+        "registration_range_error_rms_m",
+        "m",
+        "RMS over radars of the test article's last range-bias estimate minus the drawn bias; null without biases or estimates"
+    ),
+    ("registration_heading_error_rms_deg", "deg", "the same, of the heading bias"),
+    (
+        "registration_nees",
+        "",
+        "mean over radars of the registration estimate's NEES against the drawn biases (4 if consistent); null without"
+    ),
 ];
 
 /// One value per metric of [`STUDY_METRICS`], in its order (null when the run failed or the

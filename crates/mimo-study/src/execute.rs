@@ -35,6 +35,10 @@ pub struct ItemRun {
     pub cpu: Duration,
     /// Wall time of the item.
     pub wall: Duration,
+    /// The run's drawn registration biases (empty with biases off).
+    pub biases: Vec<mimo_core::records::BiasRow>,
+    /// The test article's registration estimates (empty if it reported none).
+    pub registration: Vec<mimo_core::records::RegistrationRow>,
 }
 
 /// The engine settings of a cell.
@@ -100,5 +104,7 @@ pub fn run_item(plan: &Plan, cell: &Cell, world: &World, run: u32, out: &mut dyn
         ta_cpu,
         cpu: thread_cpu().saturating_sub(c0),
         wall: w0.elapsed(),
+        biases: sink.biases,
+        registration: sink.registration,
     }
 }

@@ -5,7 +5,9 @@
 //! Rows that break a check are not handed on.
 
 use crate::run_usage::RunUsage;
-use mimo_core::records::{BiasRow, DwellRow, MeasurementRow, PrimitiveRow, TrackRow, TruthRow, VoltageRow, unpack_cov};
+use mimo_core::records::{
+    BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RegistrationRow, TrackRow, TruthRow, VoltageRow, unpack_cov,
+};
 use mimo_core::sink::{RunSink, SinkError};
 use std::collections::BTreeSet;
 use std::time::Instant;
@@ -49,6 +51,11 @@ pub struct Guarded<'s> {
     pub failure: Option<String>,
     /// Why `inner` could not take rows (a fault of the system, not the method), if it could not.
     pub fault: Option<String>,
+    /// The run's drawn registration biases and the test article's estimates of them
+    /// (docs/model.md §5.5, §6.9), kept for the run's registration error.
+    pub biases: Vec<BiasRow>,
+    /// See [`Guarded::biases`].
+    pub registration: Vec<RegistrationRow>,
 }
 
 impl<'s> Guarded<'s> {
@@ -64,6 +71,8 @@ impl<'s> Guarded<'s> {
             deadline,
             failure: None,
             fault: None,
+            biases: Vec::new(),
+            registration: Vec::new(),
         }
     }
 
@@ -121,7 +130,13 @@ impl RunSink for Guarded<'_> {
         self.pass(r)
     }
     fn biases(&mut self, rows: Vec<BiasRow>) -> Result<(), SinkError> {
+        self.biases.extend(rows.iter().cloned());
         let r = self.inner.biases(rows);
+        self.pass(r)
+    }
+    fn registration(&mut self, rows: Vec<RegistrationRow>) -> Result<(), SinkError> {
+        self.registration.extend(rows.iter().cloned());
+        let r = self.inner.registration(rows);
         self.pass(r)
     }
 }

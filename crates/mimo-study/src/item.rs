@@ -89,6 +89,7 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
     let Some(r) = score.summary.per_run.first() else { return m };
     let n_scorable: Vec<u32> = score.track_metrics.iter().map(|t| t.n_scorable).collect();
     let per_object = |i: usize| usage.per_object(i, &n_scorable);
+    let reg = score.summary.registration.as_ref();
     let values = [
         ("completeness", r.track.completeness),
         ("redundant_ratio", r.track.redundant_ratio),
@@ -113,6 +114,9 @@ pub fn metrics_of(score: &Score, usage: &RunUsage) -> BTreeMap<String, Option<f6
         ("first_track_mean_s", r.first_track.mean_s),
         ("first_track_max_s", r.first_track.max_s),
         ("never_tracked", Some(f64::from(r.first_track.never_tracked))),
+        ("registration_range_error_rms_m", reg.map(|g| g.range_error_rms_m)),
+        ("registration_heading_error_rms_deg", reg.map(|g| g.heading_error_rms_deg)),
+        ("registration_nees", reg.and_then(|g| g.nees_mean)),
     ];
     let purposes = Purpose::ALL.map(|p| (p.as_str(), r.usage.by_purpose.get(p)));
     for (name, pair) in purposes {
@@ -149,8 +153,9 @@ pub fn do_item(
     let metrics = match &r.failure {
         Some(_) => STUDY_METRICS.iter().map(|(n, _, _)| (n.to_string(), None)).collect(),
         None => {
-            let score = score_run(world, cell_dir, run)
+            let mut score = score_run(world, cell_dir, run)
                 .map_err(|e| ItemError::Score { dir: cell_dir.into(), source: Box::new(e) })?;
+            mimo_metrics::attach_registration(&mut score, &r.biases, &r.registration);
             if !plan.keep_runs {
                 // Scored: the merge and the charts need only the record (docs/studies.md).
                 delete_tables(cell_dir, &tables)?;

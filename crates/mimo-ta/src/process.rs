@@ -231,7 +231,7 @@ impl ProcessTa {
                 "`name`, `config` and `subscribe` belong in the reply to `start` only (message at t = {t_s} s)"
             )));
         }
-        Ok(Reply { requests: r.requests, tracks: r.tracks })
+        Ok(Reply { requests: r.requests, tracks: r.tracks, registration: r.registration })
     }
 }
 

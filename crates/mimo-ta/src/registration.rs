@@ -8,7 +8,7 @@ use crate::geometry::ShipGeometry;
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
 use mimo_core::ids::RadarId;
-use mimo_core::records::MeasurementRow;
+use mimo_core::records::{MeasurementRow, RegistrationRow};
 use mimo_core::registration::{RadarBias, typical};
 use mimo_radar::registration::{physical_beam, up_in_face};
 use mimo_sim::messages::DwellReport;
@@ -150,6 +150,39 @@ impl Registration {
     pub fn variances(&self) -> Vec<[f64; K]> {
         (0..self.n)
             .map(|r| std::array::from_fn(|k| self.cov.at(K * r + k, K * r + k) * self.sigma[k].powi(2)))
+            .collect()
+    }
+
+    /// The `registration` table's rows of the estimate at `t_s` (docs/model.md §6.9): per radar,
+    /// its biases and the 4 × 4 block of their covariance, in the table's units.
+    pub fn rows(&self, t_s: f64, radars: &[RadarId]) -> Vec<RegistrationRow> {
+        self.estimate()
+            .into_iter()
+            .zip(radars)
+            .enumerate()
+            .map(|(r, (b, &radar))| {
+                let c = |i: usize, j: usize| self.cov.at(K * r + i, K * r + j) * self.sigma[i] * self.sigma[j];
+                RegistrationRow {
+                    run: 0,
+                    t_s,
+                    radar,
+                    range_m: b.range_m,
+                    u: b.u,
+                    v: b.v,
+                    heading_deg: b.heading_deg,
+                    var_range_m2: c(0, 0),
+                    var_u: c(1, 1),
+                    var_v: c(2, 2),
+                    var_heading_deg2: c(3, 3),
+                    cov_range_u_m: c(0, 1),
+                    cov_range_v_m: c(0, 2),
+                    cov_range_heading_m_deg: c(0, 3),
+                    cov_u_v: c(1, 2),
+                    cov_u_heading_deg: c(1, 3),
+                    cov_v_heading_deg: c(2, 3),
+                    looks: self.used,
+                }
+            })
             .collect()
     }
 

@@ -250,7 +250,8 @@ pub fn replay_selected(
 
     let start = Engine::start_info(world, run, cfg, false);
     let mut stats = ReplayStats::default();
-    let mut taker = Taker { run, ta_name: ta.name().to_string(), track_check: Default::default() };
+    let mut taker =
+        Taker { run, ta_name: ta.name().to_string(), track_check: Default::default(), n_radars: world.n_radars() };
     let reply = ta.on_start(&start).map_err(|f| ta_fault(ta, f))?;
     taker.take(reply, &mut stats, sink)?;
     let sub = ta.subscription();
@@ -317,6 +318,8 @@ struct Taker {
     ta_name: String,
     /// The track rows' check across the run.
     track_check: mimo_sim::track_check::TrackRowCheck,
+    /// The scenario's radars (for the registration rows' check).
+    n_radars: usize,
 }
 
 impl Taker {
@@ -330,6 +333,12 @@ impl Taker {
         rows.iter_mut().for_each(|r| r.run = self.run);
         if !rows.is_empty() {
             sink.tracks(rows)?;
+        }
+        let mut registration = reply.registration;
+        if !registration.is_empty() {
+            mimo_sim::registration_check::check_registration(&mut registration, self.n_radars, self.run)
+                .map_err(|fault| ReplayError::Run(EngineError::ta(&self.ta_name, fault)))?;
+            sink.registration(registration)?;
         }
         Ok(())
     }

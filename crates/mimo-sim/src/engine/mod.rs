@@ -309,6 +309,7 @@ impl<'a> Engine<'a> {
         self.now = self.end;
         let reply = self.ta.on_finish(self.end.as_secs()).map_err(|f| self.fault(f))?;
         self.take_tracks(reply.tracks)?;
+        self.take_registration(reply.registration)?;
         self.stats.repaired_covariances = self.track_check.repaired();
         self.stats.worst_covariance_ratio = self.track_check.worst_ratio();
         Ok(self.stats)
@@ -362,8 +363,21 @@ impl<'a> Engine<'a> {
         Ok(())
     }
 
+    /// A test article's registration estimates, checked (`crate::registration_check`) and
+    /// handed to the sink.
+    fn take_registration(&mut self, mut rows: Vec<mimo_core::records::RegistrationRow>) -> Result<(), EngineError> {
+        if rows.is_empty() {
+            return Ok(());
+        }
+        crate::registration_check::check_registration(&mut rows, self.world.n_radars(), self.run)
+            .map_err(|f| self.fault(f))?;
+        self.sink.registration(rows)?;
+        Ok(())
+    }
+
     fn handle_reply(&mut self, reply: Reply) -> Result<(), EngineError> {
         self.take_tracks(reply.tracks)?;
+        self.take_registration(reply.registration)?;
         let mut reqs = reply.requests;
         for r in &reqs {
             self.check(r).map_err(|f| self.fault(f))?;

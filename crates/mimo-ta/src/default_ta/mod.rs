@@ -372,7 +372,14 @@ impl TestArticle for DefaultTa {
         let mut requests = if changed { self.schedule(report.end_s) } else { Vec::new() };
         self.search.note_rows(&rows, report.end_s);
         requests.extend(self.search.update(&self.cfg.search_manager, report.end_s));
-        Ok(Reply { requests, tracks: rows })
+        Ok(Reply::with_tracks(requests, rows))
+    }
+    /// At the end of the run, the registration estimate (when registration is on) goes into the
+    /// run's `registration` table (docs/model.md §6.9).
+    fn on_finish(&mut self, t_s: f64) -> Result<Reply, TaFault> {
+        let Some(st) = self.state.as_ref() else { return Ok(Reply::default()) };
+        let registration = st.registration.as_ref().map(|r| r.rows(t_s, &st.radar_ids)).unwrap_or_default();
+        Ok(Reply { registration, ..Reply::default() })
     }
     fn on_wake(&mut self, t_s: f64) -> Result<Reply, TaFault> {
         if t_s + 1e-9 >= self.next_wake_s {
