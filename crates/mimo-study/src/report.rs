@@ -112,13 +112,13 @@ fn setup_md(plan: &Plan) -> String {
             MethodTa::Builtin { ta, .. } => format!("built-in `{ta}`"),
             MethodTa::Process { cmd, .. } => format!("process `{cmd}`"),
         };
-        let values: Vec<String> =
-            plan.methods.iter().filter(|x| x.family == m.family).filter_map(|x| x.knob_value.map(value_text)).collect();
-        let swept = m.knob.as_ref().map_or_else(|| "–".into(), |k| format!("`{k}` = {}", values.join(", ")));
+        let swept = swept_text(plan, &m.family);
         let mut shown = m.overrides.clone();
-        if let (Some(k), Some(obj)) = (&m.knob, shown.as_object_mut()) {
-            // The knob's value is in the swept column; show the configuration common to the family.
-            remove_path(obj, k);
+        if let Some(obj) = shown.as_object_mut() {
+            // The swept keys' values are in the swept column; show the configuration common to the family.
+            for (k, _) in &m.grid {
+                remove_path(obj, k);
+            }
         }
         let _ = writeln!(o, "| {} | {} | {ta} | `{shown}` | {swept} |", m.family, m.architecture.name());
     }
@@ -246,6 +246,46 @@ fn summary_md(s: &StudyFigures) -> String {
 }
 
 /// Remove the dotted key `path` from a JSON object, and any table it leaves empty.
+/// The swept column of `family`: each key with the values the plan gives it, joined by ` × ` for
+/// a grid (every combination), then the points refinement added (docs/studies.md, "Refinement"):
+/// values for one key, `(v₁, v₂, …)` in the keys' order for a grid. `–` when it sweeps nothing.
+fn swept_text(plan: &Plan, family: &str) -> String {
+    let members: Vec<&crate::plan::Method> = plan.methods.iter().filter(|x| x.family == family).collect();
+    let Some(keys) = members.first().map(|m| m.grid.iter().map(|(k, _)| k.as_str()).collect::<Vec<_>>()) else {
+        return "–".into();
+    };
+    if keys.is_empty() {
+        return "–".into();
+    }
+    let axes: Vec<String> = keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let mut values: Vec<f64> = Vec::new();
+            for m in members.iter().filter(|m| !m.refined) {
+                let v = m.grid[i].1;
+                if !values.contains(&v) {
+                    values.push(v);
+                }
+            }
+            format!("`{k}` = {}", values.into_iter().map(value_text).collect::<Vec<_>>().join(", "))
+        })
+        .collect();
+    let mut text = axes.join(" × ");
+    let refined: Vec<String> = members
+        .iter()
+        .filter(|m| m.refined)
+        .map(|m| {
+            let v: Vec<String> = m.grid.iter().map(|(_, x)| value_text(*x)).collect();
+            if v.len() == 1 { v.concat() } else { format!("({})", v.join(", ")) }
+        })
+        .collect();
+    if !refined.is_empty() {
+        let _ = write!(text, "; refined: {}", refined.join(", "));
+    }
+    text
+}
+
 fn remove_path(obj: &mut serde_json::Map<String, serde_json::Value>, path: &str) {
     match path.split_once('.') {
         None => {
@@ -311,6 +351,52 @@ fn paired_md(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> String 
 
 #[cfg(test)]
 mod tests {
+    use crate::plan::Plan;
+
+    fn plan(text: &str) -> Plan {
+        Plan::parse(text, std::path::Path::new("p.toml")).expect("plan")
+    }
+
+    /// The method table's row of `family` (docs/studies.md, "What a study writes").
+    fn row(plan: &Plan, family: &str) -> String {
+        let md = super::setup_md(plan);
+        md.lines().find(|l| l.starts_with(&format!("| {family} |"))).unwrap_or_else(|| panic!("{md}")).to_string()
+    }
+
+    #[test]
+    fn a_grid_family_lists_every_key_with_its_values() {
+        let mut p = plan(
+            "scenarios = [1]\nruns = 1\n[[methods]]\nname = \"g\"\nta = \"default\"\n\
+             config = { resource_manager = { mimo = false } }\n\
+             sweep = { \"search_manager.held_share\" = [0.0, 0.1, 1.0], \"resource_manager.power_budget_w\" = [1.0, 4.0] }\n\
+             [[methods]]\nname = \"c\"\nta = \"default\"\nsweep = { \"resource_manager.power_budget_w\" = [0.25, 2.0] }\n\
+             [[methods]]\nname = \"u\"\nta = \"default\"\n",
+        );
+        assert_eq!(p.methods.len(), 6 + 2 + 1);
+        let g = row(&p, "g");
+        assert!(
+            g.ends_with("| `resource_manager.power_budget_w` = 1, 4 × `search_manager.held_share` = 0, 0.1, 1 |"),
+            "{g}"
+        );
+        // The configuration column is what the family's points share: the swept keys are not in it.
+        assert!(g.contains("| `{\"resource_manager\":{\"mimo\":false}}` |"), "{g}");
+        assert!(row(&p, "c").ends_with("| `{}` | `resource_manager.power_budget_w` = 0.25, 2 |"));
+        assert!(row(&p, "u").ends_with("| `{}` | – |"));
+
+        // Points refinement added are listed after the plan's values, in the keys' order for a grid.
+        let mut refined = p.methods[1].clone();
+        refined.grid = vec![("resource_manager.power_budget_w".into(), 2.5), ("search_manager.held_share".into(), 0.0)];
+        refined.refined = true;
+        let mut curve = p.methods[6].clone();
+        curve.grid = vec![("resource_manager.power_budget_w".into(), 1.125)];
+        curve.refined = true;
+        p.methods.extend([refined, curve]);
+        let g = row(&p, "g");
+        assert!(g.ends_with("`search_manager.held_share` = 0, 0.1, 1; refined: (2.5, 0) |"), "{g}");
+        let c = row(&p, "c");
+        assert!(c.ends_with("`resource_manager.power_budget_w` = 0.25, 2; refined: 1.125 |"), "{c}");
+    }
+
     #[test]
     fn values_read_as_written() {
         let t: Vec<String> = [0.25, -3.0, 1e-6, 0.0, 2.0, 0.5].iter().map(|v| super::value_text(*v)).collect();

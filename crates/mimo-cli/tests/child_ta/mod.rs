@@ -37,13 +37,18 @@ pub fn require_python(modules: &str, install: &str) {
     );
 }
 
-/// The `completeness` of a scored run's summary.
-pub fn completeness(run: &Path) -> f64 {
+/// Score a run (`mimo score`, no charts) and return its `score/summary.json`.
+pub fn scored_summary(run: &Path) -> serde_json::Value {
     let o = mimo(&["score", p(run), "--no-charts", "--quiet"]);
     assert!(o.status.success(), "mimo score failed: {}", stderr_of(&o));
     let text = std::fs::read_to_string(run.join("score/summary.json")).expect("summary.json");
-    let v: serde_json::Value = serde_json::from_str(&text).expect("summary is JSON");
-    find_number(&v, "completeness").unwrap_or_else(|| panic!("no completeness in {text}"))
+    serde_json::from_str(&text).expect("summary is JSON")
+}
+
+/// The `completeness` of a scored run's summary.
+pub fn completeness(run: &Path) -> f64 {
+    let v = scored_summary(run);
+    find_number(&v, "completeness").unwrap_or_else(|| panic!("no completeness in {v}"))
 }
 
 /// The first number under `key` anywhere in a JSON value.
