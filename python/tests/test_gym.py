@@ -1,0 +1,197 @@
+"""The learning environments (mimo_ta.gym, docs/decisions/0311-learning-environments.md): the
+frameworks' checkers, seeded reproducibility, the rule policy against the simple test article,
+bad input, and no process left behind. Short episodes of scenario 1 with the mimo binary of the
+checkout (target/debug, else target/release, else MIMO_BIN or the installed one); skipped when
+gymnasium or a binary is missing."""
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+try:
+    import gymnasium
+    from gymnasium.utils.env_checker import check_env
+except ImportError:  # the [gym] extra is not installed
+    gymnasium = None
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def mimo_bin():
+    env = os.environ.get("MIMO_BIN")  # e.g. a release build
+    if env:
+        return env
+    for profile in ("debug", "release"):
+        p = REPO / "target" / profile / "mimo"
+        if p.is_file() and os.access(p, os.X_OK):
+            return str(p)
+    return shutil.which("mimo")
+
+
+MIMO = mimo_bin()
+SKIP = gymnasium is None or MIMO is None
+WHY = "gymnasium (pip install './python[gym]') or a mimo binary (cargo build --bin mimo) is missing"
+
+
+def gone(pgid: int) -> bool:
+    """No live process (zombies aside: a container's init may not reap them) in the group."""
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            return False
+    return True
+
+
+@unittest.skipIf(SKIP, WHY)
+class NetworkEnvTest(unittest.TestCase):
+    def make(self, **kw):
+        from mimo_ta.gym import NetworkEnv
+
+        kw.setdefault("duration_s", 8.0)
+        env = NetworkEnv(scenario=1, mimo_bin=MIMO, **kw)
+        self.addCleanup(env.close)
+        return env
+
+    def test_gymnasium_check_env_passes(self):
+        import mimo_ta.gym  # noqa: F401 - registers mimo/Network-v0
+
+        env = gymnasium.make("mimo/Network-v0", duration_s=4.0, mimo_bin=MIMO)
+        try:
+            check_env(env.unwrapped)  # the raw environment, as check_env recommends
+        finally:
+            env.close()
+
+    def run_rule(self, env, seed, steps=None):
+        from mimo_ta.gym.policies import rule_policy
+
+        obs, info = env.reset(seed=seed)
+        out, total = [obs], 0.0
+        n = 0
+        while steps is None or n < steps:
+            obs, r, term, trunc, info = env.step(rule_policy(env, obs))
+            self.assertTrue(env.observation_space.contains(obs))
+            out.append(obs)
+            total += r
+            n += 1
+            if term:
+                break
+        return out, total, info
+
+    def test_same_seed_same_episode(self):
+        env = self.make()
+        a, ra, ia = self.run_rule(env, 7)
+        b, rb, ib = self.run_rule(env, 7)
+        self.assertEqual(len(a), len(b))
+        for x, y in zip(a, b):
+            for k in x:
+                np.testing.assert_array_equal(x[k], y[k])
+        self.assertEqual(ra, rb)
+        self.assertEqual(ia["score"]["completeness"], ib["score"]["completeness"])
+        c, _, ic = self.run_rule(env, 8)
+        self.assertNotEqual([o["tracks"].tobytes() for o in a], [o["tracks"].tobytes() for o in c])
+
+    def test_the_rule_policy_is_the_simple_test_article(self):
+        """The rule through the environment and mimo_ta.simple run by mimo give the same score,
+        and the online completeness (the reward's) is mimo score's."""
+        env = self.make(duration_s=15.0)
+        _, total, info = self.run_rule(env, 3)
+        s = info["score"]
+        self.assertAlmostEqual(s["online_completeness"], s["completeness"], places=9)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "run")
+            subprocess.run([MIMO, "simulate", "--scenario", "1", "--seed", "3", "--duration", "15.0", "--threads", "1",
+                            "--quiet", "--out", out, "--ta-cmd",
+                            f"{sys.executable} {REPO / 'python' / 'examples' / 'simple_ta.py'}"], check=True)
+            subprocess.run([MIMO, "score", out, "--no-charts", "--quiet", "--threads", "1"], check=True)
+            with open(os.path.join(out, "score", "summary.json")) as f:
+                ref = json.load(f)
+        self.assertEqual(s["completeness"], ref["track"]["completeness"])
+        self.assertEqual(s["energy_j"], ref["usage"]["total_energy_j"])
+        # The reward: completeness share minus lambda x energy (estimated online, within 2 %).
+        self.assertAlmostEqual(s["energy_estimate_j"] / s["energy_j"], 1.0, delta=0.02)
+        self.assertAlmostEqual(total, s["online_completeness"] - 1e-3 * s["energy_estimate_j"] / 1e3, places=6)
+
+    def test_bad_actions_name_the_field_and_send_nothing(self):
+        from mimo_ta.gym import Action
+
+        env = self.make()
+        obs, _ = env.reset(seed=1)
+        for bad in (-1, env.action_space.n, 2.5, "3", np.array([1, 2])):
+            with self.assertRaisesRegex(ValueError, "outside the action space"):
+                env.step(bad)
+        while not (obs["tracks"][:, 0] > 0).any():
+            obs, *_ = env.step(0)
+        run = env.run
+        empty = int(np.flatnonzero(obs["tracks"][:, 0] == 0)[0])
+        before = (run.steps, len(run.requests), run.now_s)
+        with self.assertRaisesRegex(ValueError, "masked: track: slot"):
+            env.step(env.encode(Action("look", slot=empty, transmitter="R1", mimo=False, pulses=0)))
+        mask = env.action_masks()
+        held = int(np.flatnonzero(obs["tracks"][:, 0] > 0)[0])
+        masked = [a for a in range(env.n_wait, env.action_space.n) if not mask[a] and env.decode(a).slot == held]
+        if masked:
+            with self.assertRaisesRegex(ValueError, "masked: (transmitter|receivers|pulses|track)"):
+                env.step(masked[0])
+        self.assertEqual((run.steps, len(run.requests), run.now_s), before)
+        # Every action the mask allows is taken.
+        a = int(np.flatnonzero(mask[env.n_wait:])[0]) + env.n_wait
+        env.step(a)
+        self.assertEqual(len(run.requests), 1)
+
+    def test_an_unloadable_scenario_raises_mimos_error(self):
+        from mimo_ta.gym import MimoError, NetworkEnv
+
+        with self.assertRaisesRegex(MimoError, "error: .*cannot read scenario file"):
+            NetworkEnv(scenario=Path("/nonexistent/scenario.toml"), mimo_bin=MIMO, duration_s=4.0)
+        with self.assertRaisesRegex(MimoError, "unknown standard scenario 99"):
+            NetworkEnv(scenario=99, mimo_bin=MIMO, duration_s=4.0)
+
+    def test_closing_mid_episode_leaves_no_process(self):
+        env = self.make()
+        env.reset(seed=2)
+        for _ in range(5):
+            env.step(0)
+        pgid = env.run.proc.pid
+        self.assertFalse(gone(pgid))
+        env.close()
+        self.assertTrue(gone(pgid))
+        env.close()  # twice is fine
+
+    def test_a_crashed_mimo_raises_with_its_stderr_and_leaves_nothing(self):
+        from mimo_ta.gym import MimoError
+
+        env = self.make()
+        env.reset(seed=2)
+        env.step(0)
+        pgid = env.run.proc.pid
+        os.kill(pgid, signal.SIGKILL)  # mimo itself dies; the relay is left
+        with self.assertRaisesRegex(MimoError, "mimo stopped"):
+            for _ in range(10000):
+                env.step(0)
+        self.assertTrue(gone(pgid))
+
+    def test_random_valid_actions_run_to_the_end(self):
+        from mimo_ta.gym.policies import random_policy
+
+        env = self.make(duration_s=5.0)
+        env.reset(seed=4)
+        rng = np.random.default_rng(0)
+        term = False
+        while not term:
+            _, _, term, _, info = env.step(random_policy(env, rng))
+        self.assertIn("completeness", info["score"])
+
+
+if __name__ == "__main__":
+    unittest.main()
