@@ -195,3 +195,89 @@ class NetworkEnvTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+try:
+    import pettingzoo  # noqa: F401
+except ImportError:
+    pettingzoo = None
+
+
+@unittest.skipIf(SKIP or pettingzoo is None, WHY + " (or pettingzoo)")
+class ParallelNetworkEnvTest(unittest.TestCase):
+    def make(self, **kw):
+        from mimo_ta.gym import ParallelNetworkEnv
+
+        kw.setdefault("duration_s", 6.0)
+        env = ParallelNetworkEnv(scenario=1, mimo_bin=MIMO, **kw)
+        self.addCleanup(env.close)
+        return env
+
+    def test_pettingzoo_parallel_api_test_passes(self):
+        from pettingzoo.test import parallel_api_test
+
+        parallel_api_test(self.make(duration_s=4.0), num_cycles=200)
+
+    def play(self, env, seed):
+        obs, _ = env.reset(seed=seed)
+        rng = np.random.default_rng(seed)
+        trace = []
+        while env.agents:
+            acts = {a: int(rng.choice(np.flatnonzero(obs[a]["action_mask"]))) for a in env.agents}
+            obs, rew, term, _, info = env.step(acts)
+            trace.append((acts, rew[env.possible_agents[0]]))
+        return trace, info[env.possible_agents[0]]["score"]
+
+    def test_same_seed_same_episode_and_a_shared_reward(self):
+        env = self.make()
+        a, sa = self.play(env, 5)
+        b, sb = self.play(env, 5)
+        self.assertEqual(a, b)
+        self.assertEqual(sa["completeness"], sb["completeness"])
+
+    def test_mimo_receivers_are_the_ships_that_accept(self):
+        env = self.make(duration_s=20.0)
+        obs, _ = env.reset(seed=1)
+        wait, refuse = env.encode("wait"), env.encode("wait", accept=False)
+        for _ in range(5000):
+            for slot in range(env.k):
+                if env._env.run.track_in(slot) is None:
+                    continue
+                run = env._env.run
+                vis = run.visibility(slot)
+                if len(vis) >= 3 and run.look_problem(slot, sorted(vis)[0], True, 1) is None:
+                    tx, others = sorted(vis)[0], sorted(vis)[1:]
+                    acts = {a: wait for a in env.agents}
+                    acts[tx] = env.encode("look", slot=slot, mimo=True, pulses=4)
+                    acts[others[0]] = refuse
+                    sent = []
+                    real_send = run._send
+                    run._send = lambda reply: (sent.append(reply), real_send(reply))[1]
+                    env.step(acts)
+                    dwell = sent[0]["requests"][0]["dwell"]
+                    self.assertEqual(dwell["transmitters"], [{"radar": tx, "n_pulses": 4}])
+                    self.assertIn(tx, dwell["receivers"])
+                    self.assertNotIn(others[0], dwell["receivers"])
+                    self.assertGreater(len(dwell["receivers"]), 1)
+                    return
+            obs, *_ = env.step({a: wait for a in env.agents})
+            if not env.agents:
+                break
+        self.fail("no track seen by three radars")
+
+    def test_a_bad_action_names_the_agent_and_sends_nothing(self):
+        env = self.make()
+        env.reset(seed=1)
+        run = env._env.run
+        before = (run.steps, run.now_s)
+        acts = {a: env.encode("wait") for a in env.agents}
+        acts["R2"] = env.n_actions
+        with self.assertRaisesRegex(ValueError, r"actions\['R2'\].*outside the action space"):
+            env.step(acts)
+        acts["R2"] = env.encode("look", slot=0, mimo=False, pulses=0)
+        with self.assertRaisesRegex(ValueError, r"actions\['R2'\].*masked: track"):
+            env.step(acts)
+        del acts["R2"]
+        with self.assertRaisesRegex(ValueError, "no action for agent"):
+            env.step(acts)
+        self.assertEqual((run.steps, run.now_s), before)

@@ -21,3 +21,11 @@ except ImportError:  # pragma: no cover - gymnasium is the extra's dependency
     pass
 
 __all__ = ["Action", "MimoError", "NetworkEnv", "NetworkRun", "PULSE_LEVELS", "SEARCH_SHARES"]
+
+
+def __getattr__(name):  # PettingZoo is imported only when the parallel environment is asked for
+    if name == "ParallelNetworkEnv":
+        from .parallel import ParallelNetworkEnv
+
+        return ParallelNetworkEnv
+    raise AttributeError(name)
