@@ -86,6 +86,7 @@ class Reference:
 
 
 _REFERENCES: dict = {}
+_I3 = np.eye(3)
 
 
 def _run(cmd: list, what: str) -> None:
@@ -478,6 +479,26 @@ class NetworkRun:
             if t.pending_since_s is not None and now - t.pending_since_s >= PENDING_TIMEOUT_S:
                 t.pending_since_s = None
 
+    def predicted(self, slot: int):
+        """The track in ``slot`` predicted to now: (x, P) in the tracker's ENU frame, computed
+        once per decision point (nearly-constant velocity, docs/model.md §6.1)."""
+        key = ("pred", slot)
+        if key not in self._vis_cache:
+            t = self.track_in(slot)
+            dt = self.now_s - t.t_s
+            q = self.tracker.cfg["sigma_a_mps2"] ** 2
+            p = t.p
+            pp, pv, vv = p[:3, :3], p[:3, 3:], p[3:, 3:]
+            a = abs(dt)
+            out = np.empty((6, 6))
+            out[:3, :3] = pp + dt * (pv + pv.T) + dt * dt * vv + (q * a**4 / 4) * _I3
+            out[:3, 3:] = pv + dt * vv + (q * a**3 / 2) * _I3
+            out[3:, :3] = out[:3, 3:].T
+            out[3:, 3:] = vv + (q * a * a) * _I3
+            x = np.concatenate([t.x[:3] + dt * t.x[3:], t.x[3:]])
+            self._vis_cache[key] = (x, out)
+        return self._vis_cache[key]
+
     def track_in(self, slot: int):
         tid = self.slots[slot] if 0 <= slot < self.k_max else None
         return None if tid is None else self.tracker.tracks.get(tid)
@@ -498,7 +519,7 @@ class NetworkRun:
         slots = [i for i in range(self.k_max) if self.track_in(i) is not None]
         if not slots:
             return {}
-        pts = np.array([tr.enu.to_ecef(tr.predict(self.track_in(i), self.now_s)[0][:3]) for i in slots])
+        pts = np.array([tr.enu.to_ecef(self.predicted(i)[0][:3]) for i in slots])
         out: dict = {i: {} for i in slots}
         norm_p = np.linalg.norm(pts, axis=1)
         sin_lat_c = pts[:, 2] / norm_p

@@ -265,7 +265,7 @@ class NetworkEnv(gym.Env):
             t = run.track_in(slot)
             if t is None:
                 continue
-            x, p = tr.predict(t, now)
+            x, p = run.predicted(slot)
             row = obs["tracks"][slot]
             age = now - born[t.id]
             row[:nt] = (1.0, t.status == "confirmed", t.next_due_s <= now + 1e-9, t.pending_since_s is not None,
