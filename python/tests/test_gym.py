@@ -281,3 +281,41 @@ class ParallelNetworkEnvTest(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "no action for agent"):
             env.step(acts)
         self.assertEqual((run.steps, run.now_s), before)
+
+
+try:
+    import stonesoup  # noqa: F401
+except ImportError:
+    stonesoup = None
+
+
+@unittest.skipIf(SKIP or stonesoup is None, WHY + " (or Stone Soup)")
+class StoneSoupManagerTest(unittest.TestCase):
+    def test_a_greedy_manager_chooses_looks_and_the_reward_prices_them(self):
+        from stonesoup.sensormanager import GreedySensorManager
+
+        from mimo_ta.gym import NetworkEnv
+        from mimo_ta.stonesoup.manager import LookReward, radars_of, run_episode
+
+        env = NetworkEnv(scenario=1, duration_s=8.0, mimo_bin=MIMO)
+        self.addCleanup(env.close)
+        reward = LookReward(env=env)
+        manager = GreedySensorManager(sensors=radars_of(env), reward_function=reward)
+        ret, info = run_episode(env, manager, seed=1)
+        self.assertGreater(info["score"]["ta_energy_j"], 0.0)  # it looked
+        # Same state, dearer energy and time: every look is worth less, no look stays 0.
+        env.reset(seed=1)
+        while not any(env.run.track_in(s) is not None for s in range(env.k)):
+            env.step(0)
+        slot = next(s for s in range(env.k) if env.run.track_in(s) is not None)
+        tx = next(iter(env.run.visibility(slot)))
+        cheap = reward.look_value(tx, slot, False, 4)
+        dear = LookReward(env=env, price_per_kj=1e4, price_per_s=1e3).look_value(tx, slot, False, 4)
+        self.assertLess(dear, cheap)
+        self.assertGreater(reward.look_value(tx, slot, False, 16) + 0.0, -1e9)
+        (radar,) = [r for r in radars_of(env) if r.radar == tx]
+        gen = next(iter(radar.actions(None)))
+        looks = list(gen)
+        self.assertIsNone(looks[0].slot)  # no look first
+        self.assertIn(slot, {a.slot for a in looks})
+        self.assertEqual(reward({radar: (looks[0],)}), 0.0)
