@@ -36,6 +36,7 @@ import shutil
 import signal
 import subprocess
 import tempfile
+import weakref
 from dataclasses import dataclass
 from typing import Optional
 
@@ -274,6 +275,8 @@ class NetworkRun:
         self._rfd = r_env
         self._buf = bytearray()
         self._wfd = w_env
+        # An environment dropped without close(), or an interpreter that exits, still ends the run.
+        weakref.finalize(self, _kill_group, self.proc)
         self.read_until_decision()
 
     def _stderr_text(self) -> str:
@@ -655,6 +658,15 @@ class NetworkRun:
         self._send(self._reply(requests))
         self.steps += 1
         return self.read_until_decision()
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    if proc.returncode is None:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(timeout=10)
+        except (ProcessLookupError, PermissionError, subprocess.TimeoutExpired):
+            pass
 
 
 def _write_all(fd: int, data: bytes) -> None:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import shutil
 import tempfile
+import weakref
 from typing import NamedTuple, Optional
 
 import gymnasium as gym
@@ -118,6 +119,8 @@ class NetworkEnv(gym.Env):
         self.reply_timeout_s = reply_timeout_s
         self._own_workdir = workdir is None
         self.workdir = workdir or tempfile.mkdtemp(prefix="mimo-gym-")
+        if self._own_workdir:  # removed even if close() is never called
+            weakref.finalize(self, shutil.rmtree, self.workdir, True)
         self.run: Optional[NetworkRun] = None
         self._episode = 0
         # The radars are known once a run starts; a throwaway run at construction would cost a
