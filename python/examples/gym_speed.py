@@ -3,11 +3,12 @@
 
     taskset -c 0 python3 python/examples/gym_speed.py --mimo target/release/mimo --duration 300 --seed 1
 
-Runs the rule policy for one episode of scenario 1 under cProfile and prints: steps, wall time,
-the CPU time of this process and of mimo (its children), steps per second of wall and of CPU
-(both processes, i.e. on one core), and the share of this process's time in the tracker
-(mimo_ta.simple), the observation, the masks and the policy, the online score, the protocol
-(JSON and pipes) and mimo's own CPU.
+Runs the rule policy for one episode of scenario 1 and prints: steps, wall time, the CPU time of
+this process and of its children (mimo, the relay, mimo score), steps per second of wall time and
+of CPU time (both processes together: the one-core figure, whatever else the machine runs). With
+``--profile``, under cProfile (slower), the time of this process in the tracker
+(mimo_ta.simple), the observation, the masks and the policy, the online score and the protocol
+(JSON and pipes).
 """
 
 import argparse
@@ -43,6 +44,7 @@ def main() -> int:
     ap.add_argument("--mimo", default=None)
     ap.add_argument("--duration", type=float, default=300.0)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--profile", action="store_true")
     a = ap.parse_args()
     env = NetworkEnv(scenario=1, duration_s=a.duration, mimo_bin=a.mimo)
     obs, _ = env.reset(seed=a.seed)
@@ -50,7 +52,8 @@ def main() -> int:
     c0, w0 = time.process_time(), time.perf_counter()
     prof = cProfile.Profile()
     steps = 0
-    prof.enable()
+    if a.profile:
+        prof.enable()
     while True:
         obs, _, term, _, info = env.step(rule_policy(env, obs))
         steps += 1
@@ -61,7 +64,7 @@ def main() -> int:
     ch1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     env.close()
     child = (ch1.ru_utime + ch1.ru_stime) - (ch0.ru_utime + ch0.ru_stime)  # mimo, the relay, mimo score
-    stats = pstats.Stats(prof).stats
+    stats = pstats.Stats(prof).stats if a.profile else {}
     parts: dict = {}
     for (file, _line, fn), (_cc, _nc, _tt, ct, _callers) in stats.items():
         part = PARTS.get((os.path.basename(file), fn))

@@ -251,6 +251,8 @@ class NetworkRun:
         self.pending_time: dict = {}  # radar -> {tag: dwell duration} of looks not reported yet
         self.next_wake_s = math.inf
         self.steps = 0
+        self.now_s = 0.0
+        self.step_energy_kj = 0.0  # energy spent since the environment last reset it (kJ)
         self._site_h: dict = {}  # site heights (ships keep their array height)
         self.born: dict = {}  # track id -> time first seen
         self.last_look: dict = {}  # track id -> time of the agent's last look at it
@@ -360,7 +362,7 @@ class NetworkRun:
             tr = self.tracker
             tr._requests, tr._tracks = [], []
             now = float(msg["t_s"])
-            self.elapsed_s = now - getattr(self, "now_s", 0.0)
+            self.elapsed_s = now - self.now_s
             tr.now_s = self.now_s = now
             self.is_start = False
             finish = False
@@ -422,8 +424,6 @@ class NetworkRun:
             self.energy_by_radar_kj[r] += e
             self.energy_kj += e
             self.step_energy_kj += e
-
-    step_energy_kj = 0.0
 
     def _reply(self, requests: list) -> dict:
         tr = self.tracker

@@ -106,7 +106,7 @@ class NetworkEnv(gym.Env):
     def __init__(self, scenario=1, duration_s: float = 300.0, max_tracks: int = 16, energy_weight: float = 1e-3,
                  decision_period_s: float = 1.0, mimo_bin: Optional[str] = None,
                  tracker_config: Optional[dict] = None, extra_args: tuple = (), reply_timeout_s: float = 86400.0,
-                 workdir: Optional[str] = None, n_radars: Optional[int] = None) -> None:
+                 workdir: Optional[str] = None) -> None:
         super().__init__()
         self.scenario = scenario
         self.duration_s = float(duration_s)
@@ -123,10 +123,9 @@ class NetworkEnv(gym.Env):
             weakref.finalize(self, shutil.rmtree, self.workdir, True)
         self.run: Optional[NetworkRun] = None
         self._episode = 0
-        # The radars are known once a run starts; a throwaway run at construction would cost a
-        # simulation, so the radar count is read from the scenario's start message the first
-        # time, through a short probe run, unless given.
-        self.radars = self._probe_radars() if n_radars is None else [f"R{i + 1}" for i in range(n_radars)]
+        # The spaces depend on the radars, which only a run's start message names: a probe run of
+        # 1 s (and its reference run) tells them, and refuses a scenario mimo cannot load.
+        self.radars = self._probe_radars()
         r = len(self.radars)
         self.shares = SEARCH_SHARES
         self.pulse_levels = PULSE_LEVELS

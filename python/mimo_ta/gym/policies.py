@@ -30,7 +30,7 @@ def rule_policy(env, obs: dict, search_share: float = 1.0) -> int:
     mask = None
     for slot in range(env.k):
         row = tracks[slot]
-        if not (row[_PRESENT] and row[_DUE]) or row[_PENDING] or obs["globals"][1] and _looked(env, slot):
+        if not (row[_PRESENT] and row[_DUE]) or row[_PENDING]:  # a look just ordered makes it pending
             continue
         vis = row[_NT::2][:n_radars]
         snr = np.where(vis > 0, row[_NT + 1::2][:n_radars], -np.inf)
@@ -44,7 +44,3 @@ def rule_policy(env, obs: dict, search_share: float = 1.0) -> int:
         if mask[a]:
             return a
     return env.encode(Action("wait", search_share=search_share))
-
-
-def _looked(env, slot: int) -> bool:
-    return slot in env.unwrapped.run.looked
