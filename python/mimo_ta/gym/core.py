@@ -43,6 +43,7 @@ from typing import Optional
 import numpy as np
 
 from ..binary import find_mimo_bin
+from ..measurement import jacobian
 from ..messages import DwellRequest, Finish, SearchOrder, SearchPlan, StartInfo, TxOrder, Wake, WakeAt, parse_event
 from ..geo import EARTH_MEAN_RADIUS_M, K_EFFECTIVE_EARTH, WGS84_A_M, WGS84_B_M, ecef_to_geodetic_rad
 from ..radar import (BOLTZMANN_J_PER_K, T0_K, db_to_lin, pointing_loss, predict_pair, pulses_for, required_snr_sw1,
@@ -608,7 +609,6 @@ class NetworkRun:
         else:
             n = min(int(pulses), par.max_pulses)
         site = tr.enu.to_enu(tr.ships[tx].site_sampled(now))
-        from ..measurement import jacobian
         hr = np.zeros(6)
         hr[:3] = jacobian(x[:3], site, site, np.eye(3))[0]
         sigma_rho = 0.5 * math.sqrt(max(hr @ p @ hr, 0.0))

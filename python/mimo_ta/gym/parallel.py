@@ -29,7 +29,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from .core import PULSE_LEVELS, SEARCH_SHARES, NetworkRun
+from .core import PULSE_LEVELS, SEARCH_SHARES
 from .env import GLOBAL_FEATURES, RADAR_FEATURES, TRACK_FEATURES, NetworkEnv, _as_index, _box
 
 AGENT_TRACK_FEATURES = (
