@@ -123,6 +123,8 @@ class NetworkEnv(gym.Env):
             weakref.finalize(self, shutil.rmtree, self.workdir, True)
         self.run: Optional[NetworkRun] = None
         self._episode = 0
+        self._mask_key = self._obs_key = None
+        self._mask = self._obs_tracks = None
         # The spaces depend on the radars, which only a run's start message names: a probe run of
         # 1 s (and its reference run) tells them, and refuses a scenario mimo cannot load.
         self.radars = self._probe_radars()
@@ -172,25 +174,34 @@ class NetworkEnv(gym.Env):
 
     def action_masks(self) -> np.ndarray:
         """Booleans, one per action: ``True`` where the action is allowed now (the convention
-        of sb3-contrib's ``MaskablePPO``)."""
-        mask = np.zeros(self.action_space.n, dtype=bool)
-        mask[: self.n_wait] = True
+        of sb3-contrib's ``MaskablePPO``). The same rules as the checks of ``step``
+        (:meth:`mimo_ta.gym.core.NetworkRun.look_problem`), computed once per state."""
         run = self.run
         if run is None or run.done:
+            mask = np.zeros(self.action_space.n, dtype=bool)
+            mask[: self.n_wait] = True
             return mask
-        npl = len(self.pulse_levels)
+        key = (self._episode, run.steps, len(run.looked))
+        if self._mask_key == key:
+            return self._mask.copy()
+        mask = np.zeros(self.action_space.n, dtype=bool)
+        mask[: self.n_wait] = True
+        npl, nr = len(self.pulse_levels), len(self.radars)
         for slot in range(self.k):
-            if run.track_in(slot) is None:
+            t = run.track_in(slot)
+            if t is None or slot in run.looked or t.pending_since_s is not None:
                 continue
+            vis = run.visibility(slot)
             for ri, tx in enumerate(self.radars):
-                for m in (0, 1):
-                    base = self.n_wait + ((slot * len(self.radars) + ri) * 2 + m) * npl
-                    if run.look_problem(slot, tx, bool(m), 1) is not None:
-                        continue
-                    maxp = run.params[tx].max_pulses
-                    for pi, pl in enumerate(self.pulse_levels):
-                        mask[base + pi] = pl <= maxp
-        return mask
+                if tx not in vis:
+                    continue
+                ok = [pl <= run.params[tx].max_pulses for pl in self.pulse_levels]
+                base = self.n_wait + (slot * nr + ri) * 2 * npl
+                mask[base: base + npl] = ok
+                if len(vis) > 1:
+                    mask[base + npl: base + 2 * npl] = ok
+        self._mask_key, self._mask = key, mask
+        return mask.copy()
 
     # -- the Gymnasium API --------------------------------------------------------------------
 
@@ -263,9 +274,13 @@ class NetworkEnv(gym.Env):
         now = run.now_s
         nt = len(TRACK_FEATURES)
         born, last_look = run.born, run.last_look
+        # Track rows change within a decision point only where a look was ordered.
+        same_point = self._obs_key == (self._episode, run.steps)
+        if same_point:
+            obs["tracks"][:] = self._obs_tracks
         for slot in range(self.k):
             t = run.track_in(slot)
-            if t is None:
+            if t is None or same_point and slot not in run.looked:
                 continue
             x, p = run.predicted(slot)
             row = obs["tracks"][slot]
@@ -284,6 +299,8 @@ class NetworkEnv(gym.Env):
         for ri, r in enumerate(self.radars):
             obs["radars"][ri] = (run.share[r], sum(run.pending_time[r].values()),
                                  run.ta_time_by_radar_s[r] / max(now, 1e-3), run.energy_by_radar_kj[r])
+        if not same_point:
+            self._obs_key, self._obs_tracks = (self._episode, run.steps), obs["tracks"].copy()
         held = set(s for s in run.slots if s is not None)
         obs["globals"][:] = (now / run.duration_s, len(run.looked), sum(1 for t in tr.tracks if t not in held))
         return self._clip(obs)
