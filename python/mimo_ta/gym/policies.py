@@ -16,6 +16,7 @@ from .env import TRACK_FEATURES, Action
 
 _PRESENT, _CONFIRMED, _DUE, _PENDING = 0, 1, 2, 3
 _NT = len(TRACK_FEATURES)
+_AGE = [f[0] for f in TRACK_FEATURES].index("age_s")
 
 
 def random_policy(env, rng: np.random.Generator) -> int:
@@ -28,7 +29,10 @@ def rule_policy(env, obs: dict, search_share: float = 1.0) -> int:
     tracks = obs["tracks"]
     n_radars = len(env.radars)
     mask = None
-    for slot in range(env.k):
+    # Oldest track first (the order of track ids, in which the simple test article asks for its
+    # looks; mimo places the dwells first come, first served).
+    age = tracks[:, _AGE]
+    for slot in sorted(range(env.k), key=lambda s: (-float(age[s]), s)):
         row = tracks[slot]
         if not (row[_PRESENT] and row[_DUE]) or row[_PENDING]:  # a look just ordered makes it pending
             continue
