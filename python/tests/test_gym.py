@@ -181,6 +181,28 @@ class NetworkEnvTest(unittest.TestCase):
                 env.step(0)
         self.assertTrue(gone(pgid))
 
+    def test_a_wait_sets_the_search_share(self):
+        from mimo_ta.gym import Action
+
+        env = self.make(duration_s=4.0)
+        env.reset(seed=1)
+        sent = []
+        real_send = env.run._send
+        env.run._send = lambda reply: (sent.append(reply), real_send(reply))[1]
+        obs, *_ = env.step(env.encode(Action("wait", search_share=0.1)))
+        orders = [r["search"] for r in sent[0]["requests"] if "search" in r]
+        self.assertEqual(sorted(o["radar"] for o in orders), env.radars)
+        self.assertTrue(all(o["plan"]["share"] == 0.1 for o in orders))
+        np.testing.assert_allclose(obs["radars"][:, 0], 0.1)
+        obs, *_ = env.step(env.encode(Action("wait", search_share=0.1)))  # no change, no order
+        self.assertFalse(any("search" in r for r in sent[1].get("requests", [])))
+        while True:
+            *_, term, _, info = env.step(env.encode(Action("wait", search_share=0.0)))
+            if term:
+                break
+        s = info["score"]
+        self.assertLess(s["search_energy_j"], 0.2 * 4.0 * sum(env.run.ref.search_rate_j_per_s.values()))
+
     def test_random_valid_actions_run_to_the_end(self):
         from mimo_ta.gym.policies import random_policy
 
