@@ -88,6 +88,7 @@ class Reference:
 
 
 _REFERENCES: dict = {}
+_REFERENCES_KEPT = 64
 _I3 = np.eye(3)
 
 
@@ -128,6 +129,8 @@ def reference(mimo: str, scenario: str, seed: int, duration_s: float, extra_args
         ref = Reference(np.array(sorted(scorable)), scorable, truth_arrays, rates, float(summary.get("gate_m", 1000.0)))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+    if len(_REFERENCES) >= _REFERENCES_KEPT:  # training draws many seeds: keep the latest
+        _REFERENCES.pop(next(iter(_REFERENCES)))
     _REFERENCES[key] = ref
     return ref
 
@@ -272,6 +275,11 @@ class NetworkRun:
         try:
             self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._stderr, stderr=self._stderr,
                                          pass_fds=(w_child, r_child), start_new_session=True)
+        except BaseException:
+            for fd in (r_env, w_env):
+                os.close(fd)
+            self._stderr.close()
+            raise
         finally:
             os.close(w_child)
             os.close(r_child)
@@ -280,7 +288,11 @@ class NetworkRun:
         self._wfd = w_env
         # An environment dropped without close(), or an interpreter that exits, still ends the run.
         weakref.finalize(self, _kill_group, self.proc)
-        self.read_until_decision()
+        try:
+            self.read_until_decision()
+        except BaseException:
+            self.close()
+            raise
 
     def _stderr_text(self) -> str:
         self._stderr.seek(0)
@@ -322,7 +334,8 @@ class NetworkRun:
 
     def close(self) -> None:
         self.kill()
-        self._stderr.close()
+        if not self._stderr.closed:
+            self._stderr.close()
 
     def _send(self, reply: dict) -> None:
         line = (json.dumps(reply, allow_nan=False, separators=(",", ":")) + "\n").encode()
