@@ -154,7 +154,7 @@ class AgentTracker(SimpleTa):
 
 class OnlineScore:
     """The challenge's completeness and breaks at each scoring time, from the track rows as they
-    are emitted (docs/design.md §6, crates/mimo-metrics/src/lib.rs: a track is live from its first
+    are emitted (docs/design.md §6: a track is live from its first
     ``confirmed`` row to its ``deleted`` row, its state the latest row at or before ``t_k``
     extrapolated at constant velocity)."""
 
