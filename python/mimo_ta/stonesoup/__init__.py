@@ -7,6 +7,10 @@
   updater, data associator, initiator and deleter (or a ``MultiTargetTracker``) in the closed
   loop, with the default test article's looks (:mod:`mimo_ta.looks`).
 
+:mod:`mimo_ta.stonesoup.manager` (with the ``[gym]`` extra) lets Stone Soup's sensor managers choose
+the looks of :class:`mimo_ta.gym.NetworkEnv`, with a reward that prices energy and radar time
+(``python/examples/stonesoup_manager.py``).
+
 ``python/examples/stonesoup_ta.py`` assembles an EKF + GNN tracker with a multi-measurement
 initiator from Stone Soup's parts.
 """
