@@ -40,6 +40,7 @@ class TestArticle:
         self.now_s: float = 0.0
         self._requests: list = []
         self._tracks: list = []
+        self._registration: list = []
         #: Track rows whose covariance was slightly indefinite and was repaired before sending
         #: (:mod:`mimo_ta.covariance`); said in one line on stderr at the end of the run.
         self.repaired_covariances = 0
@@ -101,6 +102,22 @@ class TestArticle:
         """Write a row to the run's tracks table: a :class:`TrackRow` or its fields as keywords."""
         self._tracks.append(row if row is not None else TrackRow(**kwargs))
 
+    def report_registration(self, radar: str, t_s: float, bias: dict, covariance: dict, looks: int = 0) -> None:
+        """Report an estimate of ``radar``'s registration biases (docs/ta-protocol.md,
+        ``registration``): ``bias`` holds ``range_m``, ``u``, ``v``, ``heading_deg``;
+        ``covariance`` the variances ``var_range_m2``, ``var_u``, ``var_v``, ``var_heading_deg2`` and
+        the covariances ``cov_range_u_m``, ``cov_range_v_m``, ``cov_range_heading_m_deg``,
+        ``cov_u_v``, ``cov_u_heading_deg``, ``cov_v_heading_deg`` (missing ones are 0). With the
+        scenario's biases on, ``mimo score`` compares the last estimate of each radar with the drawn
+        biases."""
+        row = {"t_s": float(t_s), "radar": radar, "looks": int(looks)}
+        for k in ("range_m", "u", "v", "heading_deg"):
+            row[k] = float(bias.get(k, 0.0))
+        for k in ("var_range_m2", "var_u", "var_v", "var_heading_deg2", "cov_range_u_m", "cov_range_v_m",
+                  "cov_range_heading_m_deg", "cov_u_v", "cov_u_heading_deg", "cov_v_heading_deg"):
+            row[k] = float(covariance.get(k, 0.0))
+        self._registration.append(row)
+
     @staticmethod
     def log(*args) -> None:
         """Print to stderr (passed through by ``mimo``)."""
@@ -110,7 +127,7 @@ class TestArticle:
 
     def handle(self, message: dict) -> dict:
         """Process one message (a parsed JSON line) and return the reply as a dict."""
-        self._requests, self._tracks = [], []
+        self._requests, self._tracks, self._registration = [], [], []
         self.now_s = float(message["t_s"])
         is_start = False
         for raw in message["events"]:
@@ -140,6 +157,8 @@ class TestArticle:
                 except CovarianceError:
                     pass  # refused by to_json, naming the track
             reply["tracks"] = [t.to_json() for t in self._tracks]
+        if self._registration:
+            reply["registration"] = self._registration
         if any(isinstance(raw, dict) and raw.get("event") == "finish" for raw in message["events"]) \
                 and self.repaired_covariances:
             self.log(f"{self.name}: warning: {self.repaired_covariances} track covariance(s) slightly not positive "
