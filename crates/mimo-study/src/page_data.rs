@@ -222,11 +222,13 @@ pub fn md_tables(md: &str) -> Vec<MdTable> {
 /// Gather the page's data from the study directory `dir` of `plan` (`plan_arg`: the plan file as
 /// the page's commands name it).
 pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, PageError> {
-    let need = |t: Option<Table>, spec: &str| t.ok_or_else(|| PageError::Missing { path: dir.join(spec) });
-    let results = need(Table::read(dir, &STUDY_RESULTS, false)?, "results.parquet")?;
-    let summary = need(Table::read(dir, &STUDY_SUMMARY, false)?, "summary.parquet")?;
-    let challenge = need(Table::read(dir, &STUDY_CHALLENGE, false)?, "challenge.parquet")?;
-    let failures_t = need(Table::read(dir, &STUDY_FAILURE_POINTS, false)?, "failure_points.parquet")?;
+    let need = |spec: &mimo_store::schema::TableSpec| {
+        Table::read(dir, spec, false)?.ok_or_else(|| PageError::Missing { path: StudyDir::new(dir).table(spec) })
+    };
+    let results = need(&STUDY_RESULTS)?;
+    let summary = need(&STUDY_SUMMARY)?;
+    let challenge = need(&STUDY_CHALLENGE)?;
+    let failures_t = need(&STUDY_FAILURE_POINTS)?;
     let frontier = Table::read(dir, &STUDY_FRONTIER, true)?;
     let report_path = StudyDir::new(dir).report();
     let md = match std::fs::read_to_string(&report_path) {
