@@ -214,6 +214,9 @@ fn a_refined_or_unknown_cell_is_found_or_refused_by_name() {
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
+/// A table's file and how a test damages it.
+type Damage = (&'static str, fn(&Path));
+
 /// Copy the study's tables and report (not its runs) into `to`.
 fn copy_tables(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).expect("mkdir");
@@ -236,7 +239,7 @@ fn missing_or_damaged_tables_get_no_page_and_one_error_line() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(tmp.path().join("ok/report.html").is_file());
 
-    let cases: [(&str, fn(&Path)); 3] = [
+    let cases: [Damage; 3] = [
         ("results.parquet", |d| std::fs::remove_file(d.join("results.parquet")).expect("rm")),
         ("challenge.parquet", |d| std::fs::write(d.join("challenge.parquet"), b"not parquet").expect("write")),
         ("failure_points.parquet", |d| {
