@@ -170,3 +170,37 @@ pub fn rerun(plan: &Plan, rel: &str, run: u32, out: &Path, force: bool) -> Resul
     let manifest = cell_manifest(&plan, &cell, world, files).map_err(Box::new)?;
     Ok(writer.finish(&manifest)?)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shipped challenge plan: a point its refinement added (a midpoint of held_share) is
+    /// rebuilt from its name, with the configuration the family's entry gives it.
+    #[test]
+    fn a_refined_grid_point_is_rebuilt_from_its_name() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies/challenge.toml");
+        let plan = Plan::read(&file).expect("plan");
+        let rel = "method=mimo@power_budget_w:100,held_share:0.025/scenario=1";
+        let (p, cell, _) = find_cell(&plan, rel).expect("refined cell");
+        let m = &p.methods[cell.method];
+        assert_eq!(m.name, "mimo@power_budget_w:100,held_share:0.025");
+        assert!(m.refined && cell.method == plan.methods.len());
+        assert_eq!(cell.rel_dir(&p).display().to_string(), rel);
+        let listed =
+            find_cell(&plan, "method=conventional@power_budget_w:4,held_share:0.1/scenario=7").expect("listed");
+        assert!(!listed.0.methods[listed.1.method].refined);
+        assert!(matches!(find_cell(&plan, "method=mimo@3/scenario=1"), Err(RerunError::NoCell { .. })));
+        assert!(matches!(find_cell(&plan, "method=mimo/scenario=8"), Err(RerunError::NoCell { .. })));
+    }
+
+    #[test]
+    fn words_are_quoted_only_when_a_shell_would_read_them_otherwise() {
+        assert_eq!(
+            quote("method=mimo@power_budget_w:1,held_share:0/scenario=1"),
+            "method=mimo@power_budget_w:1,held_share:0/scenario=1"
+        );
+        assert_eq!(quote("my plan.toml"), "'my plan.toml'");
+        assert_eq!(quote("it's"), "'it'\\''s'");
+    }
+}
