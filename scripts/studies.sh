@@ -37,7 +37,7 @@ for name in "${@:-challenge stability registration}"; do
     dest=reports/studies/$study
     rm -rf "$dest"
     mkdir -p "$dest"
-    cp -r "$out/charts" "$out/report.md" "$out/summary.parquet" "$out/results.parquet" "$out/costs.parquet" \
+    cp -r "$out/charts" "$out/report.md" "$out/report.html" "$out/summary.parquet" "$out/results.parquet" "$out/costs.parquet" \
       "$out/challenge.parquet" "$out/challenge_ratios.parquet" "$out/failure_points.parquet" "$out/plan.toml" "$dest/"
     # frontier.parquet: studies merged since the efficient frontier (docs/studies.md, "The challenge").
     if [[ -f "$out/frontier.parquet" ]]; then cp "$out/frontier.parquet" "$dest/"; fi

@@ -14,8 +14,10 @@ use std::path::PathBuf;
 /// plan says `keep_runs = true`, which keeps every cell a complete run directory for `mimo
 /// score`, `mimo track` and polars. At the end OUT holds results.parquet (one row per cell and
 /// run), costs.parquet (timings), summary.parquet (means and 95 % confidence intervals per
-/// cell), failure_points.parquet (where each method fails on each axis), charts/ and report.md. A method that fails in a cell is
-/// recorded (results.parquet `failure`) and the study goes on. See docs/studies.md.
+/// cell), failure_points.parquet (where each method fails on each axis), charts/, report.md and
+/// report.html (the same as one offline page: click a point to list its runs and the command
+/// re-creating each with --rerun). A method that fails in a cell is recorded (results.parquet
+/// `failure`) and the study goes on. See docs/studies.md.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The study plan (TOML): methods, scenarios, runs, stress axes.
@@ -41,7 +43,20 @@ pub struct Args {
     /// Only tell how far the study in OUT is: items done, per shard, failed items; writes nothing.
     #[arg(long, conflicts_with_all = ["shard", "resume", "merge", "force", "init"])]
     pub status: bool,
-    /// Replace OUT if it holds a study (never a directory that is not one).
+    /// Only write OUT/report.html again from the study tables and report.md in OUT (nothing runs
+    /// or merges; a directory holding only a study's tables, like reports/studies/*, will do).
+    #[arg(long, conflicts_with_all = ["shard", "resume", "merge", "force", "init", "status"])]
+    pub page: bool,
+    /// Only re-run one run of the study's cell CELL (its path under the study's runs/, as
+    /// report.html shows it) into the run directory OUT, keeping its tables, for `mimo plot OUT
+    /// --run K`: the same plan, seed, cell and run as the study's.
+    #[arg(long, value_name = "CELL", conflicts_with_all = ["shard", "resume", "merge", "init", "status", "page"])]
+    pub rerun: Option<String>,
+    /// The run re-run by --rerun (from 0).
+    #[arg(long, value_name = "K", requires = "rerun", default_value_t = 0)]
+    pub run: u32,
+    /// Replace OUT if it holds a study (never a directory that is not one); with --rerun, if it
+    /// holds a run.
     #[arg(long)]
     pub force: bool,
     /// Worker threads [default: all cores]. Results do not depend on it.
@@ -69,6 +84,29 @@ pub fn run(a: Args) -> Result<(), CliError> {
         if e.is_bad_input() { CliError::input(msg) } else { CliError::Other(msg) }
     })?;
     let plan = Plan::parse(&text, &a.plan).map_err(|e| CliError::input(e.to_string()))?;
+    if a.page {
+        let path = mimo_study::report_page::write_page(&plan, &a.plan.display().to_string(), &a.out)
+            .map_err(|e| if e.is_input() { CliError::Input(e.to_string()) } else { CliError::Other(e.to_string()) })?;
+        if !a.quiet {
+            crate::outln!("study page -> {}", path.display());
+        }
+        return Ok(());
+    }
+    if let Some(cell) = &a.rerun {
+        let out = mimo_study::rerun::rerun(&plan, cell, a.run, &a.out, a.force)
+            .map_err(|e| if e.is_input() { CliError::Input(e.to_string()) } else { CliError::Other(e.to_string()) })?;
+        if !a.quiet {
+            let q = |p: &std::path::Path| mimo_study::rerun::quote(&p.display().to_string());
+            crate::outln!("re-ran {cell} run {} -> {}", a.run, out.display());
+            crate::outln!(
+                "open it: mimo plot {} --run {} --out {}",
+                q(&out),
+                a.run,
+                q(&std::path::PathBuf::from(format!("{}.html", out.display())))
+            );
+        }
+        return Ok(());
+    }
     if a.status {
         let st = mimo_study::status::study_status(&plan, &text, &a.out).map_err(study_err)?;
         crate::outln!("{}", st.text(&a.out).trim_end());

@@ -169,6 +169,11 @@ impl StudyDir {
     pub fn report(&self) -> PathBuf {
         self.root.join("report.md")
     }
+
+    /// `STUDY/report.html`, the study as one offline page.
+    pub fn report_html(&self) -> PathBuf {
+        self.root.join("report.html")
+    }
 }
 
 #[cfg(test)]

@@ -6,7 +6,8 @@
 //! directory in a hive-style path, and every (cell, run) an item that any machine can run
 //! (`--shard K/N`). Results, costs and a summary with confidence intervals are Parquet tables;
 //! charts and a report page show energy against completeness, compute against accuracy and
-//! where each method fails (docs/studies.md).
+//! where each method fails (docs/studies.md); `report.html` shows them in one offline page
+//! ([`report_page`]), from which any run can be re-created on its own ([`rerun`]).
 
 #![warn(missing_docs)]
 
@@ -30,6 +31,8 @@ pub mod item;
 pub mod kfu;
 pub mod merge;
 pub mod method_sweep;
+pub mod page_data;
+pub mod page_tables;
 pub mod paired;
 pub mod plan;
 mod plan_check;
@@ -38,6 +41,8 @@ pub mod prepare;
 pub mod record;
 pub mod refine;
 pub mod report;
+pub mod report_page;
+pub mod rerun;
 pub mod run_usage;
 pub mod runner;
 pub mod shard_log;

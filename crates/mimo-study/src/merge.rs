@@ -5,12 +5,14 @@
 //! of table files), not the records themselves.
 
 use crate::challenge_table::{family_rows, ratio_rows, write_challenge};
+use crate::grid::Cell;
 use crate::plan::{MethodTa, Plan};
 use crate::prepare::{Prepared, search_of};
 use crate::record::{ItemRecord, record_path};
 use crate::runner::StudyError;
 use crate::status::missing_by_shard;
 use crate::tables::{ResultRow, summarize, write_results, write_summary};
+use mimo_sim::World;
 use mimo_store::StoreError;
 use mimo_store::layout::{RunDir, StudyDir};
 use mimo_store::manifest::{Manifest, ScenarioInfo, TableFile, TrackerInfo};
@@ -44,10 +46,10 @@ fn check_complete(plan: &Plan, dirs: &[PathBuf], out: &Path) -> Result<(), Study
 }
 
 /// What the cell manifest needs of its records, gathered while they are read one at a time.
-struct CellFiles {
-    tables: BTreeMap<String, Vec<TableFile>>,
-    ta: Option<(String, serde_json::Value)>,
-    wall_s: f64,
+pub(crate) struct CellFiles {
+    pub(crate) tables: BTreeMap<String, Vec<TableFile>>,
+    pub(crate) ta: Option<(String, serde_json::Value)>,
+    pub(crate) wall_s: f64,
 }
 
 fn read_cell(plan: &Plan, dir: &Path) -> Result<(Vec<ResultRow>, CellFiles), StudyError> {
@@ -82,9 +84,7 @@ pub(crate) fn all_done(plan: &Plan, dirs: &[PathBuf]) -> bool {
 }
 
 /// A cell's manifest.
-fn cell_manifest(plan: &Plan, prep: &Prepared, c: usize, files: CellFiles) -> Result<Manifest, StudyError> {
-    let cell = &prep.cells[c];
-    let world = &prep.worlds[prep.world_of[c]];
+pub(crate) fn cell_manifest(plan: &Plan, cell: &Cell, world: &World, files: CellFiles) -> Result<Manifest, StudyError> {
     let json = |v: serde_json::Result<serde_json::Value>| v.map_err(|e| StudyError::Report(e.to_string()));
     let mut fidelity = json(serde_json::to_value(&world.scenario.fidelity))?;
     let stress: serde_json::Map<String, serde_json::Value> =
@@ -134,7 +134,7 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<(), StudyError> {
     std::fs::rename(&tmp, path).map_err(io)
 }
 
-/// Merge: every cell's manifest, the study tables, the charts and the report.
+/// Merge: every cell's manifest, the study tables, the charts, the report and its page.
 pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Result<Merged, StudyError> {
     check_complete(plan, dirs, out)?;
     let mut rows = Vec::with_capacity(dirs.len());
@@ -142,7 +142,7 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
     for (c, dir) in dirs.iter().enumerate() {
         let (r, files) = read_cell(plan, dir)?;
         rows.push(r);
-        manifests.push(cell_manifest(plan, prep, c, files)?.to_json());
+        manifests.push(cell_manifest(plan, &prep.cells[c], &prep.worlds[prep.world_of[c]], files)?.to_json());
     }
     for (dir, m) in dirs.iter().zip(manifests) {
         write_atomic(&RunDir::new(dir).manifest(), &m)?;
@@ -171,6 +171,7 @@ pub fn merge(plan: &Plan, prep: &Prepared, dirs: &[PathBuf], out: &Path) -> Resu
     };
     let report = crate::report::report_md(&study, &charts);
     write_atomic(&StudyDir::new(out).report(), &report)?;
+    crate::report_page::write_page(plan, &plan.file.display().to_string(), out)?;
     let failed = summaries.iter().map(|s| s.failed as usize).sum();
     Ok(Merged { items: rows.iter().map(Vec::len).sum(), failed })
 }

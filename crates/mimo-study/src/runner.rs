@@ -92,6 +92,9 @@ pub enum StudyError {
     /// Drawing or writing the report failed.
     #[error("{0}")]
     Report(String),
+    /// The study's page could not be made from its tables.
+    #[error(transparent)]
+    Page(#[from] crate::page_tables::PageError),
 }
 
 impl StudyError {
@@ -101,6 +104,7 @@ impl StudyError {
             StudyError::Plan(_) | StudyError::Incomplete { .. } => true,
             StudyError::Dir(d) => matches!(d, DirError::Refused { .. }),
             StudyError::Record(r) => matches!(r, RecordError::Bad { .. }),
+            StudyError::Page(p) => p.is_input(),
             _ => false,
         }
     }
