@@ -71,7 +71,7 @@ impl MultiTargetTracker {
     ) {
         let all_ids: Vec<u64> = self.tracks.keys().copied().collect();
         let n_m = list.len();
-        let gated = self.gate_channel(list, &all_ids);
+        let gated = self.gate_channel(list);
         let near = gated.near;
         // The soft (JPDA) path sees only the tracks the channel reached: a track no pair reached
         // gates nothing, forms a cluster of its own and misses for sure, so it changes no
@@ -125,11 +125,11 @@ impl MultiTargetTracker {
         self.initiate(list, &cand, new_ids);
     }
 
-    /// Gate every track (`ids`) against the channel's measurements. Returns the tracks one of
+    /// Gate every track (in id order) against the channel's measurements. Returns the tracks one of
     /// whose pairs passed the pre-gate, their hypotheses that gate and their predictions, and
     /// which measurements lie inside an existing track's resolution cell or its initiation
     /// exclusion gate (such a measurement never starts a track, docs/model.md §6.4).
-    fn gate_channel(&mut self, list: &[PreparedMeasurement], ids: &[u64]) -> reached::Reached<PredCache> {
+    fn gate_channel(&mut self, list: &[PreparedMeasurement]) -> reached::Reached<PredCache> {
         let n_m = list.len();
         let filter = &*self.c.filter;
         let mut out = reached::Reached::new(n_m);
@@ -137,8 +137,9 @@ impl MultiTargetTracker {
         let cell_uv = excl.beam_fraction * self.config.revisit.beamwidth;
         // Pairs that cannot gate are skipped before their prediction (docs/model.md §6.5).
         let pregate = PreGate::new(&*self.c.gater, &excl);
-        for (i, id) in ids.iter().enumerate() {
-            let track = &self.tracks[id];
+        // Row `i` is the `i`-th track in id order (`all_ids` of the caller): the map is walked,
+        // not searched once per track and channel.
+        for (i, track) in self.tracks.values().enumerate() {
             let mut bound = BoundCache::default();
             let ball = match list.first() {
                 Some(m) => self.balls.get(filter, track, m.t_s - track.t_s),
