@@ -222,6 +222,12 @@ fn charts_are_mimos_by_their_mark_and_a_users_image_among_them_is_kept() {
     std::fs::write(d.join("st/mine.png"), &mine).expect("write");
     refused(d, &["study", "plan.toml", "--out", "st", "--force", "--quiet"], 2, &["mine.png", "did not write"]);
     assert_eq!(std::fs::read(d.join("st/mine.png")).expect("read"), mine);
+    // A page of the user's own under the study page's name is not mimo's either.
+    std::fs::remove_file(d.join("st/mine.png")).expect("rm");
+    let page = "<!doctype html><title>my notes</title>";
+    std::fs::write(d.join("st/report.html"), page).expect("write");
+    refused(d, &["study", "plan.toml", "--out", "st", "--force", "--quiet"], 2, &["report.html", "did not write"]);
+    assert_eq!(std::fs::read_to_string(d.join("st/report.html")).expect("read"), page);
 }
 
 #[test]

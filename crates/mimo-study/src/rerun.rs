@@ -175,20 +175,19 @@ pub fn rerun(plan: &Plan, rel: &str, run: u32, out: &Path, force: bool) -> Resul
 mod tests {
     use super::*;
 
-    /// The shipped challenge plan: a point its refinement added (a midpoint of held_share) is
-    /// rebuilt from its name, with the configuration the family's entry gives it.
+    /// The shipped challenge plan: a point its refinement added (a midpoint of share) is rebuilt
+    /// from its name, with the configuration the family's entry gives it.
     #[test]
     fn a_refined_grid_point_is_rebuilt_from_its_name() {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies/challenge.toml");
         let plan = Plan::read(&file).expect("plan");
-        let rel = "method=mimo@power_budget_w:100,held_share:0.025/scenario=1";
+        let rel = "method=mimo@held_share:0,share:0.2/scenario=7";
         let (p, cell, _) = find_cell(&plan, rel).expect("refined cell");
         let m = &p.methods[cell.method];
-        assert_eq!(m.name, "mimo@power_budget_w:100,held_share:0.025");
+        assert_eq!(m.name, "mimo@held_share:0,share:0.2");
         assert!(m.refined && cell.method == plan.methods.len());
         assert_eq!(cell.rel_dir(&p).display().to_string(), rel);
-        let listed =
-            find_cell(&plan, "method=conventional@power_budget_w:4,held_share:0.1/scenario=7").expect("listed");
+        let listed = find_cell(&plan, "method=conventional@held_share:0.1,share:0.3/scenario=7").expect("listed");
         assert!(!listed.0.methods[listed.1.method].refined);
         assert!(matches!(find_cell(&plan, "method=mimo@3/scenario=1"), Err(RerunError::NoCell { .. })));
         assert!(matches!(find_cell(&plan, "method=mimo/scenario=8"), Err(RerunError::NoCell { .. })));

@@ -169,16 +169,35 @@ fn read_mark_settled(dir: &Path) -> Result<Option<StudyMark>, DirError> {
     }
 }
 
+/// The marker in the head of the study page mimo writes (crates/mimo-study/assets/report.html).
+const PAGE_MARK: &str = r#"<meta name="generator" content="mimo study">"#;
+
+/// Whether `path` is a study page mimo wrote: its first kilobytes hold [`PAGE_MARK`].
+fn page_is_mimos(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(4096);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .is_ok_and(|_| String::from_utf8_lossy(&head).contains(PAGE_MARK))
+}
+
 /// Everything in the study directory `dir` (marked `found`) is what mimo wrote, recognised by
 /// content: its mark and plan copy, and below them only run directories' tables, records and
-/// manifests, shard logs, study tables, charts and the report ([`mimo_store::recognise`]).
+/// manifests, shard logs, study tables, charts, the report and its page ([`mimo_store::recognise`]).
 /// Anything else is refused, named, and left alone, even with `--force`.
 fn check_all_ours(dir: &Path, found: &StudyMark) -> Result<(), DirError> {
     let study = StudyDir::new(dir);
     let plan_copy = std::fs::read_to_string(study.plan()).is_ok_and(|t| t == found.plan);
     let report = std::fs::read_to_string(study.report()).is_ok_and(|t| t.starts_with("# "));
-    let ours =
-        |p: &Path| (p == study.plan() && plan_copy) || (p == study.report() && report) || p == study.mark().as_path();
+    // The page (docs/studies.md, "The page") carries its generator in its head.
+    let page = study.report_html();
+    let page_ours = page_is_mimos(&page);
+    let ours = |p: &Path| {
+        (p == study.plan() && plan_copy)
+            || (p == study.report() && report)
+            || (p == page.as_path() && page_ours)
+            || p == study.mark().as_path()
+    };
     let foreign = mimo_store::recognise::foreign_in_tree(dir, &ours).map_err(|e| match e {
         mimo_store::StoreError::Io { path, source } => DirError::Io { path, source },
         e => refused(dir, e.to_string()),
