@@ -1,17 +1,18 @@
 //! Refinement where a family's frontier crosses 98 % (docs/studies.md, "Refinement"): a plan's
 //! `[refine]` (every swept family) or a `[[methods]]` entry's `refine = { fraction, rounds }`
-//! adds points to a family, scenario by scenario and stress point by stress point, between the
-//! two frontier points that bracket the crossing, until their mean total energies differ by at
-//! most `fraction` of the energy at 98 % or `rounds` rounds are spent.
+//! adds points to a family, scenario by scenario and stress point by stress point, one a round,
+//! between two points that bracket 98 % — on the family's frontier, or on a line of its grid that
+//! might reach 98 % for less — until every such pair's mean total energies differ by at most
+//! `fraction` of the energy at 98 % or `rounds` rounds are spent.
 //!
 //! Each round is a stage of its own: its new cells are a pure function of the plan and the item
 //! records of the stages before it (every run of every cell, read from disk), so that any
 //! machine, shard or resumed process derives the same cells, named by their values. The new
 //! point lies at the midpoint of the bracketing points' values on every swept key where they
-//! differ (one key: the midpoint of their knob values); a point the family already has there
-//! ends its refinement. A crossing outside the sweep is not refined.
+//! differ (one key: the midpoint of their knob values); a pair whose midpoint the family already
+//! has gives way to the next. A crossing outside the sweep is not refined.
 
-use crate::challenge::{RUN_ENERGY, all_means, at_required};
+use crate::challenge::{FamilyRuns, RUN_ENERGY, all_means, at_required};
 use crate::challenge_table::family_rows;
 use crate::grid::Cell;
 use crate::method_sweep::{Knob, method_at};
@@ -90,9 +91,64 @@ fn midpoint(a: &Method, b: &Method) -> Vec<f64> {
     a.grid.iter().zip(&b.grid).map(|((_, x), (_, y))| if x == y { *x } else { 0.5 * (x + y) }).collect()
 }
 
-/// Round `round`'s stage (1-based): for each refined family, scenario and stress point whose
-/// bracketing energies differ by more than its fraction, the point between them; `records[c]`
-/// holds the rows of `cells[c]`.
+/// A place where a round may add a point: two points of a family (indices of its points) that
+/// bracket 98 % on the family's frontier or on one line of its grid.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    lo: usize,
+    hi: usize,
+    /// The lower point's mean total energy per object (J): the least energy a point between the
+    /// two can need, if completeness and energy rise with every knob.
+    e_lo: f64,
+    /// The family's frontier bracket (not a line's).
+    frontier: bool,
+}
+
+/// The lines of a grid family: for each swept key, the family's points grouped by their values
+/// on every other key, each group (two points or more) ordered along the key. A family sweeping
+/// one key has none (its frontier is its one line).
+fn lines(grids: &[&[(String, f64)]]) -> Vec<Vec<usize>> {
+    let keys = grids.first().map_or(0, |g| g.len());
+    if keys < 2 {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for k in 0..keys {
+        let mut groups: Vec<(Vec<f64>, Vec<usize>)> = Vec::new();
+        for (i, g) in grids.iter().enumerate() {
+            let rest: Vec<f64> = g.iter().enumerate().filter(|(j, _)| *j != k).map(|(_, (_, v))| *v).collect();
+            match groups.iter_mut().find(|(r, _)| *r == rest) {
+                Some((_, members)) => members.push(i),
+                None => groups.push((rest, vec![i])),
+            }
+        }
+        for (_, mut members) in groups.into_iter().filter(|(_, m)| m.len() >= 2) {
+            members.sort_by(|a, b| grids[*a][k].1.total_cmp(&grids[*b][k].1).then(a.cmp(b)));
+            out.push(members);
+        }
+    }
+    out
+}
+
+/// The bracket of the runs' crossing of 98 % on a subset `of` of a family's points (indices into
+/// the family's points), if it crosses inside them.
+fn bracket_on(f: &FamilyRuns, of: &[usize], all: &[usize]) -> Option<Candidate> {
+    let sub = FamilyRuns { points: of.iter().map(|&i| f.points[i].clone()).collect(), duration_s: f.duration_s };
+    let at = at_required(&sub, all).ok()?;
+    let (lo, hi) = (of[at.bracket.0], of[at.bracket.1]);
+    let e_lo = f.points[lo].means(all).figures[RUN_ENERGY]?;
+    Some(Candidate { lo, hi, e_lo, frontier: false })
+}
+
+/// Round `round`'s stage (1-based): for each refined family, scenario and stress point, at most
+/// one new point. The candidates are the two frontier points that bracket the crossing and, for
+/// a grid, the two points that bracket 98 % on each line of the grid (one key varied, the others
+/// fixed) whose lower point costs less than the family's energy at 98 %: somewhere between them
+/// the family might reach 98 % for less than its frontier says. A candidate whose two energies
+/// differ by at most the family's fraction of the energy at 98 % is settled. The round refines
+/// the frontier's bracket while it is open, then the open line with the least energy at its lower
+/// point: where the answer could lie furthest below the current estimate. `records[c]` holds the
+/// rows of `cells[c]`.
 pub fn next_stage(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], round: u32) -> Result<Stage, PlanError> {
     let ctx = Ctx { file: &plan.file.display().to_string() };
     let mut stage = Stage::default();
@@ -101,34 +157,47 @@ pub fn next_stage(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], round
         let Some(r) = base.refine.filter(|r| r.rounds >= round) else { continue };
         let all: Vec<usize> = (0..plan.runs as usize).collect();
         let Ok(at) = at_required(&row.runs, &all) else { continue };
+        let Some(e) = at.figures[crate::challenge::AT_ENERGY].filter(|e| *e > 0.0) else { continue };
         let means = all_means(&row.runs);
+        let energy = |i: usize| means[i].figures[RUN_ENERGY];
         let (lo, hi) = at.bracket;
-        let (Some(e_lo), Some(e_hi), Some(e)) =
-            (means[lo].figures[RUN_ENERGY], means[hi].figures[RUN_ENERGY], at.figures[crate::challenge::AT_ENERGY])
-        else {
-            continue;
-        };
-        if e <= 0.0 || (e_hi - e_lo).abs() / e <= r.fraction {
-            continue;
+        let mut candidates = Vec::new();
+        if let Some(e_lo) = energy(lo) {
+            candidates.push(Candidate { lo, hi, e_lo, frontier: true });
         }
-        let (m_lo, m_hi) = (&plan.methods[cells[row.cells[lo]].method], &plan.methods[cells[row.cells[hi]].method]);
-        let values = midpoint(m_lo, m_hi);
+        let grids: Vec<&[(String, f64)]> =
+            row.cells.iter().map(|&c| plan.methods[cells[c].method].grid.as_slice()).collect();
+        candidates
+            .extend(lines(&grids).iter().filter_map(|line| bracket_on(&row.runs, line, &all)).filter(|c| c.e_lo < e));
+        let open = candidates.into_iter().filter(|c| match (energy(c.lo), energy(c.hi)) {
+            (Some(a), Some(b)) => (b - a).abs() / e > r.fraction,
+            _ => false,
+        });
+        let mut open: Vec<Candidate> = open.collect();
+        // The frontier's own bracket (first in the list) stays first; then the lines, lowest bound
+        // first (stable: in line order among equals).
+        let skip = usize::from(open.first().is_some_and(|c| c.frontier));
+        open[skip..].sort_by(|a, b| a.e_lo.total_cmp(&b.e_lo));
         let keys: Vec<String> = base.grid.iter().map(|(k, _)| k.clone()).collect();
         let family_entry = plan.methods.iter().position(|m| m.family == base.family).unwrap_or(0);
-        let mut method = method_at(&ctx, &format!("methods[{family_entry}]"), base, &keys, &values)?;
-        method.refined = true;
-        let index = match plan.methods.iter().chain(&stage.methods).position(|m| m.name == method.name) {
-            Some(i) => i,
-            None => {
-                stage.methods.push(method);
-                plan.methods.len() + stage.methods.len() - 1
-            }
-        };
         let place = &cells[row.cell];
-        let cell = Cell { method: index, scenario: place.scenario, point: place.point.clone(), swept: place.swept };
-        // A point the family already has here: no progress is possible.
-        if !cells.contains(&cell) && !stage.cells.contains(&cell) {
+        for pick in open {
+            let method_of = |i: usize| &plan.methods[cells[row.cells[i]].method];
+            let values = midpoint(method_of(pick.lo), method_of(pick.hi));
+            let mut method = method_at(&ctx, &format!("methods[{family_entry}]"), base, &keys, &values)?;
+            method.refined = true;
+            let known = plan.methods.iter().chain(&stage.methods).position(|m| m.name == method.name);
+            let index = known.unwrap_or(plan.methods.len() + stage.methods.len());
+            let cell = Cell { method: index, scenario: place.scenario, point: place.point.clone(), swept: place.swept };
+            // A point the family already has here brings nothing new: the next candidate.
+            if cells.contains(&cell) || stage.cells.contains(&cell) {
+                continue;
+            }
+            if known.is_none() {
+                stage.methods.push(method);
+            }
             stage.cells.push(cell);
+            break;
         }
     }
     Ok(stage)

@@ -109,3 +109,32 @@ fn a_grid_is_refined_along_the_key_that_differs() {
     );
     assert_eq!(stage.cells.len(), 1);
 }
+
+#[test]
+fn once_the_frontier_is_settled_a_grid_line_that_could_beat_it_is_refined() {
+    let p = plan(
+        "{ \"resource_manager.power_budget_w\" = [1, 3], \"resource_manager.max_ta_share\" = [0.2, 0.4] }",
+        "[refine]\nfraction = 0.05\nrounds = 1",
+    );
+    let cs = cells(&p);
+    let names = |stage: mimo_study::refine::Stage| stage.methods.iter().map(|m| m.name.clone()).collect::<Vec<_>>();
+    // (0.2, 1 W) 0.90 at 100 J, (0.2, 3 W) 0.99 at 1000 J, (0.4, 1 W) 0.95 at 200 J, (0.4, 3 W)
+    // 0.985 at 400 J. The frontier is all four; it brackets 98 % between (0.4, 1 W) and (0.4, 3 W)
+    // (371 J), 54 % apart: that bracket is refined first, (0.4, 2 W).
+    let recs = vec![rows(0.90, 100.0), rows(0.99, 1000.0), rows(0.95, 200.0), rows(0.985, 400.0)];
+    assert_eq!(names(next_stage(&p, &cs, &recs, 1).expect("stage")), ["m@max_ta_share:0.4,power_budget_w:2"]);
+    // With (0.4, 1 W) at 0.979 and 380 J, (0.4, 3 W) at 395 J, the frontier's bracket is settled
+    // (15 J of 381 J). The line of share 0.2 crosses between 100 J and 1000 J: a point on it
+    // might reach 98 % for as little as 100 J, so it is refined: (0.2, 2 W).
+    let recs = vec![rows(0.90, 100.0), rows(0.99, 1000.0), rows(0.979, 380.0), rows(0.985, 395.0)];
+    let stage = next_stage(&p, &cs, &recs, 1).expect("stage");
+    assert_eq!(names(stage.clone()), ["m@max_ta_share:0.2,power_budget_w:2"]);
+    // Once the family has that point and it is no cheaper way to 98 % (0.93 at 550 J, above the
+    // family's 381 J), nothing is left to refine.
+    let (mut p2, mut cs2) = (p.clone(), cs.clone());
+    p2.methods.extend(stage.methods);
+    cs2.extend(stage.cells);
+    let mut recs2 = recs.clone();
+    recs2.push(rows(0.93, 550.0));
+    assert!(next_stage(&p2, &cs2, &recs2, 1).expect("stage").cells.is_empty());
+}
