@@ -9,10 +9,14 @@ when the agent says ``wait``. Nothing is sent before the agent's decision is com
 run stays the deterministic function of the seed and of the decisions that docs/ta-protocol.md §6
 promises.
 
-The tracker is the Python simple test article's (``mimo_ta.simple``: EKF + nearest neighbour,
-the built-in default test article's revisit and pulse rules; docs/decisions/0311-learning-
-environments.md says why not the built-in IMM-JPDA one). Its scheduling is replaced by the
-agent's decisions.
+The tracker is, by default (``tracker="builtin"``), the built-in default test article's (IMM +
+JPDA): mimo runs with ``--ta-role resource-manager`` (docs/ta-protocol.md §7,
+docs/decisions/0316-built-in-tracker-external-resource-manager.md), sends the tracker's rows and
+the built-in rule's proposed looks with every message, and the agent's reply says which proposals
+to make (``accept``) and what else. With ``tracker="simple"`` it is the Python simple test
+article's (``mimo_ta.simple``: EKF + nearest neighbour, the default test article's revisit and pulse
+rules) with its scheduling replaced by the agent's decisions, over the whole-test-article role
+(docs/decisions/0311-learning-environments.md).
 
 Reward (docs/decisions/0311-learning-environments.md): at every scoring time ``t_k`` the online
 completeness ``A_k / N_k`` of the challenge (docs/design.md §6: scorable truths paired with live
@@ -48,7 +52,17 @@ from ..messages import DwellRequest, Finish, SearchOrder, SearchPlan, StartInfo,
 from ..geo import EARTH_MEAN_RADIUS_M, K_EFFECTIVE_EARTH, WGS84_A_M, WGS84_B_M, ecef_to_geodetic_rad
 from ..radar import (BOLTZMANN_J_PER_K, T0_K, db_to_lin, pointing_loss, predict_pair, pulses_for, required_snr_sw1,
                      straddle_loss)
-from ..simple import PENDING_TIMEOUT_S, SimpleTa
+from ..geo import EnuFrame, Ship
+from ..messages import TrackRow
+from ..simple import PENDING_TIMEOUT_S, SimpleTa, Track
+
+TRACKERS = ("builtin", "simple")
+"""``builtin``: the built-in default test article's tracker, the agent its resource manager
+(docs/ta-protocol.md §7); ``simple``: ``mimo_ta.simple``'s tracker run in the environment."""
+BUILTIN_T_MAX_S = 2.0
+"""The built-in test articles' longest revisit of a confirmed track (s; docs/model.md §7.1): the
+observation's time to the rule's revisit of a track the rule has not proposed yet is measured to
+its last update plus this."""
 
 SEARCH_SHARES = (1.0, 0.5, 0.25, 0.1, 0.0)
 """The search shares an agent may order (docs/model.md §7.4): 1 is the radars' own raster."""
@@ -148,6 +162,62 @@ class AgentTracker(SimpleTa):
         pass
 
 
+class RuleTracks(AgentTracker):
+    """The built-in tracker's tracks as the agent sees them (``tracker="builtin"``): each track is
+    its latest row from mimo (docs/ta-protocol.md §7), turned into the ENU frame of
+    ``mimo_ta.simple`` so that predictions, visibility and the looks' sizing are the same code.
+    Nothing is tracked here; ``misses_in_row`` counts the looks at a track whose report brought no
+    row of it."""
+
+    name = "gym-agent (built-in tracker)"
+
+    def on_start(self, start) -> None:  # the built-in's settings are mimo's (--set), not ours
+        c = start.centre
+        self.enu = EnuFrame.at(c.lat_deg, c.lon_deg, 0.0)
+        self.ships = {sh.radar: Ship.from_info(sh, start.duration_s) for sh in start.ships}
+        self.params = {sh.radar: sh.radar_params for sh in start.ships}
+        self.tracks, self.next_id, self.next_wake_s = {}, 1, math.inf
+        self._rot = self.enu.enu_from_ecef
+        self._big = np.zeros((6, 6))
+        self._big[:3, :3] = self._big[3:, 3:] = self._rot
+        self._iu = np.triu_indices(6)
+
+    def ingest(self, rows: list, looked: list, now_s: float) -> list:
+        """Take the rows of one message; ``looked``: the track ids of the test article's looks
+        reported in it. Returns the rows as :class:`TrackRow` (for the online score)."""
+        out = []
+        seen = set()
+        for d in rows:
+            tid = int(d["track_id"])
+            seen.add(tid)
+            row = TrackRow(d["t_s"], tid, d["status"], d["x_m"], d["y_m"], d["z_m"], d["vx_mps"], d["vy_mps"],
+                           d["vz_mps"], d["cov"], d["n_updates"], d.get("last_meas_id"))
+            out.append(row)
+            if row.status == "deleted":
+                self.tracks.pop(tid, None)
+                continue
+            m = np.empty((6, 6))
+            m[self._iu] = row.cov
+            m.T[self._iu] = row.cov
+            x = np.concatenate([self.enu.to_enu(np.array([row.x_m, row.y_m, row.z_m])),
+                                self._rot @ np.array([row.vx_mps, row.vy_mps, row.vz_mps])])
+            pm = self._big @ m @ self._big.T
+            t = self.tracks.get(tid)
+            if t is None:
+                t = self.tracks[tid] = Track(tid, x, pm, row.t_s, row.status, row.n_updates, last_update_s=row.t_s,
+                                             next_due_s=math.inf)
+            else:
+                if row.n_updates != t.n_updates:
+                    t.last_update_s = row.t_s
+                    t.misses_in_row = 0
+                t.x, t.p, t.t_s, t.status, t.n_updates = x, pm, row.t_s, row.status, row.n_updates
+        for tid in looked:
+            t = self.tracks.get(tid)
+            if t is not None and tid not in seen:
+                t.misses_in_row += 1
+        return out
+
+
 # ---------------------------------------------------------------------------------------------
 # The online score
 
@@ -230,7 +300,10 @@ class NetworkRun:
 
     def __init__(self, *, scenario, seed: int, duration_s: float, max_tracks: int, energy_weight: float,
                  decision_period_s: float, mimo_bin: Optional[str], tracker_config: Optional[dict],
-                 extra_args: tuple, reply_timeout_s: float, workdir: str) -> None:
+                 extra_args: tuple, reply_timeout_s: float, workdir: str, tracker: str = "builtin") -> None:
+        if tracker not in TRACKERS:
+            raise ValueError(f"tracker: {tracker!r}, expected one of {TRACKERS}")
+        self.builtin = tracker == "builtin"
         self.mimo = mimo_bin or find_mimo_bin()
         self.scenario = _scenario_arg(scenario)
         self.seed = int(seed)
@@ -247,8 +320,10 @@ class NetworkRun:
         self.score: Optional[dict] = None
         self.ref = reference(self.mimo, self.scenario, self.seed, self.duration_s, tuple(extra_args))
         self.online = OnlineScore(self.ref)
-        self.tracker = AgentTracker()
+        self.tracker = RuleTracks() if self.builtin else AgentTracker()
         self._tracker_config = dict(tracker_config or {})
+        self.proposed: list = []  # the built-in rule's proposals at this decision point (raw JSON)
+        self.due: dict = {}  # track id -> time the rule first proposed a look not made yet (builtin)
         self.energy_kj = 0.0
         self.energy_by_radar_kj: dict = {}
         self.ta_time_by_radar_s: dict = {}
@@ -272,6 +347,10 @@ class NetworkRun:
         cmd = [self.mimo, "simulate", "--scenario", self.scenario, "--seed", str(self.seed),
                "--duration", repr(self.duration_s), "--threads", "1", "--quiet", "--force",
                "--out", self.run_dir, "--ta-cmd", relay, "--ta-timeout", repr(float(reply_timeout_s)), *extra_args]
+        if self.builtin:  # the built-in default's tracker; tracker_config holds its --set keys
+            cmd += ["--ta-role", "resource-manager"]
+            for k, v in self._tracker_config.items():
+                cmd += ["--set", f"{k}={json.dumps(v) if isinstance(v, bool) else v}"]
         try:
             self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._stderr, stderr=self._stderr,
                                          pass_fds=(w_child, r_child), start_new_session=True)
@@ -380,29 +459,10 @@ class NetworkRun:
             tr.now_s = self.now_s = now
             self.is_start = False
             finish = False
-            for raw in msg["events"]:
-                ev = parse_event(raw)
-                if isinstance(ev, StartInfo):
-                    self.is_start = True
-                    tr.start = ev
-                    tr.on_start(ev)
-                    for k, v in self._tracker_config.items():
-                        if k not in tr.cfg:
-                            raise ValueError(f"tracker_config: unknown setting {k!r}; known: {sorted(tr.cfg)}")
-                        tr.cfg[k] = float(v)
-                    self._on_start(ev)
-                elif isinstance(ev, Wake):
-                    if ev.t_s + 1e-9 >= self.next_wake_s:
-                        self.next_wake_s = math.inf
-                    tr.on_wake(ev.t_s)
-                elif isinstance(ev, Finish):
-                    tr.on_finish(ev.t_s)
-                    finish = True
-                else:
-                    for tag in ev.tag:
-                        for radar in self.radars:
-                            self.pending_time[radar].pop(tag, None)
-                    tr.on_dwell(ev)
+            if self.builtin:
+                finish = self._builtin_events(msg, now)
+            else:
+                finish = self._simple_events(msg)
             for row in tr._tracks:
                 self.online.add(row)
             self._search_energy(self.elapsed_s)
@@ -415,6 +475,79 @@ class NetworkRun:
             self.search_ordered = False
             self._vis_cache: dict = {}
             return self.online.advance(now)
+
+    def _simple_events(self, msg: dict) -> bool:
+        """The events of a message through ``mimo_ta.simple``'s tracker; whether one is ``finish``."""
+        tr = self.tracker
+        finish = False
+        for raw in msg["events"]:
+            ev = parse_event(raw)
+            if isinstance(ev, StartInfo):
+                self.is_start = True
+                tr.start = ev
+                tr.on_start(ev)
+                for k, v in self._tracker_config.items():
+                    if k not in tr.cfg:
+                        raise ValueError(f"tracker_config: unknown setting {k!r}; known: {sorted(tr.cfg)}")
+                    tr.cfg[k] = float(v)
+                self._on_start(ev)
+            elif isinstance(ev, Wake):
+                if ev.t_s + 1e-9 >= self.next_wake_s:
+                    self.next_wake_s = math.inf
+                tr.on_wake(ev.t_s)
+            elif isinstance(ev, Finish):
+                tr.on_finish(ev.t_s)
+                finish = True
+            else:
+                for tag in ev.tag:
+                    for radar in self.radars:
+                        self.pending_time[radar].pop(tag, None)
+                tr.on_dwell(ev)
+        return finish
+
+    def _builtin_events(self, msg: dict, now: float) -> bool:
+        """The events of a message with the built-in tracker's rows and the rule's proposals
+        (docs/ta-protocol.md §7); whether one is ``finish``."""
+        tr = self.tracker
+        finish = False
+        looked = []
+        for raw in msg["events"]:
+            kind = raw["event"]
+            if kind == "start":
+                ev = parse_event(raw)
+                self.is_start = True
+                tr.start = ev
+                tr.on_start(ev)
+                self._on_start(ev)
+            elif kind == "wake":
+                if raw["t_s"] + 1e-9 >= self.next_wake_s:
+                    self.next_wake_s = math.inf
+            elif kind == "finish":
+                finish = True
+            else:
+                tags = raw.get("tag") or ()
+                for tag in tags:
+                    for radar in self.radars:
+                        self.pending_time[radar].pop(tag, None)
+                    t = tr.tracks.get(tag)
+                    if t is not None:
+                        t.pending_since_s = None
+                if raw["requested_by"] == "ta":
+                    looked.extend(tags)
+        tr._tracks = tr.ingest(msg.get("tracks") or (), looked, now)
+        self.proposed = msg.get("proposed") or []
+        for p in self.proposed:
+            d = p.get("dwell")
+            if d is not None:
+                for tid in d["tag"]:
+                    self.due.setdefault(tid, now)
+        for tid in list(self.due):
+            t = tr.tracks.get(tid)
+            if t is None or t.pending_since_s is not None:
+                del self.due[tid]
+        for tid, t in tr.tracks.items():
+            t.next_due_s = self.due[tid] if tid in self.due else t.last_update_s + BUILTIN_T_MAX_S
+        return finish
 
     def _on_start(self, start: StartInfo) -> None:
         self.radars = [s.radar for s in start.ships]
@@ -439,9 +572,17 @@ class NetworkRun:
             self.energy_kj += e
             self.step_energy_kj += e
 
-    def _reply(self, requests: list) -> dict:
+    def _reply(self, requests: list, accept: tuple = ()) -> dict:
         tr = self.tracker
         reply: dict = {}
+        if self.builtin:  # docs/ta-protocol.md §7: the rows are the built-in's
+            if self.is_start:
+                reply["name"] = tr.name
+            if accept:
+                reply["accept"] = list(accept)
+            if requests:
+                reply["requests"] = [r.to_json() for r in requests]
+            return reply
         if self.is_start:
             reply["name"] = tr.name
             reply["config"] = tr.config()
@@ -630,12 +771,22 @@ class NetworkRun:
             earliest_s=now, aim_ecef=aim, transmitters=[TxOrder(tx, n)], receivers=rx,
             window_half_m=max(5.0 * sigma_rho, tr.cfg["min_window_half_m"]),
             predicted_snr=snr1 * n if len(rx) == 1 else None, tag=[t.id]))
-        t.pending_since_s = now
-        self.last_look[t.id] = now
         self.looked.add(slot)
+        return self._account(t.id, tx, n, rx)
+
+    def _account(self, tid: int, tx: str, n: int, rx: list) -> float:
+        """A look at track ``tid`` ordered now: pending, time owed by every participant, energy
+        (kJ, returned)."""
+        now = self.now_s
+        t = self.tracker.tracks.get(tid)
+        if t is not None:
+            t.pending_since_s = now
+        self.due.pop(tid, None)
+        self.last_look[tid] = now
+        par = self.params[tx]
         d = par.dwell_duration_s(n)
         for r in rx:
-            self.pending_time[r][t.id] = d
+            self.pending_time[r][tid] = d
             self.ta_time_by_radar_s[r] += d
             self.owed_s[r] += d
         e = par.dwell_energy_j(n) / 1e3
@@ -644,20 +795,63 @@ class NetworkRun:
         self.energy_by_radar_kj[tx] += e
         return e
 
+    def deferrable(self, transmitters: Optional[set] = None) -> list:
+        """Indices of the rule's proposals (``tracker="builtin"``) that :meth:`defer` accepts: every
+        one but looks at a track the agent gave a look at this decision point (and, with
+        ``transmitters``, looks whose first transmitter is not one of them), and search orders
+        when the agent ordered search."""
+        held = {self.slots[i] for i in self.looked}
+        out = []
+        for i, p in enumerate(self.proposed):
+            d = p.get("dwell")
+            if d is not None:
+                if transmitters is not None and d["transmitters"][0]["radar"] not in transmitters:
+                    continue
+                if not any(tid in held for tid in d["tag"]):
+                    out.append(i)
+            elif not ("search" in p and self.search_ordered):
+                out.append(i)
+        return out
+
+    def defer(self, transmitters: Optional[set] = None) -> float:
+        """Accept the built-in rule's proposals (:meth:`deferrable`) and wait, the search as it is:
+        the default rule as the decision (docs/ta-protocol.md §7)."""
+        accept = self.deferrable(transmitters)
+        now = self.now_s
+        for i in accept:
+            d = self.proposed[i].get("dwell")
+            if d is None:
+                continue
+            first, rest = d["tag"][0], d["tag"][1:]
+            # The dwell's time and energy are counted once, on its first track.
+            for j, tx in enumerate(d["transmitters"]):
+                radar = tx["radar"]
+                n = min(int(tx["n_pulses"]), self.params[radar].max_pulses)
+                self._account(first, radar, n, d["receivers"] if j == 0 else [])
+            for tid in rest:  # tracks riding along (docs/model.md §7.2)
+                t = self.tracker.tracks.get(tid)
+                if t is not None:
+                    t.pending_since_s = now
+                self.due.pop(tid, None)
+                self.last_look[tid] = now
+        return self.wait(accept)
+
     def order_search(self, share: float, radar: Optional[str] = None) -> None:
         for r in ([radar] if radar else self.radars):
             if self.share[r] != share:
+                self.search_ordered = True
                 self.share[r] = share
                 self.requests.append(SearchOrder(SearchPlan(share=share) if share > 0 else SearchPlan.none(), r))
 
-    def wait(self) -> float:
-        """Send the decision (the looks ordered, a wake-up) and run to the next decision point.
-        Returns the completeness share gained; the energy spent meanwhile is in
-        ``step_energy_kj``."""
+    def wait(self, accept: tuple = ()) -> float:
+        """Send the decision (the looks ordered, the proposals accepted, a wake-up) and run to
+        the next decision point. Returns the completeness share gained; the energy spent
+        meanwhile is in ``step_energy_kj``."""
         tr = self.tracker
         now = self.now_s
         nxt = now + self.decision_period_s
-        for t in tr.tracks.values():
+        # With the built-in tracker, mimo makes the rule's wake-ups itself (docs/ta-protocol.md §7).
+        for t in () if self.builtin else tr.tracks.values():
             if t.pending_since_s is not None:
                 nxt = min(nxt, t.pending_since_s + PENDING_TIMEOUT_S)
             elif t.next_due_s > now + 1e-9:
@@ -668,7 +862,7 @@ class NetworkRun:
         if nxt < self.duration_s and (nxt < self.next_wake_s - 1e-9 or self.next_wake_s <= now):
             self.next_wake_s = nxt
             requests.append(WakeAt(max(nxt, now)))
-        self._send(self._reply(requests))
+        self._send(self._reply(requests, accept))
         self.steps += 1
         return self.read_until_decision()
 
