@@ -49,7 +49,8 @@ import numpy as np
 from ..binary import find_mimo_bin
 from ..measurement import jacobian
 from ..messages import DwellRequest, Finish, SearchOrder, SearchPlan, StartInfo, TxOrder, Wake, WakeAt, parse_event
-from ..geo import EARTH_MEAN_RADIUS_M, K_EFFECTIVE_EARTH, WGS84_A_M, WGS84_B_M, ecef_to_geodetic_rad
+from ..geo import (EARTH_MEAN_RADIUS_M, K_EFFECTIVE_EARTH, SHIP_FRAME_STEP_S, WGS84_A_M, WGS84_B_M,
+                   ecef_to_geodetic_rad)
 from ..radar import (BOLTZMANN_J_PER_K, T0_K, db_to_lin, pointing_loss, predict_pair, pulses_for, required_snr_sw1,
                      straddle_loss)
 from ..geo import EnuFrame, Ship
@@ -332,7 +333,8 @@ class NetworkRun:
         self.steps = 0
         self.now_s = 0.0
         self.step_energy_kj = 0.0  # energy spent since the environment last reset it (kJ)
-        self._site_h: dict = {}  # site heights (ships keep their array height)
+        self._consts = None  # per-radar constants of visibility (_radar_constants)
+        self._frame_samples = None  # the ships' sampled frames as arrays (_frames_now)
         self.born: dict = {}  # track id -> time first seen
         self.last_look: dict = {}  # track id -> time of the agent's last look at it
         self._start(tuple(extra_args), reply_timeout_s)
@@ -637,25 +639,39 @@ class NetworkRun:
             if t.pending_since_s is not None and now - t.pending_since_s >= PENDING_TIMEOUT_S:
                 t.pending_since_s = None
 
+    def predicted_all(self) -> tuple:
+        """Every slot's track predicted to now, computed once per decision point as arrays:
+        (slots, x (N, 6), P (N, 6, 6)) in the tracker's ENU frame (nearly-constant velocity,
+        docs/model.md §6.1; the arithmetic of one track at a time, element by element)."""
+        if "pred" not in self._vis_cache:
+            slots = [i for i in range(self.k_max) if self.track_in(i) is not None]
+            tracks = [self.track_in(i) for i in slots]
+            n = len(tracks)
+            xs, ps = np.empty((n, 6)), np.empty((n, 6, 6))
+            if n:
+                q = self.tracker.cfg["sigma_a_mps2"] ** 2
+                dts = [self.now_s - t.t_s for t in tracks]
+                dt = np.array(dts)[:, None, None]
+                c4 = np.array([q * abs(d) ** 4 / 4 for d in dts])[:, None, None]
+                c3 = np.array([q * abs(d) ** 3 / 2 for d in dts])[:, None, None]
+                c2 = np.array([q * abs(d) * abs(d) for d in dts])[:, None, None]
+                p = np.array([t.p for t in tracks])
+                x = np.array([t.x for t in tracks])
+                pp, pv, vv = p[:, :3, :3], p[:, :3, 3:], p[:, 3:, 3:]
+                ps[:, :3, :3] = pp + dt * (pv + pv.transpose(0, 2, 1)) + dt * dt * vv + c4 * _I3
+                ps[:, :3, 3:] = pv + dt * vv + c3 * _I3
+                ps[:, 3:, :3] = ps[:, :3, 3:].transpose(0, 2, 1)
+                ps[:, 3:, 3:] = vv + c2 * _I3
+                xs[:, :3] = x[:, :3] + dt[:, 0] * x[:, 3:]
+                xs[:, 3:] = x[:, 3:]
+            self._vis_cache["pred"] = (slots, xs, ps, {s: k for k, s in enumerate(slots)})
+        return self._vis_cache["pred"]
+
     def predicted(self, slot: int):
-        """The track in ``slot`` predicted to now: (x, P) in the tracker's ENU frame, computed
-        once per decision point (nearly-constant velocity, docs/model.md §6.1)."""
-        key = ("pred", slot)
-        if key not in self._vis_cache:
-            t = self.track_in(slot)
-            dt = self.now_s - t.t_s
-            q = self.tracker.cfg["sigma_a_mps2"] ** 2
-            p = t.p
-            pp, pv, vv = p[:3, :3], p[:3, 3:], p[3:, 3:]
-            a = abs(dt)
-            out = np.empty((6, 6))
-            out[:3, :3] = pp + dt * (pv + pv.T) + dt * dt * vv + (q * a**4 / 4) * _I3
-            out[:3, 3:] = pv + dt * vv + (q * a**3 / 2) * _I3
-            out[3:, :3] = out[:3, 3:].T
-            out[3:, 3:] = vv + (q * a * a) * _I3
-            x = np.concatenate([t.x[:3] + dt * t.x[3:], t.x[3:]])
-            self._vis_cache[key] = (x, out)
-        return self._vis_cache[key]
+        """The track in ``slot`` predicted to now: (x, P) (:meth:`predicted_all`)."""
+        _, xs, ps, index = self.predicted_all()
+        k = index[slot]
+        return xs[k], ps[k]
 
     def track_in(self, slot: int):
         tid = self.slots[slot] if 0 <= slot < self.k_max else None
@@ -672,43 +688,80 @@ class NetworkRun:
             self._vis_cache["vis"] = self._visibility_all()
         return self._vis_cache["vis"].get(slot, {})
 
+    def _radar_constants(self) -> tuple:
+        """Per radar, in radar order, what visibility needs and does not change: scan limit,
+        scan-loss exponent, peak gain, the radar equation's numerator and denominator factors,
+        and the horizon angle of its site (ships keep their array height)."""
+        if self._consts is None:
+            tr = self.tracker
+            rows = []
+            for r in self.radars:
+                par = self.params[r]
+                origin = tr.ships[r].faces_sampled(0.0)[0].origin_ecef
+                ha = max(ecef_to_geodetic_rad(origin)[2], 0.0)
+                re = K_EFFECTIVE_EARTH * EARTH_MEAN_RADIUS_M
+                lam = par.wavelength_m
+                rows.append((par.min_scan_w, par.scan_loss_exponent, par.peak_gain, par.peak_power_w, lam * 1.0,
+                             par.pulse_width_s, T0_K * db_to_lin(par.noise_figure_db), db_to_lin(par.loss_db),
+                             math.acos(re / (re + ha))))
+            cols = [np.array(c) for c in zip(*rows)]
+            self._consts = tuple(c[:, None] for c in cols)  # (R, 1) each, to broadcast over tracks
+        return self._consts
+
     def _visibility_all(self) -> dict:
+        """Every slot against every radar in one pass of arrays (R radars × N tracks), the same
+        arithmetic, in the same order, as one radar at a time."""
         tr = self.tracker
-        slots = [i for i in range(self.k_max) if self.track_in(i) is not None]
+        slots, xs, _, _ = self.predicted_all()
         if not slots:
             return {}
-        pts = np.array([tr.enu.to_ecef(self.predicted(i)[0][:3]) for i in slots])
-        out: dict = {i: {} for i in slots}
+        pts = tr.enu.to_ecef(xs[:, :3])  # (N, 3)
         norm_p = np.linalg.norm(pts, axis=1)
         sin_lat_c = pts[:, 2] / norm_p
         a, b = WGS84_A_M, WGS84_B_M
         r_ell = a * b / np.sqrt((b * b) * (1 - sin_lat_c**2) + (a * a) * sin_lat_c**2)
         h_t = np.maximum(norm_p - r_ell, 0.0)
         re = K_EFFECTIVE_EARTH * EARTH_MEAN_RADIUS_M
-        for r in self.radars:
-            par = self.params[r]
-            faces = self._faces(r)
-            origin = faces[0].origin_ecef
-            rot = np.array([f.face_from_ecef for f in faces])  # (F, 3, 3)
-            d = pts - origin
-            rng = np.linalg.norm(d, axis=1)
-            w = np.einsum("fj,nj->nf", rot[:, 2, :], d).max(axis=1) / rng
-            if "h_" + r not in self._site_h:
-                self._site_h["h_" + r] = max(ecef_to_geodetic_rad(origin)[2], 0.0)
-            ha = self._site_h["h_" + r]
-            cos_psi = np.clip(pts @ origin / (norm_p * np.linalg.norm(origin)), -1.0, 1.0)
-            psi_e = EARTH_MEAN_RADIUS_M * np.arccos(cos_psi) / re
-            seen = (w >= par.min_scan_w - 1e-12) & (psi_e <= math.acos(re / (re + ha)) + np.arccos(re / (re + h_t)))
-            g = par.peak_gain * np.where(w > 0, np.abs(w) ** par.scan_loss_exponent, 0.0)
-            lam = par.wavelength_m
-            loss = db_to_lin(par.loss_db)
-            t_sys = T0_K * db_to_lin(par.noise_figure_db)
-            snr = (par.peak_power_w * g * g * lam * lam * tr.cfg["assumed_rcs_m2"] * par.pulse_width_s
-                   / ((4.0 * math.pi) ** 3 * rng**4 * BOLTZMANN_J_PER_K * t_sys * loss))
-            for j, i in enumerate(slots):
-                if seen[j]:
-                    out[i][r] = float(snr[j])
-        return out
+        min_w, expo, gain, power, lam, tau, t_sys, loss, horizon = self._radar_constants()
+        origins, normals = self._frames_now()
+        d = pts[None, :, :] - origins[:, None, :]  # (R, N, 3)
+        rng = np.linalg.norm(d, axis=2)
+        w = np.einsum("rfj,rnj->rnf", normals, d).max(axis=2) / rng
+        cos_psi = np.clip((pts @ origins.T).T / (norm_p[None, :] * np.linalg.norm(origins, axis=1)[:, None]), -1.0, 1.0)
+        psi_e = EARTH_MEAN_RADIUS_M * np.arccos(cos_psi) / re
+        seen = (w >= min_w - 1e-12) & (psi_e <= horizon + np.arccos(re / (re + h_t))[None, :])
+        g = gain * np.where(w > 0, np.abs(w) ** expo, 0.0)
+        snr = (power * g * g * lam * lam * tr.cfg["assumed_rcs_m2"] * tau
+               / ((4.0 * math.pi) ** 3 * rng**4 * BOLTZMANN_J_PER_K * t_sys * loss))
+        radars = self.radars
+        return {i: {r: v for r, ok, v in zip(radars, ok_j, snr_j) if ok}
+                for i, ok_j, snr_j in zip(slots, seen.T.tolist(), snr.T.tolist())}
+
+    def _frames_now(self) -> tuple:
+        """Every radar's array centre (R, 3) and face boresights (R, F, 3) now, interpolated from
+        the ships' samples as :meth:`mimo_ta.geo.Ship.faces_sampled` does, for all radars at once
+        (a radar with fewer faces repeats its first: the largest cosine is unchanged)."""
+        if self._frame_samples is None:
+            ships = [self.tracker.ships[r] for r in self.radars]
+            n_faces = max(len(sh._samples[0]) for sh in ships)
+            n = max(len(sh._samples) for sh in ships)  # a stationary ship has one sample
+            samples = [sh._samples if len(sh._samples) == n else sh._samples[:1] * n for sh in ships]
+            o = np.array([[fs[0].origin_ecef for fs in ss] for ss in samples])  # (R, n, 3)
+            nb = np.array([[[fs[min(k, len(fs) - 1)].face_from_ecef[2] for k in range(n_faces)] for fs in ss]
+                           for ss in samples])  # (R, n, F, 3)
+            self._frame_samples = (o, nb)
+        if "frames" not in self._vis_cache:
+            o, nb = self._frame_samples
+            n = o.shape[1]
+            if n == 1 or not math.isfinite(self.now_s):
+                self._vis_cache["frames"] = (o[:, 0], nb[:, 0])
+            else:
+                x = self.now_s / SHIP_FRAME_STEP_S
+                k = min(int(max(math.floor(x), 0.0)), n - 2)
+                w = x - k
+                self._vis_cache["frames"] = (o[:, k] + (o[:, k + 1] - o[:, k]) * w,
+                                             nb[:, k] + (nb[:, k + 1] - nb[:, k]) * w)
+        return self._vis_cache["frames"]
 
     def _faces(self, radar: str):
         key = ("faces", radar)

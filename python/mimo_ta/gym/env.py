@@ -300,24 +300,30 @@ class NetworkEnv(gym.Env):
         same_point = self._obs_key == (self._episode, run.steps)
         if same_point:
             obs["tracks"][:] = self._obs_tracks
-        for slot in range(self.k):
-            t = run.track_in(slot)
-            if t is None or same_point and slot not in run.looked:
-                continue
-            x, p = run.predicted(slot)
-            row = obs["tracks"][slot]
-            age = now - born[t.id]
-            row[:nt] = (1.0, t.status == "confirmed", t.next_due_s <= now + 1e-9, t.pending_since_s is not None,
-                        x[0] / 1e3, x[1] / 1e3, x[2] / 1e3, x[3], x[4], x[5],
-                        math.sqrt(max(np.trace(p[:3, :3]) / 3, 0.0)), math.sqrt(max(np.trace(p[3:, 3:]) / 3, 0.0)),
-                        age, now - t.last_update_s,
-                        now - last_look[t.id] if t.id in last_look else age,
-                        t.next_due_s - now, t.misses_in_row)
-            vis = run.visibility(slot)
-            for ri, r in enumerate(self.radars):
-                if r in vis:
+        slots, xs, ps, _ = run.predicted_all()
+        rows = [k for k, slot in enumerate(slots) if not same_point or slot in run.looked]
+        if rows:
+            tk = obs["tracks"]
+            sel = [slots[k] for k in rows]
+            ts = [run.track_in(slot) for slot in sel]
+            x, p = xs[rows], ps[rows]
+            pos_std = np.sqrt(np.maximum(np.trace(p[:, :3, :3], axis1=1, axis2=2) / 3, 0.0)).tolist()
+            vel_std = np.sqrt(np.maximum(np.trace(p[:, 3:, 3:], axis1=1, axis2=2) / 3, 0.0)).tolist()
+            table = []
+            for t, (e, n, u, ve, vn, vu), ps_, vs_ in zip(ts, x.tolist(), pos_std, vel_std):
+                age = now - born[t.id]
+                table.append((1.0, t.status == "confirmed", t.next_due_s <= now + 1e-9, t.pending_since_s is not None,
+                              e / 1e3, n / 1e3, u / 1e3, ve, vn, vu, ps_, vs_, age, now - t.last_update_s,
+                              now - last_look[t.id] if t.id in last_look else age, t.next_due_s - now,
+                              t.misses_in_row))
+            tk[sel, :nt] = table
+            radars = self.radars
+            for slot in sel:
+                row = tk[slot]
+                for r, snr in run.visibility(slot).items():
+                    ri = radars.index(r)
                     row[nt + 2 * ri] = 1.0
-                    row[nt + 2 * ri + 1] = 10.0 * math.log10(max(vis[r], 1e-10))
+                    row[nt + 2 * ri + 1] = 10.0 * math.log10(max(snr, 1e-10))
         for ri, r in enumerate(self.radars):
             obs["radars"][ri] = (run.share[r], sum(run.pending_time[r].values()),
                                  run.ta_time_by_radar_s[r] / max(now, 1e-3), run.energy_by_radar_kj[r])
