@@ -2,10 +2,11 @@
 
 The protocol is callback-style: ``mimo`` writes a message and waits for the reply
 (docs/ta-protocol.md §1). Here control is inverted without threads: ``mimo`` is started with a
-test-article command that only relays its pipes (``sh -c 'cat /dev/fd/R & exec cat >/dev/fd/W'``,
-two ``cat`` processes joining mimo's stdin/stdout to two pipes this process holds), so the
-environment reads each message when the agent asks for the next decision and writes the reply
-when the agent says ``wait``. Nothing is sent before the agent's decision is complete, so the
+test-article command that hands its stdin and stdout — mimo's two pipes — to this process over a
+Unix socket (SCM_RIGHTS) and exits, so the environment reads each message from mimo's pipe when
+the agent asks for the next decision and writes the reply when the agent says ``wait``. (Until
+issue 41's speed work the command was a relay of two ``cat`` processes, two more pipe hops each
+way.) Nothing is sent before the agent's decision is complete, so the
 run stays the deterministic function of the seed and of the decisions that docs/ta-protocol.md §6
 promises.
 
@@ -36,9 +37,12 @@ import json
 import math
 import os
 import select
+import shlex
 import shutil
 import signal
+import socket
 import subprocess
+import sys
 import tempfile
 import weakref
 from dataclasses import dataclass
@@ -295,7 +299,7 @@ def _scenario_arg(scenario) -> str:
 
 
 class NetworkRun:
-    """One episode: ``mimo simulate`` with the relay, the tracker, the online score, and the
+    """One episode: ``mimo simulate`` with mimo's pipes held here, the tracker, the online score, and the
     decision point the agent is at. Used by :class:`mimo_ta.gym.NetworkEnv` (one agent) and
     :class:`mimo_ta.gym.ParallelNetworkEnv` (one agent per ship)."""
 
@@ -342,9 +346,14 @@ class NetworkRun:
     # -- the process --------------------------------------------------------------------------
 
     def _start(self, extra_args: tuple, reply_timeout_s: float) -> None:
-        r_env, w_child = os.pipe()  # child -> environment
-        r_child, w_env = os.pipe()  # environment -> child
-        relay = f"sh -c 'cat /dev/fd/{r_child} & exec cat >/dev/fd/{w_child}'"
+        # The test article is a helper that hands its stdin and stdout (mimo's pipes) to this
+        # process over a Unix socket (SCM_RIGHTS) and exits: the environment then reads and
+        # writes mimo's pipes itself, with no relay between them.
+        sock_path = os.path.join(tempfile.mkdtemp(prefix="mimo-gym-sock-"), "ta.sock")
+        listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        listener.bind(sock_path)
+        listener.listen(1)
+        relay = f"{shlex.quote(sys.executable)} -S -c {shlex.quote(_HANDOFF)} {shlex.quote(sock_path)}"
         self._stderr = tempfile.TemporaryFile(mode="w+b")
         cmd = [self.mimo, "simulate", "--scenario", self.scenario, "--seed", str(self.seed),
                "--duration", repr(self.duration_s), "--threads", "1", "--quiet", "--force",
@@ -355,25 +364,48 @@ class NetworkRun:
                 cmd += ["--set", f"{k}={json.dumps(v) if isinstance(v, bool) else v}"]
         try:
             self.proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=self._stderr, stderr=self._stderr,
-                                         pass_fds=(w_child, r_child), start_new_session=True)
+                                         start_new_session=True)
         except BaseException:
-            for fd in (r_env, w_env):
-                os.close(fd)
+            listener.close()
+            shutil.rmtree(os.path.dirname(sock_path), ignore_errors=True)
             self._stderr.close()
             raise
-        finally:
-            os.close(w_child)
-            os.close(r_child)
-        self._rfd = r_env
         self._buf = bytearray()
-        self._wfd = w_env
         # An environment dropped without close(), or an interpreter that exits, still ends the run.
         weakref.finalize(self, _kill_group, self.proc)
+        try:
+            self._rfd, self._wfd = self._receive_pipes(listener)
+        except BaseException:
+            self.close()
+            raise
+        finally:
+            listener.close()
+            shutil.rmtree(os.path.dirname(sock_path), ignore_errors=True)
         try:
             self.read_until_decision()
         except BaseException:
             self.close()
             raise
+
+    def _receive_pipes(self, listener: socket.socket) -> tuple:
+        """mimo's two pipes, (read end of its messages, write end for the replies), from the
+        helper; a mimo that ends first (a scenario it refuses) raises its error."""
+        listener.settimeout(0.1)
+        while True:
+            try:
+                conn, _ = listener.accept()
+                break
+            except socket.timeout:
+                if self.proc.poll() is not None:
+                    raise self._died("stopped before the run started") from None
+        with conn:
+            conn.settimeout(60.0)
+            _msg, fds, _flags, _addr = socket.recv_fds(conn, 16, 2)
+        if len(fds) != 2:
+            for fd in fds:
+                os.close(fd)
+            raise self._died("did not start the test article")
+        return fds[0], fds[1]
 
     def _stderr_text(self) -> str:
         self._stderr.seek(0)
@@ -391,7 +423,7 @@ class NetworkRun:
         return MimoError(f"mimo {what} (exit status {code}): " + ("\n".join(lines) if lines else "no message"))
 
     def kill(self) -> None:
-        """Stop mimo and the relay (its process group) and close the pipes; idempotent."""
+        """Stop mimo (its process group) and close the pipes; idempotent."""
         if self.proc is not None and self.proc.returncode is None:
             try:
                 os.killpg(self.proc.pid, signal.SIGKILL)
@@ -402,7 +434,7 @@ class NetworkRun:
             except subprocess.TimeoutExpired:
                 pass
         elif self.proc is not None:
-            try:  # the relay's reader may outlive mimo by a moment
+            try:  # a test-article helper may outlive mimo by a moment
                 os.killpg(self.proc.pid, signal.SIGKILL)
             except (ProcessLookupError, PermissionError):
                 pass
@@ -426,9 +458,8 @@ class NetworkRun:
             raise self._died("stopped") from None
 
     def _readline(self) -> bytes:
-        """The next line from mimo, or b"" once mimo has ended without one. The relay's reader
-        keeps the pipe's write end open after mimo is gone, so an ended mimo is seen by polling
-        it, not by end of file."""
+        """The next line from mimo, or b"" once mimo has ended without one (end of file, or mimo
+        seen ended by polling it)."""
         while True:
             i = self._buf.find(b"\n")
             if i >= 0:
@@ -918,6 +949,11 @@ class NetworkRun:
         self._send(self._reply(requests, accept))
         self.steps += 1
         return self.read_until_decision()
+
+
+_HANDOFF = ("import socket,sys;s=socket.socket(socket.AF_UNIX);s.connect(sys.argv[1]);"
+            "socket.send_fds(s,[b\"m\"],[0,1]);s.close()")
+"""The test article mimo starts: hand its stdin and stdout to the environment and exit."""
 
 
 def _kill_group(proc: subprocess.Popen) -> None:
