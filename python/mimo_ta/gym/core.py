@@ -353,11 +353,11 @@ class NetworkRun:
         listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         listener.bind(sock_path)
         listener.listen(1)
-        relay = f"{shlex.quote(sys.executable)} -S -c {shlex.quote(_HANDOFF)} {shlex.quote(sock_path)}"
+        handoff = f"{shlex.quote(sys.executable)} -S -c {shlex.quote(_HANDOFF)} {shlex.quote(sock_path)}"
         self._stderr = tempfile.TemporaryFile(mode="w+b")
         cmd = [self.mimo, "simulate", "--scenario", self.scenario, "--seed", str(self.seed),
                "--duration", repr(self.duration_s), "--threads", "1", "--quiet", "--force",
-               "--out", self.run_dir, "--ta-cmd", relay, "--ta-timeout", repr(float(reply_timeout_s)), *extra_args]
+               "--out", self.run_dir, "--ta-cmd", handoff, "--ta-timeout", repr(float(reply_timeout_s)), *extra_args]
         if self.builtin:  # the built-in default's tracker; tracker_config holds its --set keys
             cmd += ["--ta-role", "resource-manager"]
             for k, v in self._tracker_config.items():
