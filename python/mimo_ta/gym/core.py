@@ -716,8 +716,18 @@ class NetworkRun:
         (within a metre of the geodetic one at these ranges): a prediction, as every mask is —
         mimo has the last word on who takes part in a dwell (docs/ta-protocol.md §3)."""
         if "vis" not in self._vis_cache:
-            self._vis_cache["vis"] = self._visibility_all()
+            slots, seen, snr = self.visibility_arrays()
+            radars = self.radars
+            self._vis_cache["vis"] = {i: {r: v for r, ok, v in zip(radars, ok_j, snr_j) if ok}
+                                      for i, ok_j, snr_j in zip(slots, seen.T.tolist(), snr.T.tolist())}
         return self._vis_cache["vis"].get(slot, {})
+
+    def visibility_arrays(self) -> tuple:
+        """:meth:`visibility` of every slot as arrays: (slots, seen (R, N) booleans, SNR (R, N)
+        linear), radars in radar order, slots as :meth:`predicted_all`'s."""
+        if "visarr" not in self._vis_cache:
+            self._vis_cache["visarr"] = self._visibility_all()
+        return self._vis_cache["visarr"]
 
     def _radar_constants(self) -> tuple:
         """Per radar, in radar order, what visibility needs and does not change: scan limit,
@@ -739,13 +749,13 @@ class NetworkRun:
             self._consts = tuple(c[:, None] for c in cols)  # (R, 1) each, to broadcast over tracks
         return self._consts
 
-    def _visibility_all(self) -> dict:
+    def _visibility_all(self) -> tuple:
         """Every slot against every radar in one pass of arrays (R radars × N tracks), the same
         arithmetic, in the same order, as one radar at a time."""
         tr = self.tracker
         slots, xs, _, _ = self.predicted_all()
         if not slots:
-            return {}
+            return slots, np.zeros((len(self.radars), 0), dtype=bool), np.zeros((len(self.radars), 0))
         pts = tr.enu.to_ecef(xs[:, :3])  # (N, 3)
         norm_p = np.linalg.norm(pts, axis=1)
         sin_lat_c = pts[:, 2] / norm_p
@@ -764,9 +774,7 @@ class NetworkRun:
         g = gain * np.where(w > 0, np.abs(w) ** expo, 0.0)
         snr = (power * g * g * lam * lam * tr.cfg["assumed_rcs_m2"] * tau
                / ((4.0 * math.pi) ** 3 * rng**4 * BOLTZMANN_J_PER_K * t_sys * loss))
-        radars = self.radars
-        return {i: {r: v for r, ok, v in zip(radars, ok_j, snr_j) if ok}
-                for i, ok_j, snr_j in zip(slots, seen.T.tolist(), snr.T.tolist())}
+        return slots, seen, snr
 
     def _frames_now(self) -> tuple:
         """Every radar's array centre (R, 3) and face boresights (R, F, 3) now, interpolated from

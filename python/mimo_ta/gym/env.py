@@ -317,13 +317,10 @@ class NetworkEnv(gym.Env):
                               now - last_look[t.id] if t.id in last_look else age, t.next_due_s - now,
                               t.misses_in_row))
             tk[sel, :nt] = table
-            radars = self.radars
-            for slot in sel:
-                row = tk[slot]
-                for r, snr in run.visibility(slot).items():
-                    ri = radars.index(r)
-                    row[nt + 2 * ri] = 1.0
-                    row[nt + 2 * ri + 1] = 10.0 * math.log10(max(snr, 1e-10))
+            _, seen, snr = run.visibility_arrays()
+            seen, snr = seen[:, rows], snr[:, rows]
+            tk[sel, nt::2] = seen.T
+            tk[sel, nt + 1::2] = np.where(seen, 10.0 * np.log10(np.maximum(snr, 1e-10)), 0.0).T
         for ri, r in enumerate(self.radars):
             obs["radars"][ri] = (run.share[r], sum(run.pending_time[r].values()),
                                  run.ta_time_by_radar_s[r] / max(now, 1e-3), run.energy_by_radar_kj[r])
@@ -335,7 +332,8 @@ class NetworkEnv(gym.Env):
 
     def _clip(self, obs: dict) -> dict:
         for k, s in self.observation_space.spaces.items():
-            np.clip(obs[k], s.low, s.high, out=obs[k])
+            x = obs[k]
+            np.minimum(np.maximum(x, s.low, out=x), s.high, out=x)
         return obs
 
 
