@@ -82,12 +82,20 @@ fn a_resource_manager_that_defers_to_the_rule_gives_the_built_in_default_run_byt
 }
 
 /// Accepting some proposals and adding a look of its own: the accepted looks and the own look
-/// are made (the own one with its tag), the refused ones are proposed again later.
+/// are made (the own one reported with its tag), the refused ones are proposed again later.
 #[test]
 fn a_resource_manager_mixes_accepted_proposals_and_its_own_looks() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let out = tmp.path().join("half");
-    simulate(&out, &["--ta-cmd", &format!("{RM} half"), "--ta-role", "resource-manager"]);
+    let err = simulate(&out, &["--ta-cmd", &format!("{RM} half"), "--ta-role", "resource-manager"]);
+    // Its own look ran and came back to it with its tag.
+    assert!(err.contains("rule_rm.py: own look reported"), "{err}");
+    // A refused proposal is proposed again while its track is due.
+    let again: u64 = err
+        .lines()
+        .find_map(|l| l.strip_prefix("rule_rm.py: ")?.strip_suffix(" proposals again after a refusal")?.parse().ok())
+        .unwrap_or_else(|| panic!("no count of proposals again: {err}"));
+    assert!(again > 0, "{err}");
     let dwells: Vec<mimo_core::records::DwellRow> =
         mimo_store::read_table(&out.join("dwells/run-0000.parquet")).expect("dwells");
     let ta = dwells.iter().filter(|d| d.requested_by == mimo_core::records::Requester::Ta).count();
