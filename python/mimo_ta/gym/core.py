@@ -889,10 +889,13 @@ class NetworkRun:
 
     def deferrable(self, transmitters: Optional[set] = None) -> list:
         """Indices of the rule's proposals (``tracker="builtin"``) that :meth:`defer` accepts: every
-        one but looks at a track the agent gave a look at this decision point (and, with
-        ``transmitters``, looks whose first transmitter is not one of them), and search orders
-        when the agent ordered search."""
+        one but looks at a track the agent gave a look at this decision point or that has a look
+        of the agent's outstanding (the rule knows only of its own), with ``transmitters``, looks
+        whose first transmitter is not one of them, and search orders when the agent ordered
+        search."""
         held = {self.slots[i] for i in self.looked}
+        tracks = self.tracker.tracks
+        held.update(tid for tid, t in tracks.items() if t.pending_since_s is not None)
         out = []
         for i, p in enumerate(self.proposed):
             d = p.get("dwell")
