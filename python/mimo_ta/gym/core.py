@@ -339,6 +339,7 @@ class NetworkRun:
         self.step_energy_kj = 0.0  # energy spent since the environment last reset it (kJ)
         self._consts = None  # per-radar constants of visibility (_radar_constants)
         self._frame_samples = None  # the ships' sampled frames as arrays (_frames_now)
+        self._stack = None  # the slots' tracks and states, stacked (predicted_all)
         self.born: dict = {}  # track id -> time first seen
         self.last_look: dict = {}  # track id -> time of the agent's last look at it
         self._start(tuple(extra_args), reply_timeout_s)
@@ -494,8 +495,11 @@ class NetworkRun:
             finish = False
             if self.builtin:
                 finish = self._builtin_events(msg, now)
+                if tr._tracks:
+                    self._stack = None
             else:
                 finish = self._simple_events(msg)
+                self._stack = None  # the simple tracker updates its tracks in place
             for row in tr._tracks:
                 self.online.add(row)
             self._search_energy(self.elapsed_s)
@@ -652,6 +656,12 @@ class NetworkRun:
     # -- the decision point ------------------------------------------------------------------
 
     def _sync_slots(self) -> None:
+        before = list(self.slots)
+        self._sync_slots_now()
+        if self.slots != before:
+            self._stack = None
+
+    def _sync_slots_now(self) -> None:
         live = self.tracker.tracks
         for i, tid in enumerate(self.slots):
             if tid is not None and tid not in live:
@@ -675,8 +685,12 @@ class NetworkRun:
         (slots, x (N, 6), P (N, 6, 6)) in the tracker's ENU frame (nearly-constant velocity,
         docs/model.md §6.1; the arithmetic of one track at a time, element by element)."""
         if "pred" not in self._vis_cache:
-            slots = [i for i in range(self.k_max) if self.track_in(i) is not None]
-            tracks = [self.track_in(i) for i in slots]
+            if self._stack is None:  # the slots' states, stacked, kept until a track or a slot changes
+                slots = [i for i in range(self.k_max) if self.track_in(i) is not None]
+                tracks = [self.track_in(i) for i in slots]
+                self._stack = (slots, tracks, np.array([t.x for t in tracks]).reshape(-1, 6),
+                               np.array([t.p for t in tracks]).reshape(-1, 6, 6))
+            slots, tracks, x, p = self._stack
             n = len(tracks)
             xs, ps = np.empty((n, 6)), np.empty((n, 6, 6))
             if n:
@@ -686,8 +700,6 @@ class NetworkRun:
                 c4 = np.array([q * abs(d) ** 4 / 4 for d in dts])[:, None, None]
                 c3 = np.array([q * abs(d) ** 3 / 2 for d in dts])[:, None, None]
                 c2 = np.array([q * abs(d) * abs(d) for d in dts])[:, None, None]
-                p = np.array([t.p for t in tracks])
-                x = np.array([t.x for t in tracks])
                 pp, pv, vv = p[:, :3, :3], p[:, :3, 3:], p[:, 3:, 3:]
                 ps[:, :3, :3] = pp + dt * (pv + pv.transpose(0, 2, 1)) + dt * dt * vv + c4 * _I3
                 ps[:, :3, 3:] = pv + dt * vv + c3 * _I3
