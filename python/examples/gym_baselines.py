@@ -50,10 +50,12 @@ def main() -> int:
     ap.add_argument("--duration", type=float, default=300.0)
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--energy-weight", type=float, default=1e-3, help="lambda, reward per kJ")
+    ap.add_argument("--tracker", choices=("builtin", "simple"), default="builtin",
+                    help="the built-in default tracker (the agent its resource manager) or mimo_ta.simple's")
     ap.add_argument("--mimo", default=None, help="the mimo binary (default: the installed one)")
     a = ap.parse_args()
     scenario = int(a.scenario) if a.scenario.isdigit() else a.scenario
-    env = NetworkEnv(scenario=scenario, duration_s=a.duration, energy_weight=a.energy_weight, mimo_bin=a.mimo)
+    env = NetworkEnv(scenario=scenario, duration_s=a.duration, energy_weight=a.energy_weight, mimo_bin=a.mimo, tracker=a.tracker)
     rows = []
     try:
         for seed in a.seeds:

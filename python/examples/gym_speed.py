@@ -34,6 +34,9 @@ PARTS = {  # (file suffix, function): part
     ("env.py", "_observe"): "observation", ("env.py", "action_masks"): "masks and policy",
     ("policies.py", "rule_policy"): "masks and policy",
     ("core.py", "advance"): "online score",
+    ("core.py", "ingest"): "built-in tracker's rows", ("core.py", "_sync_slots"): "slots",
+    ("core.py", "_visibility_all"): "observation: visibility", ("core.py", "predicted_all"): "observation: predictions",
+    ("core.py", "_builtin_events"): "events (built-in tracker)",
     ("core.py", "_readline"): "protocol (pipes)", ("core.py", "_send"): "protocol (JSON out, pipes)",
     ("__init__.py", "loads"): "protocol (JSON in)", ("messages.py", "parse_event"): "protocol (JSON in)",
 }
@@ -41,16 +44,19 @@ PARTS = {  # (file suffix, function): part
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tracker", choices=("builtin", "simple"), default="builtin",
+                    help="the built-in default tracker (the agent its resource manager) or mimo_ta.simple's")
     ap.add_argument("--mimo", default=None)
     ap.add_argument("--duration", type=float, default=300.0)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--profile", action="store_true")
+    ap.add_argument("--cpu-timer", action="store_true", help="profile CPU time (default: wall time)")
     a = ap.parse_args()
-    env = NetworkEnv(scenario=1, duration_s=a.duration, mimo_bin=a.mimo)
+    env = NetworkEnv(scenario=1, duration_s=a.duration, mimo_bin=a.mimo, tracker=a.tracker)
     obs, _ = env.reset(seed=a.seed)
     ch0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     c0, w0 = time.process_time(), time.perf_counter()
-    prof = cProfile.Profile()
+    prof = cProfile.Profile(time.process_time) if a.cpu_timer else cProfile.Profile()
     steps = 0
     if a.profile:
         prof.enable()

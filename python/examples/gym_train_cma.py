@@ -8,7 +8,9 @@ The policy, at each decision point: for every track slot with a valid look, a sc
 ``w · [1, confirmed, due, until_due_s/4, since_update_s/4, since_look_s/4, pos_std_km, misses]``;
 if the best score is positive it looks at that track with the radar of best predicted SNR, MIMO
 when ``w_mimo · [1, confirmed] > 0``, pulses by the rule or a fixed level chosen by ``w_pulses``;
-otherwise it waits, with the search share picked by ``w_search``.
+otherwise it waits, with the search share picked by ``w_search`` — or, with the built-in tracker
+(``--tracker builtin``, the default) and ``w_defer > 0``, *defers* (the built-in rule's proposed
+looks) once the radars search at that share.
 
     nice -n 10 python3 python/examples/gym_train_cma.py --generations 4 --popsize 6 --train-duration 60 \\
         --eval-seeds 1 2 3 --eval-duration 300 --mimo target/release/mimo --out weights.json
@@ -34,7 +36,7 @@ from mimo_ta.gym.env import TRACK_FEATURES  # noqa: E402
 NT = len(TRACK_FEATURES)
 F = {name: i for i, (name, *_rest) in enumerate(TRACK_FEATURES)}
 N_LOOK = 8
-N_PARAMS = N_LOOK + 2 + 2 + 1
+N_PARAMS = N_LOOK + 2 + 2 + 1 + 1
 
 
 def features(row) -> np.ndarray:
@@ -43,7 +45,8 @@ def features(row) -> np.ndarray:
 
 
 def linear_policy(env, obs, w) -> int:
-    w_look, w_mimo, w_pulses, w_search = w[:N_LOOK], w[N_LOOK:N_LOOK + 2], w[N_LOOK + 2:N_LOOK + 4], w[-1]
+    w_look, w_mimo, w_pulses = w[:N_LOOK], w[N_LOOK:N_LOOK + 2], w[N_LOOK + 2:N_LOOK + 4]
+    w_search, w_defer = w[N_LOOK + 4], w[N_LOOK + 5]
     mask = env.action_masks()
     best, best_a = 0.0, None
     nr = len(env.radars)
@@ -68,6 +71,8 @@ def linear_policy(env, obs, w) -> int:
         return best_a
     share = SEARCH_SHARES[int(np.clip((1 - 1 / (1 + np.exp(-w_search))) * len(SEARCH_SHARES), 0,
                                       len(SEARCH_SHARES) - 1))]
+    if env.defer_action is not None and w_defer > 0 and np.all(obs["radars"][:, 0] == np.float32(share)):
+        return env.defer_action
     return env.encode(Action("wait", search_share=share))
 
 
@@ -91,11 +96,14 @@ def main() -> int:
     ap.add_argument("--eval-duration", type=float, default=300.0)
     ap.add_argument("--energy-weight", type=float, default=1e-3)
     ap.add_argument("--mimo", default=None)
+    ap.add_argument("--tracker", choices=("builtin", "simple"), default="builtin",
+                    help="the built-in default tracker (the agent its resource manager) or mimo_ta.simple's")
     ap.add_argument("--out", default=None, help="write the best weights here (JSON)")
     a = ap.parse_args()
     import cma
 
-    train = NetworkEnv(scenario=1, duration_s=a.train_duration, energy_weight=a.energy_weight, mimo_bin=a.mimo)
+    train = NetworkEnv(scenario=1, duration_s=a.train_duration, energy_weight=a.energy_weight, mimo_bin=a.mimo,
+                       tracker=a.tracker)
     es = cma.CMAEvolutionStrategy(np.zeros(N_PARAMS), 1.0, {"popsize": a.popsize, "seed": 1, "verbose": -9})
     t0 = time.perf_counter()
     try:
@@ -112,7 +120,8 @@ def main() -> int:
     w = es.result.xfavorite
     if a.out:
         Path(a.out).write_text(json.dumps({"weights": list(map(float, w))}))
-    ev = NetworkEnv(scenario=1, duration_s=a.eval_duration, energy_weight=a.energy_weight, mimo_bin=a.mimo)
+    ev = NetworkEnv(scenario=1, duration_s=a.eval_duration, energy_weight=a.energy_weight, mimo_bin=a.mimo,
+                    tracker=a.tracker)
     rows = []
     try:
         for seed in a.eval_seeds:

@@ -31,9 +31,11 @@ def main() -> int:
     ap.add_argument("--duration", type=float, default=300.0)
     ap.add_argument("--price-per-kj", type=float, default=50.0)
     ap.add_argument("--price-per-s", type=float, default=20.0)
+    ap.add_argument("--tracker", choices=("builtin", "simple"), default="builtin",
+                    help="the built-in default tracker (the agent its resource manager) or mimo_ta.simple's")
     ap.add_argument("--mimo", default=None)
     a = ap.parse_args()
-    env = NetworkEnv(scenario=1, duration_s=a.duration, mimo_bin=a.mimo)
+    env = NetworkEnv(scenario=1, duration_s=a.duration, mimo_bin=a.mimo, tracker=a.tracker)
     cls = GreedySensorManager if a.manager == "greedy" else BruteForceSensorManager
     manager = cls(sensors=radars_of(env), reward_function=LookReward(env=env, price_per_kj=a.price_per_kj,
                                                                        price_per_s=a.price_per_s))

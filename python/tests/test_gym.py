@@ -1,6 +1,7 @@
-"""The learning environments (mimo_ta.gym, docs/decisions/0311-learning-environments.md): the
-frameworks' checkers, seeded reproducibility, the rule policy against the simple test article,
-bad input, and no process left behind. Short episodes of scenario 1 with the mimo binary of the
+"""The learning environments (mimo_ta.gym, docs/decisions/0311-learning-environments.md,
+docs/decisions/0316-built-in-tracker-external-resource-manager.md): the frameworks' checkers,
+seeded reproducibility, the rule policy against the built-in default test article (byte for byte)
+and against the simple test article, the defer action, bad input, and no process left behind. Short episodes of scenario 1 with the mimo binary of the
 checkout (target/debug, else target/release, else MIMO_BIN or the installed one); skipped when
 gymnasium or a binary is missing."""
 
@@ -100,11 +101,78 @@ class NetworkEnvTest(unittest.TestCase):
         self.assertEqual(ia["score"]["completeness"], ib["score"]["completeness"])
         c, _, ic = self.run_rule(env, 8)
         self.assertNotEqual([o["tracks"].tobytes() for o in a], [o["tracks"].tobytes() for o in c])
+        env = self.make(tracker="simple")
+        a, ra, _ = self.run_rule(env, 7)
+        b, rb, _ = self.run_rule(env, 7)
+        self.assertEqual((len(a), ra), (len(b), rb))
+
+    def test_the_rule_policy_is_the_built_in_default_test_article(self):
+        """With the built-in tracker the rule policy defers to the built-in rule: the episode's
+        tables are those of `mimo simulate --tracker default`, byte for byte, and the online
+        completeness (the reward's) is mimo score's."""
+        with tempfile.TemporaryDirectory() as tmp:
+            env = self.make(duration_s=15.0, workdir=os.path.join(tmp, "gym"))
+            self.assertEqual(env.tracker, "builtin")
+            _, total, info = self.run_rule(env, 3)
+            s = info["score"]
+            self.assertAlmostEqual(s["online_completeness"], s["completeness"], places=9)
+            out = os.path.join(tmp, "run")
+            subprocess.run([MIMO, "simulate", "--scenario", "1", "--seed", "3", "--duration", "15.0", "--threads", "1",
+                            "--quiet", "--out", out, "--tracker", "default"], check=True)
+            for table in ("tracks", "dwells", "measurements"):
+                a = Path(s["run_dir"], table, "run-0000.parquet").read_bytes()
+                b = Path(out, table, "run-0000.parquet").read_bytes()
+                self.assertTrue(a == b, f"{table} differs from the built-in default's")
+            self.assertAlmostEqual(s["energy_estimate_j"] / s["energy_j"], 1.0, delta=0.02)
+            self.assertAlmostEqual(total, s["online_completeness"] - 1e-3 * s["energy_estimate_j"] / 1e3, places=6)
+
+    def test_defer_accepts_the_rules_proposals_but_the_agents_own_look(self):
+        """*defer* accepts every proposal of the built-in rule except one at a track the agent
+        gave a look at this decision point; a plain wait accepts none."""
+        from mimo_ta.gym import Action
+
+        env = self.make(duration_s=30.0)
+        env.reset(seed=1)
+        run = env.run
+        sent = []
+        real_send = run._send
+        run._send = lambda reply: (sent.append(reply), real_send(reply))[1]
+
+        def point(same: bool):
+            """Run (deferring) to a point with a proposal and a track the agent may look at: the
+            proposal's own track (`same`) or another one; return (that track's id, its slot)."""
+            for _ in range(5000):
+                proposed = {tid for p in run.proposed if "dwell" in p for tid in p["dwell"]["tag"]}
+                for slot, tid in enumerate(run.slots):
+                    if proposed and tid is not None and (tid in proposed) == same and run.visibility(slot) \
+                            and run.look_problem(slot, next(iter(run.visibility(slot))), False, 4) is None:
+                        return tid, slot
+                env.step(env.defer_action)
+            self.fail("no such decision point")
+
+        for same in (False, True):
+            tid, slot = point(same)
+            tx = next(iter(run.visibility(slot)))
+            env.step(env.encode(Action("look", slot=slot, transmitter=tx, mimo=False, pulses=4)))
+            expected = [i for i, p in enumerate(run.proposed) if "dwell" not in p or tid not in p["dwell"]["tag"]]
+            self.assertEqual(bool(expected), not same)
+            env.step(env.defer_action)
+            reply = sent[-1]
+            self.assertEqual(reply.get("accept", []), expected)
+            own = [r["dwell"] for r in reply["requests"] if "dwell" in r]
+            self.assertEqual([(d["tag"], d["transmitters"]) for d in own], [([tid], [{"radar": tx, "n_pulses": 4}])])
+            self.assertNotIn("tracks", reply)
+        while not any("dwell" in p for p in run.proposed):
+            env.step(env.defer_action)
+        env.step(0)  # a wait accepts nothing
+        self.assertNotIn("accept", sent[-1])
+        with self.assertRaisesRegex(ValueError, "tracker"):
+            self.make(tracker="ekf")
 
     def test_the_rule_policy_is_the_simple_test_article(self):
-        """The rule through the environment and mimo_ta.simple run by mimo give the same score,
-        and the online completeness (the reward's) is mimo score's."""
-        env = self.make(duration_s=15.0)
+        """With the simple tracker, the rule through the environment and mimo_ta.simple run by mimo
+        give the same score, and the online completeness (the reward's) is mimo score's."""
+        env = self.make(duration_s=15.0, tracker="simple")
         _, total, info = self.run_rule(env, 3)
         s = info["score"]
         self.assertAlmostEqual(s["online_completeness"], s["completeness"], places=9)
@@ -251,11 +319,26 @@ class ParallelNetworkEnvTest(unittest.TestCase):
         return trace, info[env.possible_agents[0]]["score"]
 
     def test_same_seed_same_episode_and_a_shared_reward(self):
-        env = self.make()
-        a, sa = self.play(env, 5)
-        b, sb = self.play(env, 5)
-        self.assertEqual(a, b)
-        self.assertEqual(sa["completeness"], sb["completeness"])
+        for tracker in ("builtin", "simple"):
+            env = self.make(tracker=tracker)
+            a, sa = self.play(env, 5)
+            b, sb = self.play(env, 5)
+            self.assertEqual(a, b)
+            self.assertEqual(sa["completeness"], sb["completeness"])
+
+    def test_ships_waiting_accepting_are_the_built_in_default(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            env = self.make(duration_s=10.0, workdir=os.path.join(tmp, "gym"))
+            env.reset(seed=2)
+            while env.agents:
+                *_, info = env.step({a: env.encode("wait") for a in env.agents})
+            run_dir = info[env.possible_agents[0]]["score"]["run_dir"]
+            out = os.path.join(tmp, "run")
+            subprocess.run([MIMO, "simulate", "--scenario", "1", "--seed", "2", "--duration", "10.0", "--threads", "1",
+                            "--quiet", "--out", out], check=True)
+            for table in ("tracks", "dwells"):
+                self.assertTrue(Path(run_dir, table, "run-0000.parquet").read_bytes()
+                                == Path(out, table, "run-0000.parquet").read_bytes(), table)
 
     def test_mimo_receivers_are_the_ships_that_accept(self):
         env = self.make(duration_s=20.0)

@@ -205,6 +205,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let t_start = Instant::now();
     let (from, source) = parse_from(&a.from)?;
     let ta = a.ta.resolve()?;
+    if matches!(ta, crate::ta_args::TaChoice::ResourceManager { .. }) {
+        return Err(CliError::input(
+            "--ta-role: resource-manager needs the closed loop (`mimo simulate`); `mimo track` re-runs a recording's dwells, with no looks to decide".to_string(),
+        ));
+    }
     if !ta.tracks() {
         return Err(CliError::input(format!(
             "--tracker: '{}' forms no tracks, so it cannot re-run a recording (expected a tracker such as default or imm)",

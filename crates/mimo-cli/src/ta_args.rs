@@ -6,6 +6,7 @@ use mimo_sim::test_article::TestArticle;
 use mimo_ta::overrides;
 use mimo_ta::process::ProcessTa;
 use mimo_ta::registry;
+use mimo_ta::resource_manager::ResourceManagerTa;
 use serde_json::Value;
 use std::path::PathBuf;
 
@@ -15,14 +16,21 @@ pub struct TaArgs {
     /// Built-in test article: default (IMM tracker, JPDA with second returns, adaptive revisit
     /// and energy, MIMO dwells), gnn (the former default: EKF tracker, GNN),
     /// imm (gnn with an IMM), jpda and imm-jpda (gnn and imm with JPDA association), cued
-    /// (truth-cued fixed schedule, no tracking), none (background search only).
-    #[arg(long, default_value = "default", value_name = "NAME", conflicts_with = "ta_cmd")]
-    pub tracker: String,
+    /// (truth-cued fixed schedule, no tracking), none (background search only). With --ta-cmd,
+    /// only in --ta-role resource-manager: the built-in whose tracker keeps tracking. [default:
+    /// default]
+    #[arg(long, value_name = "NAME")]
+    pub tracker: Option<String>,
     /// Run a test article in another process, in any language: the command is started once per
     /// Monte Carlo run and speaks the protocol of docs/ta-protocol.md (JSON lines) over its
     /// stdin and stdout, e.g. --ta-cmd "python3 python/examples/simple_ta.py".
     #[arg(long, value_name = "CMD")]
     pub ta_cmd: Option<String>,
+    /// What the --ta-cmd process is: test-article (the whole test article, tracker and resource
+    /// manager) or resource-manager (the built-in tracker of --tracker keeps tracking, its rule
+    /// proposes looks, and the process decides the looks and the search; docs/ta-protocol.md §7).
+    #[arg(long, value_enum, default_value = "test-article", value_name = "ROLE")]
+    pub ta_role: TaRole,
     /// Seconds to wait for each reply of a --ta-cmd test article before giving up.
     #[arg(long, default_value_t = 60.0, value_name = "SECONDS")]
     pub ta_timeout: f64,
@@ -37,6 +45,15 @@ pub struct TaArgs {
     pub set: Vec<String>,
 }
 
+/// What a `--ta-cmd` process is (docs/ta-protocol.md §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TaRole {
+    /// The whole test article: tracker and resource manager.
+    TestArticle,
+    /// The resource manager only: a built-in's tracker keeps tracking.
+    ResourceManager,
+}
+
 /// A resolved choice of test article.
 #[derive(Debug, Clone)]
 pub enum TaChoice {
@@ -48,6 +65,19 @@ pub enum TaChoice {
         config: Value,
         /// The overrides alone (passed on in the `start` event).
         overrides: Value,
+    },
+    /// A built-in's tracker with a child process as its resource manager.
+    ResourceManager {
+        /// Built-in name.
+        name: String,
+        /// Its merged configuration.
+        config: Value,
+        /// The overrides alone (passed on in the `start` event).
+        overrides: Value,
+        /// The command line.
+        cmd: String,
+        /// Seconds per reply.
+        timeout_s: f64,
     },
     /// A child process.
     Process {
@@ -73,6 +103,12 @@ impl TaArgs {
     /// Check the choice and the overrides before anything runs.
     pub fn resolve(&self) -> Result<TaChoice, CliError> {
         let over = overrides::collect(self.ta_config.as_deref(), &self.set).map_err(|e| config_err(self, e))?;
+        let tracker = self.tracker.as_deref().unwrap_or("default");
+        if self.ta_role == TaRole::ResourceManager && self.ta_cmd.is_none() {
+            return Err(CliError::input(
+                "--ta-role: resource-manager needs the resource manager's command (--ta-cmd CMD)".to_string(),
+            ));
+        }
         if let Some(cmd) = &self.ta_cmd {
             if mimo_ta::process::split_command(cmd).is_none() {
                 return Err(CliError::input(format!(
@@ -85,11 +121,32 @@ impl TaArgs {
                     self.ta_timeout
                 )));
             }
+            if self.ta_role == TaRole::ResourceManager {
+                registry::builtin(tracker).map_err(|e| config_err(self, e))?;
+                if !registry::builtin(tracker).is_ok_and(|b| b.tracks) {
+                    return Err(CliError::input(format!(
+                        "--tracker: '{tracker}' has no tracker for --ta-role resource-manager (expected one of: default, gnn, imm, jpda, imm-jpda)"
+                    )));
+                }
+                let config = registry::resolve_config(tracker, &over).map_err(|e| config_err(self, e))?;
+                return Ok(TaChoice::ResourceManager {
+                    name: tracker.to_string(),
+                    config,
+                    overrides: over,
+                    cmd: cmd.clone(),
+                    timeout_s: self.ta_timeout,
+                });
+            }
+            if self.tracker.is_some() {
+                return Err(CliError::input(
+                    "--tracker: a --ta-cmd process is the whole test article; --tracker goes with --ta-cmd only in --ta-role resource-manager".to_string(),
+                ));
+            }
             return Ok(TaChoice::Process { cmd: cmd.clone(), timeout_s: self.ta_timeout, overrides: over });
         }
-        registry::builtin(&self.tracker).map_err(|e| config_err(self, e))?;
-        let config = registry::resolve_config(&self.tracker, &over).map_err(|e| config_err(self, e))?;
-        Ok(TaChoice::Builtin { name: self.tracker.clone(), config, overrides: over })
+        registry::builtin(tracker).map_err(|e| config_err(self, e))?;
+        let config = registry::resolve_config(tracker, &over).map_err(|e| config_err(self, e))?;
+        Ok(TaChoice::Builtin { name: tracker.to_string(), config, overrides: over })
     }
 }
 
@@ -104,13 +161,23 @@ impl TaChoice {
                 Ok(ta) => Ok(Box::new(ta)),
                 Err(e) => Err(CliError::Other(format!("test article '{cmd}': {e}"))),
             },
+            TaChoice::ResourceManager { name, config, cmd, timeout_s, .. } => {
+                let rule =
+                    registry::build_rule(name, config).map_err(|e| CliError::input(format!("--tracker: {e}")))?;
+                match ProcessTa::spawn(cmd, *timeout_s) {
+                    Ok(child) => Ok(Box::new(ResourceManagerTa::new(name, rule, cmd, child))),
+                    Err(e) => Err(CliError::Other(format!("test article '{cmd}': {e}"))),
+                }
+            }
         }
     }
 
     /// The overrides passed on in the `start` event.
     pub fn overrides(&self) -> &Value {
         match self {
-            TaChoice::Builtin { overrides, .. } | TaChoice::Process { overrides, .. } => overrides,
+            TaChoice::Builtin { overrides, .. }
+            | TaChoice::Process { overrides, .. }
+            | TaChoice::ResourceManager { overrides, .. } => overrides,
         }
     }
 
@@ -118,7 +185,7 @@ impl TaChoice {
     pub fn label(&self) -> &str {
         match self {
             TaChoice::Builtin { name, .. } => name,
-            TaChoice::Process { cmd, .. } => cmd,
+            TaChoice::Process { cmd, .. } | TaChoice::ResourceManager { cmd, .. } => cmd,
         }
     }
 
@@ -126,7 +193,7 @@ impl TaChoice {
     pub fn tracks(&self) -> bool {
         match self {
             TaChoice::Builtin { name, .. } => registry::builtin(name).is_ok_and(|b| b.tracks),
-            TaChoice::Process { .. } => true,
+            TaChoice::Process { .. } | TaChoice::ResourceManager { .. } => true,
         }
     }
 
@@ -137,6 +204,9 @@ impl TaChoice {
             TaChoice::Process { cmd, .. } => {
                 format!("closed loop: background search plus dwells requested by the test article process `{cmd}`")
             }
+            TaChoice::ResourceManager { name, cmd, .. } => format!(
+                "closed loop: background search plus dwells decided by the resource manager process `{cmd}` over the '{name}' test article's tracker and proposals"
+            ),
         }
     }
 }

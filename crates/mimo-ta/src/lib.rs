@@ -14,6 +14,8 @@
 //! * [`geometry`]: the ships of a `start` event as the tracker's sensor geometry.
 //! * [`process`]: a test article in another process, in any language, speaking the protocol over
 //!   its stdin and stdout.
+//! * [`resource_manager`]: a built-in's tracker with the looks decided by a process in another
+//!   language (the resource-manager role of docs/ta-protocol.md §7).
 //!
 //! Every test article here talks to the engine only through `mimo_sim::messages`, exactly as a
 //! test article in another process does (docs/ta-protocol.md).
@@ -30,5 +32,6 @@ pub mod process;
 pub mod registration;
 pub mod registry;
 pub mod replay;
+pub mod resource_manager;
 
 pub use overrides::ConfigError;

@@ -8,9 +8,11 @@
 //! `--ta-timeout` seconds; a child that exits, writes something that is not a reply, or asks for
 //! something impossible is a [`TaFault`] that stops the run.
 
-use mimo_sim::messages::{DwellReport, Reply, ReplyMessage, StartInfo, Subscription, TaEvent};
+use mimo_core::records::TrackRow;
+use mimo_sim::messages::{DwellReport, Reply, ReplyMessage, Request, StartInfo, Subscription, TaEvent};
 use mimo_sim::test_article::{TaFault, TestArticle};
 use serde::Serialize;
+use serde::de::DeserializeOwned;
 use std::io::{BufRead, BufReader, BufWriter, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
@@ -26,7 +28,7 @@ enum Line {
 /// An event as it is written, borrowing the engine's report (no copy of the measurements).
 #[derive(Serialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
-enum EventRef<'a> {
+pub(crate) enum EventRef<'a> {
     Start(&'a StartInfo),
     DwellEnded(&'a DwellReport),
     Wake { t_s: f64 },
@@ -37,6 +39,20 @@ enum EventRef<'a> {
 struct MessageRef<'a> {
     t_s: f64,
     events: Vec<EventRef<'a>>,
+    /// The resource-manager role only (docs/ta-protocol.md §7): the built-in tracker's rows.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tracks: Option<&'a [TrackRow]>,
+    /// The resource-manager role only: the built-in rule's proposed requests.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    proposed: Option<&'a [Request]>,
+}
+
+/// What the resource-manager role adds to a message (docs/ta-protocol.md §7): the built-in
+/// tracker's track rows for these events and the built-in rule's proposed requests.
+#[derive(Clone, Copy)]
+pub(crate) struct RuleView<'a> {
+    pub tracks: &'a [TrackRow],
+    pub proposed: &'a [Request],
 }
 
 impl<'a> From<&'a TaEvent> for EventRef<'a> {
@@ -63,6 +79,12 @@ pub fn split_command(cmd: &str) -> Option<Vec<String>> {
 /// The reply must be a JSON object (docs/ta-protocol.md §3): serde would also read a struct
 /// from an array of its fields in order, so `[]` would pass as an empty reply.
 pub fn parse_reply(line: &str, t_s: f64) -> Result<ReplyMessage, TaFault> {
+    parse_line(line, t_s)
+}
+
+/// [`parse_reply`] for any reply type (the resource-manager role reads its own,
+/// [`crate::resource_manager::RmReplyMessage`]).
+pub(crate) fn parse_line<T: DeserializeOwned>(line: &str, t_s: f64) -> Result<T, TaFault> {
     let text = line.trim_end();
     let fault = |why: String| {
         let shown: String = text.chars().take(120).filter(|c| !c.is_control()).collect();
@@ -73,7 +95,7 @@ pub fn parse_reply(line: &str, t_s: f64) -> Result<ReplyMessage, TaFault> {
     if !text.trim_start().starts_with('{') {
         return Err(fault("expected a JSON object".into()));
     }
-    serde_json::from_str::<ReplyMessage>(text).map_err(|e| fault(e.to_string()))
+    serde_json::from_str::<T>(text).map_err(|e| fault(e.to_string()))
 }
 
 /// A test article run as a child process.
@@ -190,13 +212,25 @@ impl ProcessTa {
     }
 
     fn send(&mut self, t_s: f64, events: Vec<EventRef<'_>>) -> Result<ReplyMessage, TaFault> {
+        let line = self.send_line(t_s, events, None)?;
+        parse_reply(&line, t_s)
+    }
+
+    /// Write one message (with `rule`'s additions in the resource-manager role) and return the
+    /// reply line, unparsed.
+    pub(crate) fn send_line(
+        &mut self,
+        t_s: f64,
+        events: Vec<EventRef<'_>>,
+        rule: Option<RuleView<'_>>,
+    ) -> Result<String, TaFault> {
         if self.messages > 0 {
             self.refuse_extra_line()?;
         }
         self.last_t_s = t_s;
         self.buf.clear();
-        serde_json::to_writer(&mut self.buf, &MessageRef { t_s, events })
-            .map_err(|e| TaFault::Io(format!("encoding a message: {e}")))?;
+        let msg = MessageRef { t_s, events, tracks: rule.map(|r| r.tracks), proposed: rule.map(|r| r.proposed) };
+        serde_json::to_writer(&mut self.buf, &msg).map_err(|e| TaFault::Io(format!("encoding a message: {e}")))?;
         self.buf.push(b'\n');
         let Some(w) = self.stdin.as_mut() else { return Err(TaFault::Io("its input is closed".into())) };
         if let Err(e) = w.write_all(&self.buf).and_then(|()| w.flush()) {
@@ -216,7 +250,7 @@ impl ProcessTa {
                 return Err(TaFault::Timeout(self.timeout.as_secs_f64()));
             }
         };
-        parse_reply(&line, t_s)
+        Ok(line)
     }
 
     fn exchange(&mut self, t_s: f64, events: Vec<EventRef<'_>>) -> Result<Reply, TaFault> {
@@ -257,13 +291,27 @@ impl TestArticle for ProcessTa {
     }
     fn on_finish(&mut self, t_s: f64) -> Result<Reply, TaFault> {
         let reply = self.exchange(t_s, vec![EventRef::Finish { t_s }])?;
+        self.close_after_finish().map(|()| reply)
+    }
+    fn on_events(&mut self, t_s: f64, events: &[TaEvent]) -> Result<Reply, TaFault> {
+        if let [TaEvent::Finish { t_s }] = events {
+            return self.on_finish(*t_s);
+        }
+        self.exchange(t_s, events.iter().map(EventRef::from).collect())
+    }
+}
+
+impl ProcessTa {
+    /// The run is over and the reply to `finish` read: close the child's input and wait for it
+    /// to exit with status 0 within the timeout.
+    pub(crate) fn close_after_finish(&mut self) -> Result<(), TaFault> {
         // The run is over: close its input and let it exit.
         self.stdin = None;
         let deadline = std::time::Instant::now() + self.timeout;
         loop {
             match self.child.try_wait() {
                 // Whatever it wrote after its last reply is a line too many.
-                Ok(Some(status)) if status.success() => return self.refuse_output_after_exit().map(|()| reply),
+                Ok(Some(status)) if status.success() => return self.refuse_output_after_exit(),
                 Ok(Some(status)) => return Err(TaFault::Crashed(format!("it exited with {status} after `finish`"))),
                 Ok(None) if std::time::Instant::now() < deadline => std::thread::sleep(Duration::from_millis(2)),
                 Ok(None) => {
@@ -273,12 +321,6 @@ impl TestArticle for ProcessTa {
                 Err(e) => return Err(TaFault::Io(e.to_string())),
             }
         }
-    }
-    fn on_events(&mut self, t_s: f64, events: &[TaEvent]) -> Result<Reply, TaFault> {
-        if let [TaEvent::Finish { t_s }] = events {
-            return self.on_finish(*t_s);
-        }
-        self.exchange(t_s, events.iter().map(EventRef::from).collect())
     }
 }
 

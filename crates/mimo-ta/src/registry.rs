@@ -136,6 +136,19 @@ pub fn build<'w>(name: &str, config: &Value, world: &'w World) -> Result<Box<dyn
     })
 }
 
+/// The built-in `name` as the tracker and rule of the resource-manager role
+/// ([`crate::resource_manager`]): one of the built-ins that track and plan looks (`default`,
+/// `gnn`, `imm`, `jpda`, `imm-jpda`), with a configuration from [`resolve_config`].
+pub fn build_rule(name: &str, config: &Value) -> Result<DefaultTa, ConfigError> {
+    match builtin(name)?.name {
+        "default" | "gnn" | "imm" | "jpda" | "imm-jpda" => Ok(DefaultTa::new(name, parse(config)?)),
+        other => Err(ConfigError::BadValue {
+            key: "(test article)".into(),
+            why: format!("'{other}' has no tracker and rule for an external resource manager"),
+        }),
+    }
+}
+
 /// How the dwell schedule of a run with this test article is made, for the manifest.
 pub fn schedule_description(name: &str) -> String {
     match name {

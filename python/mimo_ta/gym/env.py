@@ -7,6 +7,7 @@ docs/decisions/0311-learning-environments.md for the choices behind them.
 from __future__ import annotations
 
 import math
+import os
 import shutil
 import tempfile
 import weakref
@@ -16,13 +17,13 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .core import PULSE_LEVELS, SEARCH_SHARES, NetworkRun
+from .core import PULSE_LEVELS, SEARCH_SHARES, TRACKERS, NetworkRun
 
 TRACK_FEATURES = (
     # name, unit, low, high
     ("present", "0/1", 0.0, 1.0),
     ("confirmed", "0/1", 0.0, 1.0),
-    ("due", "0/1: the default rule's revisit time has come", 0.0, 1.0),
+    ("due", "0/1: the default rule's revisit time has come (builtin: the rule proposed a look not made yet)", 0.0, 1.0),
     ("pending", "0/1: a look is ordered and not reported yet", 0.0, 1.0),
     ("east_km", "km, predicted to now, ENU at the scenario centre", -1000.0, 1000.0),
     ("north_km", "km", -1000.0, 1000.0),
@@ -35,7 +36,8 @@ TRACK_FEATURES = (
     ("age_s", "s since the track started", 0.0, 1e5),
     ("since_update_s", "s since its last update", 0.0, 1e5),
     ("since_look_s", "s since the agent last ordered a look at it (its age if never)", 0.0, 1e5),
-    ("until_due_s", "s until the default rule's revisit (negative: overdue)", -100.0, 100.0),
+    ("until_due_s", "s until the default rule's revisit (negative: overdue; builtin: since proposed, or until "
+                    "2 s after the last update)", -100.0, 100.0),
     ("misses", "consecutive missed looks", 0.0, 100.0),
 )
 RADAR_TRACK_FEATURES = (
@@ -62,7 +64,8 @@ def _box(features, shape) -> spaces.Box:
 
 
 class Action(NamedTuple):
-    """A decoded action: ``kind`` is ``wait`` (with ``search_share``) or ``look``."""
+    """A decoded action: ``kind`` is ``wait`` (with ``search_share``), ``defer`` (accept the
+    built-in rule's proposals and wait; ``tracker="builtin"`` only) or ``look``."""
 
     kind: str
     search_share: Optional[float] = None
@@ -98,7 +101,11 @@ class NetworkEnv(gym.Env):
     (default: :func:`mimo_ta.binary.find_mimo_bin`), ``tracker_config`` (settings of
     ``mimo_ta.simple``), ``extra_args`` (more ``mimo simulate`` options, e.g. ``("--raid", "8")``),
     ``reply_timeout_s`` (``--ta-timeout``: how long mimo waits for the agent), ``workdir`` (where
-    runs are written; a temporary directory removed on ``close`` by default).
+    runs are written; a temporary directory removed on ``close`` by default), ``tracker``
+    (``builtin``: the built-in default test article's tracker, whose rule proposes looks the
+    *defer* action accepts, docs/ta-protocol.md §7; ``simple``: ``mimo_ta.simple``'s, in Python).
+    ``tracker_config``: with ``builtin``, keys of the built-in's configuration given to mimo as
+    ``--set key=value`` (e.g. ``{"resource_manager.mimo": False}``); with ``simple``, its settings.
     """
 
     metadata = {"render_modes": []}
@@ -106,8 +113,11 @@ class NetworkEnv(gym.Env):
     def __init__(self, scenario=1, duration_s: float = 300.0, max_tracks: int = 16, energy_weight: float = 1e-3,
                  decision_period_s: float = 1.0, mimo_bin: Optional[str] = None,
                  tracker_config: Optional[dict] = None, extra_args: tuple = (), reply_timeout_s: float = 86400.0,
-                 workdir: Optional[str] = None) -> None:
+                 workdir: Optional[str] = None, tracker: str = "builtin") -> None:
         super().__init__()
+        if tracker not in TRACKERS:
+            raise ValueError(f"tracker: {tracker!r}, expected one of {TRACKERS}")
+        self.tracker = tracker
         self.scenario = scenario
         self.duration_s = float(duration_s)
         self.k = int(max_tracks)
@@ -119,6 +129,7 @@ class NetworkEnv(gym.Env):
         self.reply_timeout_s = reply_timeout_s
         self._own_workdir = workdir is None
         self.workdir = workdir or tempfile.mkdtemp(prefix="mimo-gym-")
+        os.makedirs(self.workdir, exist_ok=True)
         if self._own_workdir:  # removed even if close() is never called
             weakref.finalize(self, shutil.rmtree, self.workdir, True)
         self.run: Optional[NetworkRun] = None
@@ -131,7 +142,9 @@ class NetworkEnv(gym.Env):
         r = len(self.radars)
         self.shares = SEARCH_SHARES
         self.pulse_levels = PULSE_LEVELS
-        self.n_wait = len(self.shares)
+        # The actions valid in every state: a wait per search share, then (builtin) defer.
+        self.n_wait = len(self.shares) + (tracker == "builtin")
+        self.defer_action = len(self.shares) if tracker == "builtin" else None
         self.n_looks = self.k * r * 2 * len(self.pulse_levels)
         self.action_space = SafeSampleDiscrete(self.n_wait + self.n_looks, self.n_wait)
         self.observation_space = spaces.Dict({
@@ -145,7 +158,7 @@ class NetworkEnv(gym.Env):
         run = NetworkRun(scenario=self.scenario, seed=0, duration_s=min(self.duration_s, 1.0), max_tracks=1,
                          energy_weight=0.0, decision_period_s=1.0, mimo_bin=self.mimo_bin, tracker_config=None,
                          extra_args=self.extra_args, reply_timeout_s=self.reply_timeout_s,
-                         workdir=tempfile.mkdtemp(dir=self.workdir))
+                         workdir=tempfile.mkdtemp(dir=self.workdir), tracker=self.tracker)
         try:
             return list(run.radars)
         finally:
@@ -157,8 +170,10 @@ class NetworkEnv(gym.Env):
     def decode(self, action) -> Action:
         """The meaning of an action index; ``ValueError`` naming ``action`` if outside the space."""
         a = _as_index(action, self.action_space.n)
-        if a < self.n_wait:
+        if a < len(self.shares):
             return Action("wait", search_share=self.shares[a])
+        if a < self.n_wait:
+            return Action("defer")
         a -= self.n_wait
         a, p = divmod(a, len(self.pulse_levels))
         a, m = divmod(a, 2)
@@ -168,6 +183,10 @@ class NetworkEnv(gym.Env):
     def encode(self, act: Action) -> int:
         if act.kind == "wait":
             return self.shares.index(act.search_share)
+        if act.kind == "defer":
+            if self.defer_action is None:
+                raise ValueError("action: defer needs tracker='builtin'")
+            return self.defer_action
         r = self.radars.index(act.transmitter)
         return self.n_wait + ((act.slot * len(self.radars) + r) * 2 + int(act.mimo)) * len(self.pulse_levels) \
             + self.pulse_levels.index(act.pulses)
@@ -215,7 +234,8 @@ class NetworkEnv(gym.Env):
                               decision_period_s=self.decision_period_s, mimo_bin=self.mimo_bin,
                               tracker_config=self.tracker_config, extra_args=self.extra_args,
                               reply_timeout_s=self.reply_timeout_s,
-                              workdir=tempfile.mkdtemp(prefix=f"episode-{self._episode:04d}-", dir=self.workdir))
+                              workdir=tempfile.mkdtemp(prefix=f"episode-{self._episode:04d}-", dir=self.workdir),
+                              tracker=self.tracker)
         if list(self.run.radars) != self.radars:
             raise ValueError(f"scenario radars {self.run.radars} differ from the environment's {self.radars}")
         return self._observe(), self._info()
@@ -230,6 +250,8 @@ class NetworkEnv(gym.Env):
         if act.kind == "wait":
             run.order_search(act.search_share)
             gained = run.wait()
+        elif act.kind == "defer":
+            gained = run.defer()
         else:
             problem = run.look_problem(act.slot, act.transmitter, act.mimo, act.pulses)
             if problem is not None:
@@ -278,24 +300,27 @@ class NetworkEnv(gym.Env):
         same_point = self._obs_key == (self._episode, run.steps)
         if same_point:
             obs["tracks"][:] = self._obs_tracks
-        for slot in range(self.k):
-            t = run.track_in(slot)
-            if t is None or same_point and slot not in run.looked:
-                continue
-            x, p = run.predicted(slot)
-            row = obs["tracks"][slot]
-            age = now - born[t.id]
-            row[:nt] = (1.0, t.status == "confirmed", t.next_due_s <= now + 1e-9, t.pending_since_s is not None,
-                        x[0] / 1e3, x[1] / 1e3, x[2] / 1e3, x[3], x[4], x[5],
-                        math.sqrt(max(np.trace(p[:3, :3]) / 3, 0.0)), math.sqrt(max(np.trace(p[3:, 3:]) / 3, 0.0)),
-                        age, now - t.last_update_s,
-                        now - last_look[t.id] if t.id in last_look else age,
-                        t.next_due_s - now, t.misses_in_row)
-            vis = run.visibility(slot)
-            for ri, r in enumerate(self.radars):
-                if r in vis:
-                    row[nt + 2 * ri] = 1.0
-                    row[nt + 2 * ri + 1] = 10.0 * math.log10(max(vis[r], 1e-10))
+        slots, xs, ps, _ = run.predicted_all()
+        rows = [k for k, slot in enumerate(slots) if not same_point or slot in run.looked]
+        if rows:
+            tk = obs["tracks"]
+            sel = [slots[k] for k in rows]
+            ts = [run.track_in(slot) for slot in sel]
+            x, p = xs[rows], ps[rows]
+            pos_std = np.sqrt(np.maximum(np.trace(p[:, :3, :3], axis1=1, axis2=2) / 3, 0.0)).tolist()
+            vel_std = np.sqrt(np.maximum(np.trace(p[:, 3:, 3:], axis1=1, axis2=2) / 3, 0.0)).tolist()
+            table = []
+            for t, (e, n, u, ve, vn, vu), ps_, vs_ in zip(ts, x.tolist(), pos_std, vel_std):
+                age = now - born[t.id]
+                table.append((1.0, t.status == "confirmed", t.next_due_s <= now + 1e-9, t.pending_since_s is not None,
+                              e / 1e3, n / 1e3, u / 1e3, ve, vn, vu, ps_, vs_, age, now - t.last_update_s,
+                              now - last_look[t.id] if t.id in last_look else age, t.next_due_s - now,
+                              t.misses_in_row))
+            tk[sel, :nt] = table
+            _, seen, snr = run.visibility_arrays()
+            seen, snr = seen[:, rows], snr[:, rows]
+            tk[sel, nt::2] = seen.T
+            tk[sel, nt + 1::2] = np.where(seen, 10.0 * np.log10(np.maximum(snr, 1e-10)), 0.0).T
         for ri, r in enumerate(self.radars):
             obs["radars"][ri] = (run.share[r], sum(run.pending_time[r].values()),
                                  run.ta_time_by_radar_s[r] / max(now, 1e-3), run.energy_by_radar_kj[r])
@@ -307,7 +332,8 @@ class NetworkEnv(gym.Env):
 
     def _clip(self, obs: dict) -> dict:
         for k, s in self.observation_space.spaces.items():
-            np.clip(obs[k], s.low, s.high, out=obs[k])
+            x = obs[k]
+            np.minimum(np.maximum(x, s.low, out=x), s.high, out=x)
         return obs
 
 
@@ -321,6 +347,8 @@ def _as_index(action, n: int) -> int:
 def _describe(act: Action) -> str:
     if act.kind == "wait":
         return f"wait, search share {act.search_share}"
+    if act.kind == "defer":
+        return "defer to the rule"
     pulses = "rule" if act.pulses == 0 else act.pulses
     return (f"look: track slot {act.slot}, transmitter {act.transmitter}, receivers "
             f"{'MIMO' if act.mimo else 'monostatic'}, pulses {pulses}")

@@ -14,6 +14,11 @@ in radar order looks, the other's look is dropped (said in its ``info["dropped"]
 decision is sent and the run goes to the next decision point; every agent gets the same reward
 (the Gymnasium environment's: completeness share minus λ × energy).
 
+With the built-in tracker (``tracker="builtin"``, the default; docs/ta-protocol.md §7) a ship that
+waits *accepting* also takes the built-in rule's proposed looks that its radar transmits (for
+tracks no ship looked at this step); one that refuses or looks takes none. Every ship waiting
+accepting with share 1 is the built-in default test article.
+
 Observation of an agent (a dict, with ``action_mask``, the PettingZoo convention): the shared track
 picture (the network's tracks, as ships sharing one track file over their link would hold), with
 its own radar's visibility and predicted SNR and the number of other radars that can see each
@@ -47,12 +52,12 @@ class ParallelNetworkEnv(ParallelEnv):
     def __init__(self, scenario=1, duration_s: float = 300.0, max_tracks: int = 16, energy_weight: float = 1e-3,
                  decision_period_s: float = 1.0, mimo_bin: Optional[str] = None,
                  tracker_config: Optional[dict] = None, extra_args: tuple = (), reply_timeout_s: float = 86400.0,
-                 workdir: Optional[str] = None) -> None:
+                 workdir: Optional[str] = None, tracker: str = "builtin") -> None:
         # The single-agent environment holds the run and its observation; agents see parts of it.
         self._env = NetworkEnv(scenario=scenario, duration_s=duration_s, max_tracks=max_tracks,
                                energy_weight=energy_weight, decision_period_s=decision_period_s, mimo_bin=mimo_bin,
                                tracker_config=tracker_config, extra_args=extra_args,
-                               reply_timeout_s=reply_timeout_s, workdir=workdir)
+                               reply_timeout_s=reply_timeout_s, workdir=workdir, tracker=tracker)
         self.k = self._env.k
         self.possible_agents = list(self._env.radars)
         self.agents: list = []
@@ -148,7 +153,10 @@ class ParallelNetworkEnv(ParallelEnv):
         for agent in self.agents:
             if decoded[agent]["kind"] == "wait":
                 run.order_search(decoded[agent]["search_share"], agent)
-        gained = run.wait()
+        if run.builtin:  # a ship that waits accepting takes the built-in rule's looks it transmits
+            gained = run.defer(set(accepting) - {a for a in self.agents if decoded[a]["kind"] == "look"})
+        else:
+            gained = run.wait()
         reward = gained - self._env.energy_weight * run.step_energy_kj
         done = run.done
         obs = self._observe(self._env._observe())

@@ -1,7 +1,8 @@
 """Baseline policies for :class:`mimo_ta.gym.NetworkEnv` (python/examples/ runs them).
 
 * :func:`random_policy` — a uniformly random *valid* action (``action_masks``);
-* :func:`rule_policy` — the default test article's rule as a policy of the observation: every
+* :func:`rule_policy` — with the built-in tracker, *defer* (the built-in rule itself); with the
+  simple tracker, the default test article's rule as a policy of the observation: every
   track whose revisit is due and has no look outstanding gets a look from the radar with the best
   predicted SNR, MIMO reception when confirmed, pulses by the rule (docs/model.md §7.1, §7.2,
   §7.5); then wait, with the radars' own search (share 1). It is ``mimo_ta.simple``'s scheduler
@@ -25,7 +26,11 @@ def random_policy(env, rng: np.random.Generator) -> int:
 
 
 def rule_policy(env, obs: dict, search_share: float = 1.0) -> int:
-    """The next action of the default rule at this decision point (call again after each look)."""
+    """The next action of the default rule at this decision point (call again after each look).
+    With the built-in tracker (``tracker="builtin"``) that is *defer*: the built-in rule's own
+    proposals, so the episode is the built-in default test article's (docs/ta-protocol.md §7)."""
+    if getattr(env, "defer_action", None) is not None and search_share == 1.0:
+        return env.defer_action
     tracks = obs["tracks"]
     n_radars = len(env.radars)
     mask = None

@@ -138,6 +138,18 @@ impl DefaultTa {
         self.state.as_ref().map(|s| &s.tracker)
     }
 
+    /// In the resource-manager role (docs/ta-protocol.md §7, [`crate::resource_manager`]) the
+    /// looks this test article plans are proposals: those the external resource manager did not
+    /// accept were never requested, so their tracks are not waiting for a report, and the rule
+    /// proposes them again at the next event while they are due.
+    pub fn forget_proposals<'a>(&mut self, rejected: impl IntoIterator<Item = &'a DwellRequest>) {
+        for d in rejected {
+            for id in &d.tag {
+                self.pending.remove(id);
+            }
+        }
+    }
+
     fn not_started() -> TaFault {
         TaFault::BadMessage("an event arrived before `start`".into())
     }
