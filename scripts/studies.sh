@@ -4,7 +4,7 @@
 # commit, the command, the time). The run directories stay in runs/studies/, which is not
 # committed; by default a study keeps only its runs' records there (docs/studies.md).
 #
-#   bash scripts/studies.sh              # the challenge, stability and registration studies
+#   bash scripts/studies.sh              # the challenge, stability, registration and budget7 studies
 #   bash scripts/studies.sh stability    # one of them
 #   MIMO=target/debug/mimo bash scripts/studies.sh
 set -euo pipefail
@@ -18,7 +18,7 @@ commit=$(git rev-parse --short HEAD)
 if [[ -n "$(git status --porcelain -- crates Cargo.toml Cargo.lock studies)" ]]; then
   commit="$commit with uncommitted changes to crates/ or studies/"
 fi
-for name in "${@:-challenge stability registration}"; do
+for name in "${@:-challenge stability registration budget7}"; do
   for study in $name; do
     out=runs/studies/$study
     mkdir -p runs/studies
