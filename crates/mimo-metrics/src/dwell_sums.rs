@@ -182,7 +182,8 @@ pub(crate) struct FilePass<'r> {
     runs: &'r BTreeSet<u32>,
     interval_s: f64,
     slice_rows: usize,
-    rows_done: usize,
+    /// Rows left before the current slice ends (a count down, not a division per row).
+    rows_left_in_slice: usize,
     pub(crate) radar: Labels,
     pub(crate) role: Labels,
     pub(crate) kind: Labels,
@@ -204,7 +205,7 @@ impl<'r> FilePass<'r> {
             runs,
             interval_s,
             slice_rows: slice_rows.max(1),
-            rows_done: 0,
+            rows_left_in_slice: slice_rows.max(1),
             radar: Labels::open(|s| RadarId::parse(s).is_some()),
             role,
             kind: Labels::fixed(&DwellKind::LABELS),
@@ -249,10 +250,11 @@ impl<'r> FilePass<'r> {
         let mut last_run = None;
         let mut last_key = 0;
         for i in 0..n {
-            if self.rows_done > 0 && self.rows_done.is_multiple_of(self.slice_rows) {
+            if self.rows_left_in_slice == 0 {
                 self.end_slice();
+                self.rows_left_in_slice = self.slice_rows;
             }
-            self.rows_done += 1;
+            self.rows_left_in_slice -= 1;
             let (r, rad, t) = (rows.run[i], usize::from(rows.radar[i]), rows.t_s[i]);
             if last_run != Some(r) {
                 if !self.runs.contains(&r) {

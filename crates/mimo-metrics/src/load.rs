@@ -45,27 +45,42 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
     let alt = df.f64s(T.alt_m)?;
     let targets = df.strs(T.target)?;
 
-    let mut names: BTreeSet<&str> = BTreeSet::new();
-    let mut last: Option<&str> = None;
-    for s in targets.iter().flatten() {
-        if last != Some(s) {
-            names.insert(s);
-            last = Some(s);
-        }
-    }
-    let target_names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
-    // A target's index is its rank among the names, so that the rows sort by it as by name.
-    let index: HashMap<&str, usize> = names.iter().enumerate().map(|(i, s)| (*s, i)).collect();
-    let mut last: Option<(&str, usize)> = None;
+    // Each row's target, first as its index in order of first appearance: the name that followed
+    // the row's predecessor's target last time is tried first (the truth is written time by time,
+    // its targets in the same order each time), the names' map only when that guess fails.
+    let mut seen: Vec<&str> = Vec::new();
+    let mut seen_index: HashMap<&str, usize> = HashMap::new();
+    let mut successor: Vec<usize> = Vec::new();
+    let mut prev: Option<usize> = None;
     let mut target_of_row = Vec::with_capacity(run.len());
     for s in targets.iter().flatten() {
-        let target = match last {
-            Some((name, target)) if name == s => target,
-            _ => index.get(s).copied().unwrap_or(0),
+        let guess = prev.map(|p| successor[p]).filter(|&g| seen.get(g) == Some(&s));
+        let target = match guess.or_else(|| seen_index.get(s).copied()) {
+            Some(target) => target,
+            None => {
+                seen_index.insert(s, seen.len());
+                seen.push(s);
+                successor.push(usize::MAX);
+                seen.len() - 1
+            }
         };
-        last = Some((s, target));
+        if let Some(p) = prev {
+            successor[p] = target;
+        }
+        prev = Some(target);
         target_of_row.push(target);
     }
+    // A target's index is its rank among the names, so that the rows sort by it as by name.
+    let mut by_name: Vec<usize> = (0..seen.len()).collect();
+    by_name.sort_by(|&a, &b| seen[a].cmp(seen[b]));
+    let mut rank = vec![0; seen.len()];
+    for (r, &i) in by_name.iter().enumerate() {
+        rank[i] = r;
+    }
+    for t in &mut target_of_row {
+        *t = rank[*t];
+    }
+    let target_names: Vec<String> = by_name.iter().map(|&i| seen[i].to_string()).collect();
 
     // The rows by run, target and time (docs/design.md §6: a target's samples in time order).
     let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();

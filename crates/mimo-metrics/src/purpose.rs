@@ -247,10 +247,45 @@ impl FileRows {
 /// Each target's truth samples of one run, sorted by time.
 type RunTruth = Vec<Vec<TruthSample>>;
 
-/// The truth of `runs` from the truth files.
+/// One run's targets as read: (name, samples in file order), in order of first appearance.
+#[derive(Default)]
+struct RunTargets {
+    targets: Vec<(String, Vec<TruthSample>)>,
+    /// Index in `targets` of each name.
+    index: HashMap<String, usize>,
+    /// The target of the row before, whose successor is tried first (the truth is written time
+    /// by time, its targets in the same order each time).
+    last: usize,
+}
+
+impl RunTargets {
+    /// The samples of target `name`, found without building a string unless it is new.
+    fn samples(&mut self, name: &str) -> &mut Vec<TruthSample> {
+        let n = self.targets.len();
+        let next = if n == 0 { 0 } else { (self.last + 1) % n };
+        let i = if n > 0 && self.targets[next].0 == name {
+            next
+        } else {
+            match self.index.get(name) {
+                Some(&i) => i,
+                None => {
+                    self.index.insert(name.to_string(), n);
+                    self.targets.push((name.to_string(), Vec::new()));
+                    n
+                }
+            }
+        };
+        self.last = i;
+        &mut self.targets[i].1
+    }
+}
+
+/// The truth of `runs` from the truth files: each run's targets in name order, each target's
+/// samples sorted by time (stably, so samples of one time keep their file order).
 fn load_truth(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, RunTruth>, MetricsError> {
     let cols = [T.run, T.target, T.t_s, T.x_m, T.y_m, T.z_m, T.vx_mps, T.vy_mps, T.vz_mps, T.alt_m];
-    let mut by_target: BTreeMap<(u32, String), Vec<TruthSample>> = BTreeMap::new();
+    let mut slot_of_run: BTreeMap<u32, usize> = BTreeMap::new();
+    let mut slots: Vec<RunTargets> = Vec::new();
     for path in paths {
         for_batches(TruthRow::TABLE, path, &cols, |b| {
             let (run, target, t, alt) = (b.u32(T.run)?, b.utf8(T.target)?, b.f64(T.t_s)?, b.f64(T.alt_m)?);
@@ -258,23 +293,43 @@ fn load_truth(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, R
             let (vx, vy, vz) = (b.f64(T.vx_mps)?, b.f64(T.vy_mps)?, b.f64(T.vz_mps)?);
             let (run, t, alt, x, y, z) = (run.values(), t.values(), alt.values(), x.values(), y.values(), z.values());
             let (vx, vy, vz) = (vx.values(), vy.values(), vz.values());
-            for i in (0..b.len()).filter(|&i| runs.contains(&run[i])) {
-                let key = (run[i], target.value(i).to_string());
+            // The slot of the row's run, looked up when the run changes (`None`: not scored).
+            let mut current: Option<(u32, Option<usize>)> = None;
+            for i in 0..b.len() {
+                let slot = match current {
+                    Some((r, slot)) if r == run[i] => slot,
+                    _ => {
+                        let slot = runs.contains(&run[i]).then(|| {
+                            *slot_of_run.entry(run[i]).or_insert_with(|| {
+                                slots.push(RunTargets::default());
+                                slots.len() - 1
+                            })
+                        });
+                        current = Some((run[i], slot));
+                        slot
+                    }
+                };
+                let Some(slot) = slot else { continue };
                 let sample = TruthSample {
                     t: t[i],
                     p: DVec3::new(x[i], y[i], z[i]),
                     v: DVec3::new(vx[i], vy[i], vz[i]),
                     alt: alt[i],
                 };
-                by_target.entry(key).or_default().push(sample);
+                slots[slot].samples(target.value(i)).push(sample);
             }
             Ok(())
         })?;
     }
     let mut out: BTreeMap<u32, RunTruth> = BTreeMap::new();
-    for ((run, _), mut samples) in by_target {
-        samples.sort_by(|a, b| a.t.total_cmp(&b.t));
-        out.entry(run).or_default().push(samples);
+    for (run, slot) in slot_of_run {
+        let mut targets = std::mem::take(&mut slots[slot].targets);
+        targets.sort_by(|a, b| a.0.cmp(&b.0));
+        let samples = targets.into_iter().map(|(_, mut samples)| {
+            samples.sort_by(|a, b| a.t.total_cmp(&b.t));
+            samples
+        });
+        out.insert(run, samples.collect());
     }
     Ok(out)
 }

@@ -232,10 +232,21 @@ impl PageRowGroup<'_> {
             }
             let mut pos = 0;
             for _ in 0..n {
-                let len = values.get(pos..pos + 4)?;
-                let len = u32::from_le_bytes([len[0], len[1], len[2], len[3]]) as usize;
+                // Where 16 bytes are left, one load gives the length and the key.
+                let (len, key) = match values.get(pos..pos + 16) {
+                    Some(b) => {
+                        let all = u128::from_le_bytes(b.try_into().ok()?);
+                        let len = all as u32 as usize;
+                        (len, KEY_MASKS.get(len).map(|mask| all & mask))
+                    }
+                    None => {
+                        let len = values.get(pos..pos + 4)?;
+                        let len = u32::from_le_bytes([len[0], len[1], len[2], len[3]]) as usize;
+                        (len, stored_key(&values[pos..], len))
+                    }
+                };
                 let bytes = values.get(pos + 4..pos + 4 + len)?;
-                each(stored_key(&values[pos..], len), bytes)?;
+                each(key, bytes)?;
                 pos += 4 + len;
             }
             Some(())
@@ -256,6 +267,18 @@ pub fn short_key(bytes: &[u8]) -> Option<u128> {
     }
     Some(u128::from_le_bytes(b))
 }
+
+/// The mask of a stored value's key by its length (0 to 12 bytes): its 4 length bytes and `len`
+/// bytes of the value.
+const KEY_MASKS: [u128; 13] = {
+    let mut masks = [0u128; 13];
+    let mut len = 0;
+    while len < 13 {
+        masks[len] = u128::MAX >> (128 - 8 * (4 + len));
+        len += 1;
+    }
+    masks
+};
 
 /// [`short_key`] of the plain-encoded value at the start of `stored` (its 4-byte length, then
 /// its bytes), read in one load where 16 bytes are left: the stored layout is the key's.
@@ -384,6 +407,30 @@ mod tests {
             assert_eq!(ids.1, rows.iter().map(|r| r.group_id).collect::<Vec<_>>());
             assert_eq!(ids.2, rows.iter().map(|r| r.face).collect::<Vec<_>>());
         }
+    }
+
+    /// Each value's key from its stored bytes is the key of its string, for values in the middle
+    /// of a page (one 16-byte load) and at its end (fewer than 16 bytes left).
+    #[test]
+    fn stored_keys_are_the_keys_of_the_strings() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let rows = dwells(crate::PAGE_ROWS + 100);
+        let path = dir.path().join("run-0003.parquet");
+        crate::write_table(&path, &rows).expect("write");
+        let f = PageFile::open(&path, &["radar", "role", "kind"]).expect("the store's own file");
+        let mut values = 0;
+        for g in 0..f.num_row_groups() {
+            let rg = f.row_group(g).expect("row group");
+            for col in 0..3 {
+                rg.keyed_strs(col, |key, bytes| {
+                    assert_eq!(key, short_key(bytes), "{:?}", std::str::from_utf8(bytes));
+                    values += 1;
+                    Some(())
+                })
+                .expect("decoded");
+            }
+        }
+        assert_eq!(values, 3 * rows.len());
     }
 
     /// The writer's settings for every column of every run table of a type the decoder reads
