@@ -164,9 +164,9 @@ pub fn unresolved_from(cfg: &ResourceConfig, snap: &Snapshot, id: u64, aim: mimo
     let dr_max = cfg.unresolved_range_cells * p.range_cell_m();
     let da_max = cfg.unresolved_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
     let u0 = d0 / r0;
-    snap.live_tracks().iter().filter(|o| o.id != id).any(|o| {
+    snap.tracker.track_dues().filter(|o| o.id != id && o.status != TrackStatus::Deleted).any(|o| {
         // A track whose position ball is clear of the cell is not predicted.
-        if !o.may_be_near(site, r0, u0, dr_max, da_max) {
+        if !snap.may_be_near(&o, site, r0, u0, dr_max, da_max) {
             return false;
         }
         let Some(q) = snap.position(o.id) else { return false };

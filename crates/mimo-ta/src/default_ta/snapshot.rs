@@ -34,37 +34,6 @@ pub struct Snapshot<'a> {
     positions_ecef: RefCell<BTreeMap<u64, Option<DVec3>>>,
     /// The tracks' position balls, kept across passes by the caller ([`Snapshot::with_balls`]).
     balls: Option<&'a RefCell<BTreeMap<u64, PositionBall>>>,
-    live: OnceCell<Vec<LiveTrack>>,
-}
-
-/// A live (not deleted) track as a pass's neighbourhood tests see it: its id and the centre and
-/// radius of its kept position ball at the pass's instant, if it has one.
-#[derive(Debug, Clone, Copy)]
-pub struct LiveTrack {
-    /// The track's id.
-    pub id: u64,
-    ball: Option<(DVec3, f64)>,
-}
-
-impl LiveTrack {
-    /// [`Snapshot::may_be_near`] for this track.
-    pub fn may_be_near(&self, site: DVec3, r0_m: f64, u0: DVec3, dr_m: f64, da: f64) -> bool {
-        self.ball.is_none_or(|(centre, radius_m)| ball_may_be_near(centre, radius_m, site, r0_m, u0, dr_m, da))
-    }
-}
-
-/// Whether a point of the ball (`centre`, `radius_m`) may lie, seen from `site`, within `dr_m` of
-/// range `r0_m` and within `da` of the direction `u0` ([`Snapshot::may_be_near`]).
-fn ball_may_be_near(centre: DVec3, radius_m: f64, site: DVec3, r0_m: f64, u0: DVec3, dr_m: f64, da: f64) -> bool {
-    let dc = centre - site;
-    let rc = dc.length();
-    if (rc - r0_m).abs() > dr_m + radius_m {
-        return false;
-    }
-    if !(rc > 0.0 && rc >= 2.0 * radius_m) {
-        return true;
-    }
-    (dc / rc - u0).length() <= da + 1.05 * radius_m / rc + DIRECTION_SLACK
 }
 
 /// Slack of the direction test on unit vectors (far above their rounding).
@@ -82,7 +51,6 @@ impl<'a> Snapshot<'a> {
             heights_m: RefCell::new(Vec::new()),
             positions_ecef: RefCell::new(BTreeMap::new()),
             balls: None,
-            live: OnceCell::new(),
         }
     }
 
@@ -100,21 +68,15 @@ impl<'a> Snapshot<'a> {
     /// of `c`'s.
     pub fn may_be_near(&self, due: &TrackDue, site: DVec3, r0_m: f64, u0: DVec3, dr_m: f64, da: f64) -> bool {
         let Some((centre, radius_m)) = self.ball(due) else { return true };
-        ball_may_be_near(centre, radius_m, site, r0_m, u0, dr_m, da)
-    }
-
-    /// Every live (not deleted) track of the pass in the tracker's order, with its position ball
-    /// at the pass's instant: made once, on first use, so that a pass testing many tracks'
-    /// neighbourhoods walks a list instead of the tracker's map and the ball cache each time.
-    /// A ball is a bound, so which of the valid balls a test uses never changes its answer.
-    pub fn live_tracks(&self) -> &[LiveTrack] {
-        self.live.get_or_init(|| {
-            self.tracker
-                .track_dues()
-                .filter(|o| o.status != mimo_core::records::TrackStatus::Deleted)
-                .map(|o| LiveTrack { id: o.id, ball: self.ball(&o) })
-                .collect()
-        })
+        let dc = centre - site;
+        let rc = dc.length();
+        if (rc - r0_m).abs() > dr_m + radius_m {
+            return false;
+        }
+        if !(rc > 0.0 && rc >= 2.0 * radius_m) {
+            return true;
+        }
+        (dc / rc - u0).length() <= da + 1.05 * radius_m / rc + DIRECTION_SLACK
     }
 
     /// Whether track `id`'s predicted position at the pass's instant may lie within `dist_m` of
