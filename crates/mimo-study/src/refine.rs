@@ -97,9 +97,6 @@ fn midpoint(a: &Method, b: &Method) -> Vec<f64> {
 struct Candidate {
     lo: usize,
     hi: usize,
-    /// The lower point's mean total energy per object (J): the least energy a point between the
-    /// two can need, if completeness and energy rise with every knob.
-    e_lo: f64,
     /// The family's frontier bracket (not a line's).
     frontier: bool,
 }
@@ -135,9 +132,7 @@ fn lines(grids: &[&[(String, f64)]]) -> Vec<Vec<usize>> {
 fn bracket_on(f: &FamilyRuns, of: &[usize], all: &[usize]) -> Option<Candidate> {
     let sub = FamilyRuns { points: of.iter().map(|&i| f.points[i].clone()).collect(), duration_s: f.duration_s };
     let at = at_required(&sub, all).ok()?;
-    let (lo, hi) = (of[at.bracket.0], of[at.bracket.1]);
-    let e_lo = f.points[lo].means(all).figures[RUN_ENERGY]?;
-    Some(Candidate { lo, hi, e_lo, frontier: false })
+    Some(Candidate { lo: of[at.bracket.0], hi: of[at.bracket.1], frontier: false })
 }
 
 /// Round `round`'s stage (1-based): for each refined family, scenario and stress point, at most
@@ -161,27 +156,25 @@ pub fn next_stage(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], round
         let means = all_means(&row.runs);
         let energy = |i: usize| means[i].figures[RUN_ENERGY];
         let (lo, hi) = at.bracket;
-        let mut candidates = Vec::new();
-        if let Some(e_lo) = energy(lo) {
-            candidates.push(Candidate { lo, hi, e_lo, frontier: true });
-        }
         let grids: Vec<&[(String, f64)]> =
             row.cells.iter().map(|&c| plan.methods[cells[c].method].grid.as_slice()).collect();
-        candidates
-            .extend(lines(&grids).iter().filter_map(|line| bracket_on(&row.runs, line, &all)).filter(|c| c.e_lo < e));
-        let open = candidates.into_iter().filter(|c| match (energy(c.lo), energy(c.hi)) {
-            (Some(a), Some(b)) => (b - a).abs() / e > r.fraction,
-            _ => false,
-        });
-        let mut open: Vec<Candidate> = open.collect();
+        // A line's lower point is the least energy a point between its pair can need, if
+        // completeness and energy rise with every knob: only a line below the estimate can beat it.
+        let lines = lines(&grids).into_iter().filter_map(|line| bracket_on(&row.runs, &line, &all));
+        let mut open: Vec<(Candidate, f64)> = std::iter::once(Candidate { lo, hi, frontier: true })
+            .chain(lines)
+            .filter_map(|c| Some((c, energy(c.lo)?, energy(c.hi)?)))
+            .filter(|(c, e_lo, e_hi)| (c.frontier || *e_lo < e) && (e_hi - e_lo).abs() / e > r.fraction)
+            .map(|(c, e_lo, _)| (c, e_lo))
+            .collect();
         // The frontier's own bracket (first in the list) stays first; then the lines, lowest bound
         // first (stable: in line order among equals).
-        let skip = usize::from(open.first().is_some_and(|c| c.frontier));
-        open[skip..].sort_by(|a, b| a.e_lo.total_cmp(&b.e_lo));
+        let skip = usize::from(open.first().is_some_and(|(c, _)| c.frontier));
+        open[skip..].sort_by(|a, b| a.1.total_cmp(&b.1));
         let keys: Vec<String> = base.grid.iter().map(|(k, _)| k.clone()).collect();
         let family_entry = plan.methods.iter().position(|m| m.family == base.family).unwrap_or(0);
         let place = &cells[row.cell];
-        for pick in open {
+        for (pick, _) in open {
             let method_of = |i: usize| &plan.methods[cells[row.cells[i]].method];
             let values = midpoint(method_of(pick.lo), method_of(pick.hi));
             let mut method = method_at(&ctx, &format!("methods[{family_entry}]"), base, &keys, &values)?;
