@@ -35,8 +35,12 @@ for name in "${@:-challenge stability registration budget7}"; do
     wall=$(( $(date +%s) - start ))
     echo "$study: $wall s wall on $(nproc) cores$timing"
     dest=reports/studies/$study
+    # The page's screenshot (report-html.png) is made apart and kept.
+    shot=""
+    if [[ -f "$dest/report-html.png" ]]; then shot=$(mktemp) && cp "$dest/report-html.png" "$shot"; fi
     rm -rf "$dest"
     mkdir -p "$dest"
+    if [[ -n "$shot" ]]; then mv "$shot" "$dest/report-html.png"; fi
     cp -r "$out/charts" "$out/report.md" "$out/report.html" "$out/summary.parquet" "$out/results.parquet" "$out/costs.parquet" \
       "$out/challenge.parquet" "$out/challenge_ratios.parquet" "$out/failure_points.parquet" "$out/plan.toml" "$dest/"
     # frontier.parquet: studies merged since the efficient frontier (docs/studies.md, "The challenge").
