@@ -126,6 +126,13 @@ pub trait TrackFilter: Send + Sync {
     fn position_trace_convex(&self, _state: &FilterState) -> bool {
         false
     }
+    /// Whether the combined predicted mean of this state moves at constant velocity from the
+    /// state's single mode, `p(dt) = p + dt·v`: schedulers then bound where the track can be
+    /// over a window from the mean alone (docs/model.md §7.2). The default, `false`, is always
+    /// safe.
+    fn mean_constant_velocity(&self, _state: &FilterState) -> bool {
+        false
+    }
     /// An upper bound on the trace of the combined predicted position covariance at `dt`
     /// (m²), convex in `dt ≥ 0` for this state, for deletion certificates when
     /// [`TrackFilter::position_trace_convex`] cannot promise the trace itself (docs/model.md
@@ -187,6 +194,10 @@ impl TrackFilter for SingleModelFilter {
 
     fn position_trace_convex(&self, state: &FilterState) -> bool {
         self.predictor.position_trace_convex(&state.combined())
+    }
+
+    fn mean_constant_velocity(&self, state: &FilterState) -> bool {
+        state.modes.len() == 1 && self.predictor.constant_velocity()
     }
 
     fn prediction_bound(&self, state: &FilterState, dt: f64) -> Option<PredictionBound> {

@@ -31,6 +31,13 @@ pub struct PositionBall {
 }
 
 impl PositionBall {
+    /// About the last time (s) at which the ball still holds its track's prediction, while the
+    /// track is not updated: its state's time plus the window's last interval (the exact test is
+    /// [`PositionBall::holds`]; this sum may round either way by an ulp).
+    pub fn last_time_s(&self) -> f64 {
+        self.t_state_s + self.ball.dt_hi_s()
+    }
+
     /// Whether the ball holds the predicted position at `t_s` of the track whose scheduling state
     /// is `due` (the same track it was made for).
     pub fn holds(&self, due: &TrackDue, t_s: f64) -> bool {
@@ -47,7 +54,8 @@ impl MultiTargetTracker {
     /// (then the caller predicts the position).
     pub fn position_ball(&self, id: u64, t_s: f64) -> Option<PositionBall> {
         let t = self.tracks.get(&id)?;
-        let ball = TrackBall::of(&*self.c.filter, t, t_s - t.t_s)?;
+        let filter = &*self.c.filter;
+        let ball = TrackBall::of(filter, t, t_s - t.t_s).or_else(|| TrackBall::of_position(filter, t, t_s - t.t_s))?;
         let centre_ecef = self.frame.to_ecef(ball.centre);
         let radius_m = ball.radius_m + ECEF_SLACK_M;
         (centre_ecef.is_finite() && radius_m.is_finite()).then_some(PositionBall {
@@ -104,5 +112,28 @@ mod tests {
         assert!(!ball.holds(&due, 10.9));
         let updated = TrackDue { n_updates: 5, ..due };
         assert!(!ball.holds(&updated, 11.0));
+    }
+
+    /// On the default tracker (one NCV mode, no bound of its covariance's trace) the ball is
+    /// made from the mean alone and holds the predicted position over its window.
+    #[test]
+    fn the_default_trackers_ball_holds_the_predicted_position() {
+        let mut tr = MultiTargetTracker::new(TrackerConfig::default(), Geodetic::from_deg(36.0, -70.0, 0.0));
+        let g = Gaussian { x: [8e4, -2e4, 3e3, -250.0, 30.0, -5.0], p: scale(&identity(), 1e4) };
+        tr.tracks.insert(5, Track::confirmed_for_test(5, tr.c.filter.init(g), 10.0, 4));
+        let ball = tr.position_ball(5, 11.0).expect("a ball");
+        let due = tr.track_due(5).expect("due");
+        let mut held = 0;
+        for k in 0..100 {
+            let t_s = 11.0 + 0.05 * f64::from(k);
+            let p = tr.predict_position(5, t_s).expect("position");
+            if ball.holds(&due, t_s) {
+                held += 1;
+                assert!((p - ball.centre_ecef).length() <= ball.radius_m, "outside the ball at {t_s}");
+            }
+        }
+        assert!(held >= 80, "{held} times held");
+        // The segment of 4 s at about 252 m/s, halved.
+        assert!((ball.radius_m - 2.0 * 252.0).abs() < 5.0, "radius {}", ball.radius_m);
     }
 }

@@ -52,6 +52,25 @@ impl TrackBall {
         let trace_max_m2 = filter
             .position_trace_upper_convex(&track.state, a)?
             .max(filter.position_trace_upper_convex(&track.state, b)?);
+        if !trace_max_m2.is_finite() {
+            return None;
+        }
+        Self::of_means(track, a, b, trace_max_m2)
+    }
+
+    /// The ball of `track`'s predicted positions over `[dt_s, dt_s + WINDOW_S]` alone, for a
+    /// filter whose one mode's mean moves at constant velocity
+    /// ([`TrackFilter::mean_constant_velocity`]): no bound of the covariance (its trace bound is
+    /// infinite, so no gate may use it).
+    pub(crate) fn of_position(filter: &dyn TrackFilter, track: &Track, dt_s: f64) -> Option<TrackBall> {
+        if !filter.mean_constant_velocity(&track.state) {
+            return None;
+        }
+        Self::of_means(track, dt_s, dt_s + WINDOW_S, f64::INFINITY)
+    }
+
+    /// The ball around the modes' means moved at constant velocity to `a` and `b`.
+    fn of_means(track: &Track, a: f64, b: f64, trace_max_m2: f64) -> Option<TrackBall> {
         let ends: Vec<DVec3> = track
             .state
             .modes
@@ -64,7 +83,7 @@ impl TrackBall {
         let centre = ends.iter().fold(DVec3::ZERO, |s, e| s + *e) / ends.len() as f64;
         let far = ends.iter().map(|e| (*e - centre).length()).fold(0.0, f64::max);
         let radius_m = far * (1.0 + RADIUS_MARGIN) + RADIUS_MARGIN;
-        let finite = centre.is_finite() && radius_m.is_finite() && trace_max_m2.is_finite() && trace_max_m2 >= 0.0;
+        let finite = centre.is_finite() && radius_m.is_finite() && !trace_max_m2.is_nan() && trace_max_m2 >= 0.0;
         let (t_s, n_updates) = (track.t_s, track.n_updates);
         finite.then_some(TrackBall { t_s, n_updates, dt_lo_s: a, dt_hi_s: b, centre, radius_m, trace_max_m2 })
     }
@@ -83,6 +102,11 @@ impl TrackBall {
         let (du, dv) = (l[0] / range_m - beam_u, l[1] / range_m - beam_v);
         let need = theta + 1.05 * self.radius_m / range_m;
         du * du + dv * dv > need * need
+    }
+
+    /// The last prediction interval the ball covers (s from its state).
+    pub(crate) fn dt_hi_s(&self) -> f64 {
+        self.dt_hi_s
     }
 
     /// Whether `dt_s` lies in the ball's window of prediction intervals.

@@ -21,11 +21,12 @@ pub fn members(cfg: &ResourceConfig, snap: &Snapshot, aim: DVec3, tx: RadarId, c
         return Vec::new();
     }
     let da_max = cfg.group_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
+    // A track whose position ball is farther than the group radius is not predicted.
+    let near = snap.near(aim, cfg.group_radius_m);
     candidates
         .iter()
         .filter_map(|&id| {
-            // A track whose position ball is farther than the group radius is not predicted.
-            if !snap.may_be_within(id, aim, cfg.group_radius_m) {
+            if near.binary_search(&id).is_err() {
                 return None;
             }
             let q = snap.position(id)?;

@@ -21,6 +21,7 @@ mod due_index;
 mod fixture;
 pub mod group;
 mod hold;
+pub mod near_index;
 pub mod planner;
 pub mod power;
 pub mod search_manager;
@@ -38,8 +39,8 @@ use mimo_core::records::Requester;
 use mimo_core::records::{DwellKind, TrackStatus};
 use mimo_sim::messages::{DwellReport, DwellRequest, PartReport, Reply, Request, StartInfo};
 use mimo_sim::test_article::{TaFault, TestArticle};
-use mimo_track::position_ball::PositionBall;
 use mimo_track::{DwellContext, Look, MultiTargetTracker, TrackDue};
+use near_index::NearIndex;
 use search_manager::SearchManager;
 use snapshot::Snapshot;
 use std::cell::RefCell;
@@ -98,8 +99,8 @@ pub struct DefaultTa {
     afford: Option<Afford>,
     /// The live tracks by the time they may be looked at ([`held_due`]).
     dues: DueIndex,
-    /// The tracks' position balls, kept across passes ([`Snapshot::with_balls`]).
-    balls: RefCell<BTreeMap<u64, PositionBall>>,
+    /// The tracks' position balls in their grid, kept across passes ([`Snapshot::with_index`]).
+    near: RefCell<NearIndex>,
     /// The background search it orders (nothing with the default settings).
     search: SearchManager,
 }
@@ -117,7 +118,7 @@ impl DefaultTa {
             hold_until: BTreeMap::new(),
             afford: Afford::of(&cfg.resource_manager),
             dues: DueIndex::default(),
-            balls: RefCell::default(),
+            near: RefCell::default(),
             search: SearchManager::default(),
             cfg,
         }
@@ -197,7 +198,7 @@ impl DefaultTa {
         let Some(st) = &self.state else { return (out, waiting, next, ahead) };
         let rm = &self.cfg.resource_manager;
         // Faces, heights and predicted positions at `now`, kept for every plan of this pass.
-        let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now).with_balls(&self.balls);
+        let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now).with_index(&self.near);
         let over_budget = radars_at_share(&self.budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s);
         let busy_rx = radars_at_share(&self.budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s);
         // The confirmed tracks due by the group look-ahead, found at the first group look.
@@ -338,7 +339,7 @@ impl TestArticle for DefaultTa {
         self.merged_last.clear();
         self.hold_until.clear();
         self.dues.clear();
-        self.balls.get_mut().clear();
+        *self.near.get_mut() = NearIndex::default();
         self.afford = Afford::of(&self.cfg.resource_manager);
         Ok(Reply::requests(self.search.start(&self.cfg.search_manager, start.closed_loop)))
     }
@@ -375,12 +376,12 @@ impl TestArticle for DefaultTa {
                 self.pending.remove(&r.track_id);
                 self.merged_last.remove(&r.track_id);
                 self.hold_until.remove(&r.track_id);
-                self.balls.get_mut().remove(&r.track_id);
             }
         }
         for &id in st.tracker.changed_tracks() {
             self.dues.refresh(&st.tracker, &self.hold_until, id);
         }
+        self.near.get_mut().mark(st.tracker.changed_tracks());
         let mut requests = if changed { self.schedule(report.end_s) } else { Vec::new() };
         self.search.note_rows(&rows, report.end_s);
         requests.extend(self.search.update(&self.cfg.search_manager, report.end_s));

@@ -164,7 +164,12 @@ pub fn unresolved_from(cfg: &ResourceConfig, snap: &Snapshot, id: u64, aim: mimo
     let dr_max = cfg.unresolved_range_cells * p.range_cell_m();
     let da_max = cfg.unresolved_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
     let u0 = d0 / r0;
-    snap.tracker.track_dues().filter(|o| o.id != id && o.status != TrackStatus::Deleted).any(|o| {
+    // A point within `dr_max` of range and `da_max` of direction lies within `dr_max + r0·da_max`
+    // of `aim`; the metre and the relative part cover rounding.
+    let reach_m = dr_max + r0 * da_max + 1.0 + 1e-9 * r0;
+    let near = snap.near(aim, reach_m);
+    let others = near.into_iter().filter(|&o| o != id).filter_map(|o| snap.tracker.track_due(o));
+    others.filter(|o| o.status != TrackStatus::Deleted).any(|o| {
         // A track whose position ball is clear of the cell is not predicted.
         if !snap.may_be_near(&o, site, r0, u0, dr_max, da_max) {
             return false;

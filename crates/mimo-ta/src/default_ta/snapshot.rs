@@ -7,6 +7,7 @@
 //! converts heights only when cheap lower bounds of them cannot already show the look visible.
 //! Every value and answer is the one the direct computation gives, bit for bit.
 
+use super::near_index::NearIndex;
 use crate::geometry::ShipGeometry;
 use mimo_core::DVec3;
 use mimo_core::face::FaceFrame;
@@ -14,9 +15,8 @@ use mimo_core::geo::{height_lower_bound_m, surely_visible_effective_earth};
 use mimo_core::ids::RadarId;
 use mimo_radar::energy::{PairEnd, PairPrediction, predict_pair_seen};
 use mimo_radar::geometry::{height_m, visible_with_heights};
-use mimo_track::position_ball::PositionBall;
 use mimo_track::{MultiTargetTracker, TrackDue};
-use std::cell::{OnceCell, RefCell};
+use std::cell::{Cell, OnceCell, RefCell};
 use std::collections::BTreeMap;
 
 /// The radars and tracks at one scheduling instant, each part computed once.
@@ -32,8 +32,11 @@ pub struct Snapshot<'a> {
     /// Heights above the ellipsoid (m) of the points seen so far, by their coordinates' bits.
     heights_m: RefCell<Vec<([u64; 3], f64)>>,
     positions_ecef: RefCell<BTreeMap<u64, Option<DVec3>>>,
-    /// The tracks' position balls, kept across passes by the caller ([`Snapshot::with_balls`]).
-    balls: Option<&'a RefCell<BTreeMap<u64, PositionBall>>>,
+    /// The tracks' position balls in their grid, kept across passes by the caller
+    /// ([`Snapshot::with_index`]).
+    index: Option<&'a RefCell<NearIndex>>,
+    /// Whether the index was brought to the pass's instant.
+    refreshed: Cell<bool>,
 }
 
 /// Slack of the direction test on unit vectors (far above their rounding).
@@ -50,14 +53,15 @@ impl<'a> Snapshot<'a> {
             faces: OnceCell::new(),
             heights_m: RefCell::new(Vec::new()),
             positions_ecef: RefCell::new(BTreeMap::new()),
-            balls: None,
+            index: None,
+            refreshed: Cell::new(false),
         }
     }
 
-    /// The same view, keeping the tracks' position balls in `balls` (made when missing or
-    /// stale, kept for later passes; the caller drops those of deleted tracks).
-    pub fn with_balls(self, balls: &'a RefCell<BTreeMap<u64, PositionBall>>) -> Snapshot<'a> {
-        Snapshot { balls: Some(balls), ..self }
+    /// The same view, keeping the tracks' position balls in `index` (renewed when stale, kept
+    /// for later passes; the caller marks the tracks its dwells changed).
+    pub fn with_index(self, index: &'a RefCell<NearIndex>) -> Snapshot<'a> {
+        Snapshot { index: Some(index), ..self }
     }
 
     /// Whether the predicted position at the pass's instant of the track `due` may lie, seen
@@ -79,24 +83,22 @@ impl<'a> Snapshot<'a> {
         (dc / rc - u0).length() <= da + 1.05 * radius_m / rc + DIRECTION_SLACK
     }
 
-    /// Whether track `id`'s predicted position at the pass's instant may lie within `dist_m` of
-    /// `point`: `false` only when its position ball is farther.
-    pub fn may_be_within(&self, id: u64, point: DVec3, dist_m: f64) -> bool {
-        let Some(due) = self.tracker.track_due(id) else { return true };
-        let Some((centre, radius_m)) = self.ball(&due) else { return true };
-        (centre - point).length() <= dist_m + radius_m
+    /// The tracks (of any status) whose predicted position at the pass's instant may lie within
+    /// `dist_m` of `point`, by id: every track except those whose position ball is farther
+    /// ([`NearIndex`], made at the first query of the pass).
+    pub fn near(&self, point: DVec3, dist_m: f64) -> Vec<u64> {
+        let Some(index) = self.index else { return self.tracker.track_dues().map(|d| d.id).collect() };
+        let mut index = index.borrow_mut();
+        if !self.refreshed.replace(true) {
+            index.refresh(self.tracker, self.t_s);
+        }
+        index.near(point, dist_m)
     }
 
     /// The centre and radius of the kept position ball of the track `due` at the pass's instant
     /// (made anew when missing or stale), if the caller keeps balls and the tracker offers one.
     fn ball(&self, due: &TrackDue) -> Option<(DVec3, f64)> {
-        let mut balls = self.balls?.borrow_mut();
-        let fresh = balls.get(&due.id).is_some_and(|b| b.holds(due, self.t_s));
-        if !fresh {
-            let b = self.tracker.position_ball(due.id, self.t_s).filter(|b| b.holds(due, self.t_s))?;
-            balls.insert(due.id, b);
-        }
-        balls.get(&due.id).map(|b| (b.centre_ecef, b.radius_m))
+        self.index?.borrow_mut().ball(self.tracker, due, self.t_s)
     }
 
     /// Every radar id, in order.
