@@ -20,6 +20,7 @@ use mimo_core::DVec3;
 use mimo_track::position_ball::PositionBall;
 use mimo_track::{MultiTargetTracker, TrackDue};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// Edge of the grid's cubes (m).
 pub const CELL_M: f64 = 10_000.0;
@@ -49,13 +50,39 @@ fn cube_of(p: DVec3) -> [i64; 3] {
     [p.x, p.y, p.z].map(|c| (c / CELL_M).floor() as i64)
 }
 
+/// A hasher for cube keys (three small integers): a multiply and a rotation per word, where the
+/// standard SipHash cost more than the lookups it serves. Iteration order never reaches an
+/// answer: queries sort what they return.
+#[derive(Debug, Default, Clone, Copy)]
+struct CubeHasher(u64);
+
+impl Hasher for CubeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
 /// The tracks' balls, kept across passes, and their grid.
 #[derive(Debug, Default)]
 pub struct NearIndex {
     /// Each indexed track's ball.
     balls: BTreeMap<u64, PositionBall>,
     place: BTreeMap<u64, Place>,
-    cubes: HashMap<[i64; 3], Vec<u64>>,
+    cubes: HashMap<[i64; 3], Vec<u64>, BuildHasherDefault<CubeHasher>>,
     wide: BTreeSet<u64>,
     unbounded: BTreeSet<u64>,
     /// `(end of window, id)` of every ball.
@@ -187,12 +214,15 @@ impl NearIndex {
         let within =
             |id: &u64| self.balls.get(id).is_none_or(|b| (b.centre_ecef - point).length() <= dist_m + b.radius_m);
         let mut out: Vec<u64> = Vec::new();
-        let reach = ((dist_m + WIDE_M) / CELL_M).ceil() as i64;
-        let [cx, cy, cz] = cube_of(point);
-        if reach <= 4 {
-            for x in cx - reach..=cx + reach {
-                for y in cy - reach..=cy + reach {
-                    for z in cz - reach..=cz + reach {
+        // The cubes a narrow ball within reach can have its centre in, axis by axis.
+        let reach_m = dist_m + WIDE_M;
+        let lo = cube_of(point - DVec3::splat(reach_m));
+        let hi = cube_of(point + DVec3::splat(reach_m));
+        let span = |k: usize| (hi[k] - lo[k] + 1) as f64;
+        if span(0) * span(1) * span(2) <= self.cubes.len() as f64 {
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
                         if let Some(v) = self.cubes.get(&[x, y, z]) {
                             out.extend(v.iter().copied().filter(within));
                         }
@@ -200,8 +230,11 @@ impl NearIndex {
                 }
             }
         } else {
-            // A far reach: every cube.
-            out.extend(self.cubes.values().flatten().copied().filter(within));
+            // Fewer cubes hold balls than the reach spans: visit those.
+            let inside = |key: &[i64; 3]| (0..3).all(|k| lo[k] <= key[k] && key[k] <= hi[k]);
+            for (_, v) in self.cubes.iter().filter(|(key, _)| inside(key)) {
+                out.extend(v.iter().copied().filter(within));
+            }
         }
         out.extend(self.wide.iter().copied().filter(within));
         out.extend(self.unbounded.iter().copied());
