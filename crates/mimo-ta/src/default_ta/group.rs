@@ -7,10 +7,20 @@ use super::snapshot::Snapshot;
 use mimo_core::DVec3;
 use mimo_core::ids::RadarId;
 
-/// The tracks among `candidates` whose predicted positions at the pass's instant lie, seen from
-/// radar `tx`, within `group_beam_fraction` of the narrower beamwidth of `aim` and within
-/// `group_radius_m` of it, each with its distance from `aim` (m). Candidates keep their order.
-pub fn members(cfg: &ResourceConfig, snap: &Snapshot, aim: DVec3, tx: RadarId, candidates: &[u64]) -> Vec<(u64, f64)> {
+/// The tracks among `candidates` (sorted by id) that `keep` accepts and whose predicted
+/// positions at the pass's instant lie, seen from radar `tx`, within `group_beam_fraction` of the
+/// narrower beamwidth of `aim` and within `group_radius_m` of it, each with its distance from
+/// `aim` (m), by id. Only the tracks the pass's index finds near `aim` are visited
+/// ([`Snapshot::near`]), so a look costs its neighbours, not every candidate.
+pub fn members(
+    cfg: &ResourceConfig,
+    snap: &Snapshot,
+    aim: DVec3,
+    tx: RadarId,
+    candidates: &[u64],
+    keep: impl Fn(u64) -> bool,
+) -> Vec<(u64, f64)> {
+    debug_assert!(candidates.windows(2).all(|w| w[0] < w[1]), "candidates not sorted by id");
     let (Some(p), Some(face)) = (snap.geom.params(tx), snap.faces_of(tx).first()) else {
         return Vec::new();
     };
@@ -22,13 +32,10 @@ pub fn members(cfg: &ResourceConfig, snap: &Snapshot, aim: DVec3, tx: RadarId, c
     }
     let da_max = cfg.group_beam_fraction * p.beamwidth_u().min(p.beamwidth_v());
     // A track whose position ball is farther than the group radius is not predicted.
-    let near = snap.near(aim, cfg.group_radius_m);
-    candidates
-        .iter()
-        .filter_map(|&id| {
-            if near.binary_search(&id).is_err() {
-                return None;
-            }
+    snap.near(aim, cfg.group_radius_m)
+        .into_iter()
+        .filter(|id| candidates.binary_search(id).is_ok() && keep(*id))
+        .filter_map(|id| {
             let q = snap.position(id)?;
             let d1 = q - site;
             let r1 = d1.length();

@@ -229,9 +229,9 @@ impl DefaultTa {
             if rm.group_looks && info.status == TrackStatus::Confirmed {
                 // Confirmed tracks due soon in the same beam ride along (docs/model.md §7.2).
                 let pool = soon_pool.get_or_insert_with(|| self.dues.confirmed_due_by(now + rm.group_lookahead_s));
-                let soon: Vec<u64> =
-                    pool.iter().copied().filter(|&o| o != info.id && !self.pending.contains_key(&o)).collect();
-                for id in ride_along(rm, &snap, &mut req, &soon) {
+                let pending = &self.pending;
+                let soon = |o: u64| o != info.id && !pending.contains_key(&o);
+                for id in ride_along(rm, &snap, &mut req, pool, soon) {
                     self.pending.insert(id, now);
                     if id > info.id {
                         ahead.insert(id);
@@ -305,12 +305,18 @@ fn held_due(hold_until: &BTreeMap<u64, f64>, id: u64, next_due_s: f64) -> f64 {
     next_due_s.max(hold_until.get(&id).copied().unwrap_or(f64::NEG_INFINITY))
 }
 
-/// Add the tracks of `soon` in the beam of `req` to its tag, widening its range window to take
-/// them; returns the tracks added.
-fn ride_along(rm: &ResourceConfig, snap: &Snapshot, req: &mut DwellRequest, soon: &[u64]) -> Vec<u64> {
+/// Add the tracks of `pool` (sorted by id) that `soon` accepts and that lie in the beam of
+/// `req` to its tag, widening its range window to take them; returns the tracks added.
+fn ride_along(
+    rm: &ResourceConfig,
+    snap: &Snapshot,
+    req: &mut DwellRequest,
+    pool: &[u64],
+    soon: impl Fn(u64) -> bool,
+) -> Vec<u64> {
     let Some(tx) = req.transmitters.first().map(|t| t.radar) else { return Vec::new() };
     let half = req.window_half_m;
-    let members = group::members(rm, snap, req.aim_ecef, tx, soon);
+    let members = group::members(rm, snap, req.aim_ecef, tx, pool, soon);
     for &(id, dist) in &members {
         req.tag.push(id);
         req.window_half_m = req.window_half_m.max(half + dist);
