@@ -199,8 +199,9 @@ impl DefaultTa {
         let rm = &self.cfg.resource_manager;
         // Faces, heights and predicted positions at `now`, kept for every plan of this pass.
         let snap = Snapshot::new(&st.tracker, &st.geom, &st.radar_ids, now).with_index(&self.near);
-        let over_budget = radars_at_share(&self.budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s);
-        let busy_rx = radars_at_share(&self.budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s);
+        // The radars over their budget and those too busy to receive, found at the first look the
+        // pass plans (most passes of a raid plan none: their tracks are not due yet).
+        let mut shares: Option<(Vec<RadarId>, Vec<RadarId>)> = None;
         // The confirmed tracks due by the group look-ahead, found at the first group look.
         let mut soon_pool: Option<Vec<u64>> = None;
         for info in dues {
@@ -213,9 +214,16 @@ impl DefaultTa {
                 continue;
             }
             let trouble = self.in_trouble(info);
+            let (over_budget, busy_rx) = shares.get_or_insert_with(|| {
+                let budget = &self.budget;
+                (
+                    radars_at_share(budget, snap.ids(), now, rm.max_ta_share, rm.budget_window_s),
+                    radars_at_share(budget, snap.ids(), now, rm.rx_busy_share, rm.rx_busy_window_s),
+                )
+            });
             let planned = match &mut self.afford {
-                None => planner::plan(rm, &snap, info, &over_budget, &[], &busy_rx, trouble),
-                Some(a) => a.plan(rm, &snap, info, &over_budget, &busy_rx, trouble),
+                None => planner::plan(rm, &snap, info, over_budget, &[], busy_rx, trouble),
+                Some(a) => a.plan(rm, &snap, info, over_budget, busy_rx, trouble),
             };
             waiting |= planned.is_none() && self.afford.is_some();
             let Some((mut req, unresolved)) = planned else { continue };
