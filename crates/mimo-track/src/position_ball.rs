@@ -81,6 +81,24 @@ mod tests {
     /// On an IMM tracker with three-mode tracks whose modes disagree, the ball holds the
     /// predicted position at every time of its window, and stops holding once the track is
     /// updated or the window is left.
+    /// Track 5's ball made at 11 s, checked to hold its predicted position at every time of
+    /// 11–16 s at which it says it holds (at least 80 of 100), with the track's scheduling state.
+    fn ball_held_over_its_window(tr: &MultiTargetTracker) -> (PositionBall, TrackDue) {
+        let ball = tr.position_ball(5, 11.0).expect("a ball");
+        let due = tr.track_due(5).expect("due");
+        let mut held = 0;
+        for k in 0..100 {
+            let t_s = 11.0 + 0.05 * f64::from(k);
+            let p = tr.predict_position(5, t_s).expect("position");
+            if ball.holds(&due, t_s) {
+                held += 1;
+                assert!((p - ball.centre_ecef).length() <= ball.radius_m, "outside the ball at {t_s}");
+            }
+        }
+        assert!(held >= 80, "{held} times held");
+        (ball, due)
+    }
+
     #[test]
     fn the_ball_holds_the_predicted_position() {
         let mut tr =
@@ -97,18 +115,7 @@ mod tests {
         let n_modes = tr.c.filter.init(modes[0]).modes.len();
         let state = FilterState { modes: modes[..n_modes].to_vec(), mu: vec![1.0 / n_modes as f64; n_modes] };
         tr.tracks.insert(5, Track::confirmed_for_test(5, state, 10.0, 4));
-        let ball = tr.position_ball(5, 11.0).expect("a ball");
-        let due = tr.track_due(5).expect("due");
-        let mut held = 0;
-        for k in 0..100 {
-            let t_s = 11.0 + 0.05 * f64::from(k);
-            let p = tr.predict_position(5, t_s).expect("position");
-            if ball.holds(&due, t_s) {
-                held += 1;
-                assert!((p - ball.centre_ecef).length() <= ball.radius_m, "outside the ball at {t_s}");
-            }
-        }
-        assert!(held >= 80, "{held} times held");
+        let (ball, due) = ball_held_over_its_window(&tr);
         assert!(!ball.holds(&due, 10.9));
         let updated = TrackDue { n_updates: 5, ..due };
         assert!(!ball.holds(&updated, 11.0));
@@ -121,18 +128,7 @@ mod tests {
         let mut tr = MultiTargetTracker::new(TrackerConfig::default(), Geodetic::from_deg(36.0, -70.0, 0.0));
         let g = Gaussian { x: [8e4, -2e4, 3e3, -250.0, 30.0, -5.0], p: scale(&identity(), 1e4) };
         tr.tracks.insert(5, Track::confirmed_for_test(5, tr.c.filter.init(g), 10.0, 4));
-        let ball = tr.position_ball(5, 11.0).expect("a ball");
-        let due = tr.track_due(5).expect("due");
-        let mut held = 0;
-        for k in 0..100 {
-            let t_s = 11.0 + 0.05 * f64::from(k);
-            let p = tr.predict_position(5, t_s).expect("position");
-            if ball.holds(&due, t_s) {
-                held += 1;
-                assert!((p - ball.centre_ecef).length() <= ball.radius_m, "outside the ball at {t_s}");
-            }
-        }
-        assert!(held >= 80, "{held} times held");
+        let (ball, _) = ball_held_over_its_window(&tr);
         // The segment of 4 s at about 252 m/s, halved.
         assert!((ball.radius_m - 2.0 * 252.0).abs() < 5.0, "radius {}", ball.radius_m);
     }

@@ -16,7 +16,7 @@ use std::ops::Bound;
 
 /// An integer with the order of [`f64::total_cmp`] (which is `<`'s for numbers, once −0 is
 /// made +0 by adding 0).
-fn order_key(x: f64) -> i64 {
+pub(super) fn order_key(x: f64) -> i64 {
     let b = (x + 0.0).to_bits() as i64;
     b ^ ((((b >> 63) as u64) >> 1) as i64)
 }

@@ -16,6 +16,7 @@
 //! callers apply their own exact test to what it returns, so their answers are the ones a walk
 //! over every track gives, bit for bit.
 
+use super::due_index::order_key;
 use mimo_core::DVec3;
 use mimo_track::position_ball::PositionBall;
 use mimo_track::{MultiTargetTracker, TrackDue};
@@ -38,12 +39,6 @@ enum Place {
     Wide { expiry: i64 },
     /// No ball.
     Unbounded,
-}
-
-/// An integer with the order of [`f64::total_cmp`] for the expiry times.
-fn order_key(x: f64) -> i64 {
-    let b = (x + 0.0).to_bits() as i64;
-    b ^ ((((b >> 63) as u64) >> 1) as i64)
 }
 
 fn cube_of(p: DVec3) -> [i64; 3] {
