@@ -11,8 +11,9 @@ crate::core_crate::table_decl! { crate::column_table;
     pub struct StudyChallengeRow / StudyChallengeColumns in STUDY_CHALLENGE = "study_challenge":
         "A study's challenge figures: one row per family (a [[methods]] entry, swept or not), scenario and stress \
          point; where the family's mean-completeness curve, its points ordered by knob value, first crosses the \
-         required completeness on the family's efficient frontier (its points' least mean total energy for each mean \
-         completeness), interpolated linearly in completeness between the two frontier points around the crossing, \
+         required completeness on the family's efficient frontier (its points' least mean energy for each mean \
+         completeness: total energy, or the test article's part when the plan sets frontier_energy = \
+         \"test_article\"), interpolated linearly in completeness between the two frontier points around the crossing, \
          with 95 % percentile intervals from a bootstrap over Monte Carlo runs (the same run resample for every \
          point; each resample rebuilds the frontier and re-reads the crossing on it)." {
         family: String => ("", "the [[methods]] entry's name"),
@@ -78,19 +79,24 @@ crate::core_crate::table_decl! { crate::column_table;
         ),
         frontier_points: u32 => (
             "",
-            "the family's points on its efficient frontier (least mean total energy for each mean completeness)"
+            "the family's points on its efficient frontier (least mean energy, on the plan's frontier_energy, for each \
+             mean completeness)"
         ),
         bracket_lo_method: Option<String> => (
             "",
             "the frontier point below the 98 % crossing (a method name); null when the crossing is outside the sweep"
         ),
         bracket_hi_method: Option<String> => ("", "the frontier point at or above it; null when outside the sweep"),
-        bracket_lo_energy_j: Option<f64> => ("J", "mean total energy per scorable object of bracket_lo_method"),
-        bracket_hi_energy_j: Option<f64> => ("J", "mean total energy per scorable object of bracket_hi_method"),
+        bracket_lo_energy_j: Option<f64> => (
+            "J",
+            "mean energy per scorable object of bracket_lo_method, on the frontier's energy (the plan's \
+             frontier_energy: total by default, or the test article's part)"
+        ),
+        bracket_hi_energy_j: Option<f64> => ("J", "the same of bracket_hi_method"),
         bracket_gap: Option<f64> => (
             "",
-            "(bracket_hi_energy_j − bracket_lo_energy_j) / energy_at_98_j: how far apart the grid's points around the \
-             crossing are"
+            "(bracket_hi_energy_j − bracket_lo_energy_j) / the frontier's energy at the crossing (energy_at_98_j, or \
+             ta_energy_at_98_j on the test article's part): how far apart the grid's points around the crossing are"
         ),
         refine_rounds: u32 => ("", "refinement rounds the study ran for this family and scenario"),
         resamples: u32 => ("", "bootstrap resamples of the run indices"),
@@ -134,7 +140,8 @@ crate::core_crate::table_decl! { crate::column_table;
         "A study's efficient frontiers: one row per method (a point of a family), scenario and stress point, with \
          its mean total energy per scorable object and mean completeness over every run (a failed run counting as \
          0 completeness), and whether the point lies on its family's frontier (no other point of the family reaches \
-         at least its completeness for at most its energy)." {
+         at least its completeness for at most its energy: total energy, or the test article's part when the plan \
+         sets frontier_energy = \"test_article\")." {
         family: String => ("", "the [[methods]] entry's name"),
         method: String => ("", "the method's name (family@value, or family@key=value,… for a grid)"),
         ..crate::study_schema::study_scenario_column,
@@ -144,6 +151,9 @@ crate::core_crate::table_decl! { crate::column_table;
             "mean over completed runs of energy_per_object_j (total: search and TA)"
         ),
         completeness: Option<f64> => ("", "mean completeness over every run, a failed run counting as 0"),
-        on_frontier: bool => ("", "the point lies on the family's efficient frontier"),
+        on_frontier: bool => (
+            "",
+            "the point lies on the family's efficient frontier (built on the plan's frontier_energy)"
+        ),
     }
 }

@@ -51,6 +51,9 @@
   $('notes').innerHTML = D.notes.map(function (n) { return '<li>' + esc(n) + '</li>'; }).join('');
 
   // ---- the frontier ----
+  // The energy the frontiers are built on: the total (search and test article) or the test article's part.
+  var TA_BASIS = D.energy === 'test_article';
+  var E_WORD = TA_BASIS ? 'TA energy / object ' : 'energy / object ';
   function pointsOf(sc) { return unique(D.cells.filter(function (c) { return c.sc === sc; }).map(function (c) { return c.pt; })); }
   function errBar(t) {
     var ok = t[0] !== null && t[1] !== null && t[2] !== null;
@@ -58,7 +61,7 @@
   }
   function hoverCell(c) {
     return '<b>' + esc(c.m) + '</b><br>scenario ' + esc(c.sc) + (c.pt !== '—' ? ' · ' + esc(c.pt) : '') +
-      '<br>completeness ' + withCi(c.c) + '<br>energy / object ' + withCi(c.e) + ' J' +
+      '<br>completeness ' + withCi(c.c) + '<br>' + E_WORD + withCi(c.e) + ' J' +
       '<br>' + c.n + ' runs' + (c.failed ? ', ' + c.failed + ' failed' : '') +
       (c.front === true ? '<br>on the frontier' : c.front === false ? '<br>off the frontier' : '') + '<br><i>click: list its runs</i>';
   }
@@ -102,7 +105,7 @@
           type: 'scatter', mode: 'markers', name: f + ' crossing', legendgroup: f, showlegend: false,
           x: [k.e98[0]], y: [R], marker: { color: colour[f], size: 13, symbol: 'triangle-up', line: { color: '#000', width: 1 } },
           error_x: { type: 'data', symmetric: false, array: [hi !== null ? hi - k.e98[0] : 0], arrayminus: [lo !== null ? k.e98[0] - lo : 0], thickness: 2, width: 6, color: colour[f] },
-          text: ['<b>' + esc(f) + ' crosses ' + (100 * R) + ' %</b><br>energy / object ' + fmt(k.e98[0]) + ' J (' +
+          text: ['<b>' + esc(f) + ' crosses ' + (100 * R) + ' %</b><br>' + E_WORD + fmt(k.e98[0]) + ' J (' +
             (lo !== null ? fmt(lo) : '…') + '–' + (hi !== null ? fmt(hi) : '…') + ')<br>between ' + esc(k.bracket[0] || '–') +
             ' and ' + esc(k.bracket[1] || '–')],
           hovertemplate: '%{text}<extra></extra>'
@@ -119,7 +122,7 @@
   function frontierLayout() {
     return {
       margin: { l: 60, r: 20, t: 30, b: 50 },
-      xaxis: { title: { text: 'total energy per scorable object (J), every transmit dwell' }, type: S.scale },
+      xaxis: { title: { text: TA_BASIS ? 'test-article energy per scorable object (J), background search left out' : 'total energy per scorable object (J), every transmit dwell' }, type: S.scale },
       yaxis: { title: { text: 'mean track completeness' } },
       legend: { orientation: 'h', y: -0.18 },
       hovermode: 'closest',
@@ -187,7 +190,7 @@
     });
     $('runs').innerHTML = '<p><b>' + esc(c.m) + '</b> (family ' + esc(c.f) + (c.arch ? ', ' + esc(c.arch) : '') + ') · scenario ' +
       esc(c.sc) + (c.pt !== '—' ? ' · ' + esc(c.pt) : '') + ' · cell <code>' + esc(c.rel) + '</code><br>completeness ' + withCi(c.c) +
-      ' · energy / object ' + withCi(c.e) + ' J · ' + c.n + ' runs' + (c.failed ? ', ' + c.failed + ' failed' : '') +
+      ' · ' + E_WORD + withCi(c.e) + ' J · ' + c.n + ' runs' + (c.failed ? ', ' + c.failed + ' failed' : '') +
       '. Energies by purpose are the run\'s totals over every radar; each command re-runs the run with the study\'s plan, seed and cell and keeps its tables.</p>' +
       '<div class="wrap"><table id="runs-table"><thead><tr>' + head.map(function (h) { return '<th>' + esc(h) + '</th>'; }).join('') +
       '</tr></thead><tbody>' + rows.join('') + '</tbody></table></div>';

@@ -1,5 +1,6 @@
 //! The challenge figures of a family (docs/studies.md, "The challenge"): where its efficient
-//! frontier ([`crate::frontier`]) crosses the required completeness, and the total energy, dwell
+//! frontier ([`crate::frontier`], on the energy its study's plan names:
+//! [`crate::frontier_energy`]) crosses the required completeness, and the total energy, dwell
 //! time and power per scorable object there (search and test article), the test article's part
 //! of each and the time to first track of the worst target, with bootstrap intervals over the
 //! Monte Carlo runs; and the paired ratio of two families' energies.
@@ -19,6 +20,7 @@
 use crate::bootstrap::{Replicate, percentile_95};
 pub use crate::frontier::Crossing;
 use crate::frontier::{crossing_on, frontier};
+pub use crate::frontier_energy::FrontierEnergy;
 
 /// The completeness the challenge requires.
 pub use crate::charts::COMPLETENESS_REQUIRED;
@@ -126,12 +128,14 @@ pub struct FamilyRuns {
     pub points: Vec<PointRuns>,
     /// Simulated seconds per run.
     pub duration_s: f64,
+    /// The energy its frontier is built on.
+    pub energy: FrontierEnergy,
 }
 
 /// The figures of a family over runs `idx`: `Ok` at a crossing inside the sweep, or why not.
 pub fn at_required(f: &FamilyRuns, idx: &[usize]) -> Result<AtRequired, Crossing> {
     let means: Vec<PointMeans> = f.points.iter().map(|p| p.means(idx)).collect();
-    let c = crossing_on(&means, &frontier(&means), COMPLETENESS_REQUIRED);
+    let c = crossing_on(&means, &frontier(&means, f.energy), COMPLETENESS_REQUIRED);
     let Crossing::At { lo, hi, t } = c else { return Err(c) };
     let lerp = |a: Option<f64>, b: Option<f64>| Some(a? + t * (b? - a?));
     let fig = |i: usize| lerp(means[lo].figures[i], means[hi].figures[i]);
@@ -255,7 +259,7 @@ pub fn challenge(f: &FamilyRuns, resamples: &[Vec<usize>]) -> Challenge {
     Challenge {
         holds: means.iter().any(|m| m.holds),
         crossings: crossings(&means),
-        frontier: frontier(&means),
+        frontier: frontier(&means, f.energy),
         at,
         resamples_crossing: boot.iter().filter(|r| r.is_ok()).count() as u32,
     }

@@ -8,6 +8,7 @@ use crate::challenge::{
     AT_DWELL, AT_ENERGY, AT_FIRST_TRACK_MAX, AT_POWER, AT_TA_ENERGY, COMPLETENESS_REQUIRED, WithCi, reason,
 };
 use crate::challenge_table::{FamilyRow, RatioRow};
+use crate::frontier_energy::FrontierEnergy;
 use crate::grid::Cell;
 use crate::plan::Plan;
 use std::fmt::Write;
@@ -56,6 +57,16 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
          time from first scorable to first confirmed track of the run's worst target, at the crossing.\n",
         plan.runs
     );
+    if plan.frontier_energy == FrontierEnergy::TestArticle {
+        let _ = writeln!(
+            o,
+            "**This study's frontiers are built on the test article's energy** (`frontier_energy = \"test_article\"`; \
+             docs/decisions/0318-frontier-on-the-test-articles-energy.md): each point sits at its mean TA energy per \
+             scorable object, the background search left out, since its knob shapes only what the test article \
+             spends. The crossing, the bracket and its gap are read on that energy; the totals at the crossing are \
+             still given.\n"
+        );
+    }
     let _ = writeln!(
         o,
         "| scenario | stress | family | architecture | holds | knob at {pct} % | energy at {pct} % (J) | dwell time at \
@@ -92,8 +103,11 @@ fn figures_md(f: &FamilyRow) -> String {
     let fig = |i: usize, digits: usize| a.figures[i].map_or_else(|| "–".to_string(), |w| with_ci(&w, digits));
     let (lo, hi) = a.bracket;
     let means = crate::challenge::all_means(&f.runs);
-    let e = |j: usize| means[j].figures[crate::challenge::RUN_ENERGY].map_or_else(|| "–".into(), |x| num(x, 0));
-    let gap = match (means[lo].figures[0], means[hi].figures[0], a.figures[AT_ENERGY]) {
+    // On the frontier's energy (total, or the test article's part).
+    let run_energy = f.runs.energy.run_figure();
+    let e = |j: usize| means[j].figures[run_energy].map_or_else(|| "–".into(), |x| num(x, 0));
+    let gap = match (means[lo].figures[run_energy], means[hi].figures[run_energy], a.figures[f.runs.energy.at_figure()])
+    {
         (Some(x), Some(y), Some(w)) if w.0 > 0.0 => format!("{:.1} %", 100.0 * (y - x) / w.0),
         _ => "–".into(),
     };

@@ -104,6 +104,7 @@ pub fn family_rows(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>]) -> V
                         })
                         .collect(),
                     duration_s: records[first].first().map_or(f64::NAN, |r| r.duration_s),
+                    energy: plan.frontier_energy,
                 };
                 let challenge = challenge(&runs, &boot);
                 out.push(FamilyRow {
@@ -171,12 +172,14 @@ fn at_98(r: &FamilyRow, i: usize) -> Estimate {
 /// The bracket columns of a row: (lo method, hi method, lo energy, hi energy, gap).
 type Bracket = (Option<String>, Option<String>, Option<f64>, Option<f64>, Option<f64>);
 
+/// The bracket of a row on its frontier's energy (total, or the test article's part).
 fn bracket(r: &FamilyRow) -> Bracket {
     let Ok(a) = r.challenge.at.as_ref() else { return (None, None, None, None, None) };
     let means = all_means(&r.runs);
     let (lo, hi) = a.bracket;
-    let (e_lo, e_hi) = (means[lo].figures[RUN_ENERGY], means[hi].figures[RUN_ENERGY]);
-    let gap = match (e_lo, e_hi, a.figures[AT_ENERGY]) {
+    let basis = r.runs.energy;
+    let (e_lo, e_hi) = (means[lo].figures[basis.run_figure()], means[hi].figures[basis.run_figure()]);
+    let gap = match (e_lo, e_hi, a.figures[basis.at_figure()]) {
         (Some(x), Some(y), Some((e, _, _))) if e > 0.0 => Some((y - x) / e),
         _ => None,
     };

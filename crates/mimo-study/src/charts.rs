@@ -26,7 +26,8 @@ fn estimate(s: &CellSummary, name: &str) -> Estimate {
 }
 
 /// The families the energy frontier draws: on each scenario, those at the baseline stress
-/// point, or at the first stress point when the plan has no baseline.
+/// point, or at the first stress point when the plan has no baseline; their points at the
+/// energy their frontier is built on (the plan's `frontier_energy`).
 fn frontier_families(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], rows: &[FamilyRow]) -> Vec<StudyFamily> {
     let first_point = rows.first().map(|r| (cells[r.cell].point.clone(), cells[r.cell].swept));
     let any_baseline = rows.iter().any(|r| is_baseline(&cells[r.cell]));
@@ -45,7 +46,7 @@ fn frontier_families(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], row
                 .enumerate()
                 .map(|(j, &c)| FamilyPoint {
                     knob: plan.methods[cells[c].method].knob_value,
-                    energy_j: estimate(&summaries[c], "energy_per_object_j"),
+                    energy_j: estimate(&summaries[c], plan.frontier_energy.metric()),
                     on_frontier: r.challenge.frontier.contains(&j),
                     completeness: estimate(&summaries[c], "completeness"),
                 })
@@ -55,7 +56,7 @@ fn frontier_families(plan: &Plan, cells: &[Cell], summaries: &[CellSummary], row
                 .at
                 .as_ref()
                 .ok()
-                .and_then(|a| a.figures[crate::challenge::AT_ENERGY])
+                .and_then(|a| a.figures[plan.frontier_energy.at_figure()])
                 .map(|w| Estimate { mean: Some(w.0), lo: w.1, hi: w.2 }),
         })
         .collect()
@@ -128,5 +129,6 @@ pub fn study_charts(
         failures: failure_marks(plan, failures),
         cells,
         completeness_required: COMPLETENESS_REQUIRED,
+        frontier_on_ta_energy: plan.frontier_energy == crate::frontier_energy::FrontierEnergy::TestArticle,
     }
 }

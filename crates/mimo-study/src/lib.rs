@@ -24,6 +24,7 @@ pub mod failure_point;
 pub mod failure_report;
 pub mod failure_table;
 pub mod frontier;
+pub mod frontier_energy;
 pub mod grid;
 pub mod guard;
 pub mod inflight;

@@ -1,12 +1,14 @@
 //! What `report.html` shows, gathered from a study directory's tables and `report.md`
 //! (docs/studies.md, "The page"): every cell with its points (mean completeness with a failed
-//! run counting as 0, mean total energy per scorable object over the completed runs, the
+//! run counting as 0, mean energy per scorable object over the completed runs — total, or the
+//! test article's part when the plan builds its frontiers on it — the
 //! summary's 95 % intervals of both, `on_frontier`) and its runs (the figures of the click
 //! panel), the challenge's crossings, the failure points, and the tables of `report.md`. The page
 //! draws from this alone; numbers are rounded to 6 significant digits, which is more than any
 //! panel prints.
 
 use crate::charts::COMPLETENESS_REQUIRED;
+use crate::frontier_energy::FrontierEnergy;
 use crate::page_tables::{PageError, Table};
 use crate::plan::{Axis, Plan};
 use mimo_store::challenge_schema::{STUDY_CHALLENGE, STUDY_FRONTIER};
@@ -74,7 +76,8 @@ pub struct CellData {
     pub failed: u32,
     /// Mean completeness (a failed run counting as 0) and the summary's interval.
     pub c: [Option<f64>; 3],
-    /// Mean total energy per scorable object over the completed runs and the summary's interval.
+    /// Mean energy per scorable object over the completed runs and the summary's interval, on
+    /// the frontier's energy ([`PageData::energy`]: total, or the test article's part).
     pub e: [Option<f64>; 3],
     /// On its family's efficient frontier (null: not a family point, or no frontier table).
     pub front: Option<bool>,
@@ -97,7 +100,7 @@ pub struct CrossingData {
     pub holds: Option<bool>,
     /// Why there is no crossing.
     pub reason: Option<String>,
-    /// Energy at 98 % and its interval.
+    /// Energy at 98 % and its interval, on the frontier's energy.
     pub e98: [Option<f64>; 3],
     /// Frontier points.
     pub frontier_points: Option<u32>,
@@ -150,6 +153,9 @@ pub struct PageData {
     pub runs: u32,
     /// The required completeness.
     pub required: f64,
+    /// The energy the frontiers are built on (the plan's `frontier_energy`: `total` or
+    /// `test_article`), which the cells' `e` and the crossings' `e98` give.
+    pub energy: &'static str,
     /// The plan's stress axes.
     pub axes: Vec<AxisData>,
     /// The per-run figures' names ([`RUN_FIGURES`]).
@@ -283,11 +289,12 @@ pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, Pa
     let s_sc = summary.texts("scenario", true)?;
     let s_sw = summary.texts("swept", true)?;
     let s_ax = axis_columns(&summary)?;
-    let s_ci: Vec<Vec<Option<f64>>> =
-        ["completeness_ci_lo", "completeness_ci_hi", "energy_per_object_j_ci_lo", "energy_per_object_j_ci_hi"]
-            .iter()
-            .map(|c| summary.f64s(c, false))
-            .collect::<Result<_, _>>()?;
+    let basis = plan.frontier_energy;
+    let (e_lo, e_hi) = (format!("{}_ci_lo", basis.metric()), format!("{}_ci_hi", basis.metric()));
+    let s_ci: Vec<Vec<Option<f64>>> = ["completeness_ci_lo", "completeness_ci_hi", e_lo.as_str(), e_hi.as_str()]
+        .iter()
+        .map(|c| summary.f64s(c, false))
+        .collect::<Result<_, _>>()?;
     let mut intervals: BTreeMap<String, [Option<f64>; 4]> = BTreeMap::new();
     for i in 0..summary.len() {
         let key = place_key(s_sc[i].as_deref().unwrap_or(""), s_sw[i].as_deref(), &row_axes(&s_ax, i));
@@ -310,6 +317,9 @@ pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, Pa
         .iter()
         .map(|n| results.f64s(n, matches!(*n, "completeness" | "energy_per_object_j")))
         .collect::<Result<_, _>>()?;
+    // Each run's energy on the frontier's basis, per cell.
+    let r_energy = results.f64s(basis.metric(), matches!(basis, FrontierEnergy::Total))?;
+    let mut cell_energy: Vec<Vec<Option<f64>>> = Vec::new();
     let mut cells: Vec<CellData> = Vec::new();
     let mut index: BTreeMap<String, usize> = BTreeMap::new();
     for i in 0..results.len() {
@@ -343,12 +353,14 @@ pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, Pa
                     runs: Vec::new(),
                 });
                 index.insert(key, cells.len() - 1);
+                cell_energy.push(Vec::new());
                 cells.len() - 1
             }
         };
         let mut row = vec![serde_json::json!(r_run[i])];
         row.extend(figs.iter().map(|f| serde_json::json!(round6(f[i]))));
         row.push(serde_json::json!(r_fail[i]));
+        cell_energy[c].push(r_energy[i]);
         let cell = &mut cells[c];
         cell.n += 1;
         cell.failed += u32::from(r_fail[i].is_some());
@@ -357,10 +369,10 @@ pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, Pa
     for (key, &c) in &index {
         let cell = &mut cells[c];
         let (mut c_sum, mut e_sum, mut e_n) = (0.0, 0.0, 0u32);
-        for r in &cell.runs {
+        for (r, energy) in cell.runs.iter().zip(&cell_energy[c]) {
             let failed = !r[RUN_FIGURES.len() + 1].is_null();
             c_sum += if failed { 0.0 } else { r[1].as_f64().unwrap_or(0.0) };
-            if let Some(e) = r[2].as_f64().filter(|_| !failed) {
+            if let Some(e) = energy.filter(|_| !failed) {
                 e_sum += e;
                 e_n += 1;
             }
@@ -376,10 +388,11 @@ pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, Pa
     let c_ax = axis_columns(&challenge)?;
     let c_holds = challenge.bools("holds", true)?;
     let c_reason = challenge.texts("reason", true)?;
-    let e98: Vec<Vec<Option<f64>>> = ["energy_at_98_j", "energy_at_98_ci_lo_j", "energy_at_98_ci_hi_j"]
-        .iter()
-        .map(|c| challenge.f64s(c, true))
-        .collect::<Result<_, _>>()?;
+    let e98_columns = match basis {
+        FrontierEnergy::Total => ["energy_at_98_j", "energy_at_98_ci_lo_j", "energy_at_98_ci_hi_j"],
+        FrontierEnergy::TestArticle => ["ta_energy_at_98_j", "ta_energy_at_98_ci_lo_j", "ta_energy_at_98_ci_hi_j"],
+    };
+    let e98: Vec<Vec<Option<f64>>> = e98_columns.iter().map(|c| challenge.f64s(c, true)).collect::<Result<_, _>>()?;
     let fp = challenge.u32s("frontier_points", false)?;
     let (b_lo, b_hi) = (challenge.texts("bracket_lo_method", false)?, challenge.texts("bracket_hi_method", false)?);
     let crossings = (0..challenge.len())
@@ -425,6 +438,7 @@ pub fn page_data(plan: &Plan, plan_arg: &str, dir: &Path) -> Result<PageData, Pa
         seed: plan.seed,
         runs: plan.runs,
         required: COMPLETENESS_REQUIRED,
+        energy: basis.name(),
         axes: plan
             .axes
             .iter()

@@ -38,6 +38,9 @@
 //! rounds = 3                                # `refine = { … }` overrides it; docs/studies.md)
 //! ```
 //!
+//! A top-level `frontier_energy = "total"` (the default) or `"test_article"` says which energy
+//! the families' efficient frontiers are built on ([`crate::frontier_energy`]).
+//!
 //! Every error names the plan file, the key path (`methods[1].config.resource_manager.mimoo`)
 //! and what was expected; nothing is run or written before the whole plan is checked.
 
@@ -319,6 +322,8 @@ pub struct Plan {
     pub limits: Limits,
     /// The most refinement rounds of any family (0: the plan refines nothing).
     pub refine_rounds: u32,
+    /// The energy the families' efficient frontiers are built on (`frontier_energy`).
+    pub frontier_energy: crate::frontier_energy::FrontierEnergy,
 }
 
 pub(crate) struct Ctx<'a> {
@@ -415,6 +420,9 @@ search_pulses = [1, 2]
         assert!(matches!(&p.methods[2].ta, MethodTa::Process { cmd, .. } if cmd == "python3 'my ta.py'"));
         assert_eq!(p.axes, vec![(Axis::Pfa, vec![1e-6, 1e-5]), (Axis::SearchPulses, vec![1.0, 2.0])]);
         assert_eq!(p.sweep, Sweep::Grid);
+        assert_eq!(p.frontier_energy, crate::frontier_energy::FrontierEnergy::Total);
+        let ta = parse(&GOOD.replacen("duration_s = 60", "duration_s = 60\nfrontier_energy = \"test_article\"", 1));
+        assert_eq!(ta.expect("plan").frontier_energy, crate::frontier_energy::FrontierEnergy::TestArticle);
     }
 
     #[test]
@@ -444,6 +452,8 @@ search_pulses = [1, 2]
             ("ta_cmd = \"python3 'my ta.py'\"", "ta_cmd = \"python3 'unbalanced\"", "methods[2].ta_cmd"),
             ("duration_s = 60", "duration_s = -1", "duration_s"),
             ("duration_s = 60", "duration_s = 60\nfidelity = \"cells\"", "fidelity"),
+            ("duration_s = 60", "duration_s = 60\nfrontier_energy = \"ta\"", "frontier_energy"),
+            ("duration_s = 60", "duration_s = 60\nfrontier_energy = 1", "frontier_energy"),
         ];
         for (from, to, key) in cases {
             let text = GOOD.replacen(from, to, 1);

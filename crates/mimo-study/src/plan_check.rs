@@ -3,6 +3,7 @@
 //! articles and configurations — each error naming the plan file, the key path and what was
 //! expected.
 
+use crate::frontier_energy::FrontierEnergy;
 use crate::method_sweep;
 use crate::plan::{
     Architecture, Axis, Ctx, Limits, MAX_RUNS, Method, MethodTa, Plan, PlanError, ScenarioRef, Sweep, TABLES,
@@ -209,6 +210,12 @@ impl RawPlan {
             Some("each") => Sweep::Each,
             Some(o) => return Err(ctx.err("sweep", format!("expected \"grid\" or \"each\", got \"{o}\""))),
         };
+        let frontier_energy = match self.frontier_energy.as_deref() {
+            None => FrontierEnergy::Total,
+            Some(o) => FrontierEnergy::parse(o).ok_or_else(|| {
+                ctx.err("frontier_energy", format!("expected \"total\" or \"test_article\", got \"{o}\""))
+            })?,
+        };
         let global = match &self.refine {
             Some(r) => crate::refine::read(ctx, "refine", r)?,
             None => None,
@@ -228,6 +235,7 @@ impl RawPlan {
             keep_runs: self.keep_runs.unwrap_or(false),
             methods,
             refine_rounds,
+            frontier_energy,
             axes: axes(ctx, self.axes)?,
             limits: limits(ctx, self.limits)?,
         })

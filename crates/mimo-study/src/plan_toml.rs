@@ -27,6 +27,7 @@ pub(crate) struct RawPlan {
     pub(crate) axes: Option<BTreeMap<Axis, Vec<f64>>>,
     pub(crate) limits: Option<RawLimits>,
     pub(crate) refine: Option<RawRefine>,
+    pub(crate) frontier_energy: Option<String>,
 }
 
 /// A `[refine]` table, or a `[[methods]]` entry's `refine`.
@@ -96,6 +97,7 @@ fn expects(key: &str) -> Option<String> {
         "refine" | "methods[].refine" => s("expected a table { fraction = 0.05, rounds = 3 }"),
         "refine.fraction" | "methods[].refine.fraction" => s("expected a number in (0, 1)"),
         "refine.rounds" | "methods[].refine.rounds" => s("expected a whole number from 0 to 20"),
+        "frontier_energy" => s("expected \"total\" or \"test_article\""),
         _ if k.starts_with("axes.") && k.ends_with("[]") => s("expected a number"),
         _ if k.starts_with("axes.") => s("expected a non-empty list of numbers"),
         _ => None,

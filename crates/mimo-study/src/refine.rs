@@ -2,8 +2,9 @@
 //! `[refine]` (every swept family) or a `[[methods]]` entry's `refine = { fraction, rounds }`
 //! adds points to a family, scenario by scenario and stress point by stress point, one a round,
 //! between two points that bracket 98 % — on the family's frontier, or on a line of its grid that
-//! might reach 98 % for less — until every such pair's mean total energies differ by at most
-//! `fraction` of the energy at 98 % or `rounds` rounds are spent.
+//! might reach 98 % for less — until every such pair's mean energies (on the plan's
+//! `frontier_energy`: total, or the test article's part) differ by at most `fraction` of the
+//! energy at 98 % or `rounds` rounds are spent.
 //!
 //! Each round is a stage of its own: its new cells are a pure function of the plan and the item
 //! records of the stages before it (every run of every cell, read from disk), so that any
@@ -12,7 +13,7 @@
 //! differ (one key: the midpoint of their knob values); a pair whose midpoint the family already
 //! has gives way to the next. A crossing outside the sweep is not refined.
 
-use crate::challenge::{FamilyRuns, RUN_ENERGY, all_means, at_required};
+use crate::challenge::{FamilyRuns, all_means, at_required};
 use crate::challenge_table::family_rows;
 use crate::grid::Cell;
 use crate::method_sweep::{Knob, method_at};
@@ -130,7 +131,8 @@ fn lines(grids: &[&[(String, f64)]]) -> Vec<Vec<usize>> {
 /// The bracket of the runs' crossing of 98 % on a subset `of` of a family's points (indices into
 /// the family's points), if it crosses inside them.
 fn bracket_on(f: &FamilyRuns, of: &[usize], all: &[usize]) -> Option<Candidate> {
-    let sub = FamilyRuns { points: of.iter().map(|&i| f.points[i].clone()).collect(), duration_s: f.duration_s };
+    let points = of.iter().map(|&i| f.points[i].clone()).collect();
+    let sub = FamilyRuns { points, duration_s: f.duration_s, energy: f.energy };
     let at = at_required(&sub, all).ok()?;
     Some(Candidate { lo: of[at.bracket.0], hi: of[at.bracket.1], frontier: false })
 }
@@ -152,9 +154,10 @@ pub fn next_stage(plan: &Plan, cells: &[Cell], records: &[Vec<ResultRow>], round
         let Some(r) = base.refine.filter(|r| r.rounds >= round) else { continue };
         let all: Vec<usize> = (0..plan.runs as usize).collect();
         let Ok(at) = at_required(&row.runs, &all) else { continue };
-        let Some(e) = at.figures[crate::challenge::AT_ENERGY].filter(|e| *e > 0.0) else { continue };
+        let basis = row.runs.energy;
+        let Some(e) = at.figures[basis.at_figure()].filter(|e| *e > 0.0) else { continue };
         let means = all_means(&row.runs);
-        let energy = |i: usize| means[i].figures[RUN_ENERGY];
+        let energy = |i: usize| means[i].figures[basis.run_figure()];
         let (lo, hi) = at.bracket;
         let grids: Vec<&[(String, f64)]> =
             row.cells.iter().map(|&c| plan.methods[cells[c].method].grid.as_slice()).collect();

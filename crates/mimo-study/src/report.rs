@@ -5,6 +5,7 @@
 use crate::challenge_report::{Challenge, challenge_md};
 use crate::charts::COMPLETENESS_REQUIRED;
 use crate::failure_table::FailureRow;
+use crate::frontier_energy::FrontierEnergy;
 use crate::grid::Cell;
 use crate::paired::paired_rows;
 use crate::plan::{MethodTa, Plan, Sweep};
@@ -141,10 +142,20 @@ fn energy_md(s: &StudyFigures) -> String {
     let (plan, cells, sums) = (s.plan, s.cells, s.summaries);
     let mut o = String::new();
     let _ = writeln!(o, "\n## Energy against completeness\n");
+    let basis = plan.frontier_energy;
+    let x = match basis {
+        FrontierEnergy::Total => {
+            "total energy per scorable object, every transmit dwell of every radar, search and test article"
+        }
+        FrontierEnergy::TestArticle => {
+            "the test article's energy per scorable object, its own transmit dwells alone (the plan's \
+             frontier_energy; background search left out)"
+        }
+    };
     let _ = writeln!(
         o,
         "![energy against completeness](charts/energy_vs_completeness.png)\n\n\
-         x: total energy per scorable object, every transmit dwell of every radar, search and test article (the \
+         x: {x} (the \
          sum over 1-s scoring intervals of energy ÷ objects some radar can see); y: mean track completeness. Each \
          family is its points (labels: knob values; an unswept method is one point) and its efficient frontier, \
          the line through the points no other point of the family beats (at least their completeness for at most \
@@ -162,10 +173,14 @@ fn energy_md(s: &StudyFigures) -> String {
             continue;
         }
         let ok: Vec<usize> = base.iter().copied().filter(|&c| meets(&sums[c])).collect();
-        let energy = |c: usize| sums[c].estimates[k("energy_per_object_j")].0.unwrap_or(f64::INFINITY);
+        let energy = |c: usize| sums[c].estimates[k(basis.metric())].0.unwrap_or(f64::INFINITY);
+        let least = match basis {
+            FrontierEnergy::Total => "total energy",
+            FrontierEnergy::TestArticle => "test-article energy",
+        };
         let line = match ok.iter().copied().min_by(|&a, &b| energy(a).total_cmp(&energy(b))) {
             Some(best) => format!(
-                "meets {} % with the least total energy: **{}** ({} J per object); {} of {} method(s) meet it",
+                "meets {} % with the least {least}: **{}** ({} J per object); {} of {} method(s) meet it",
                 100.0 * COMPLETENESS_REQUIRED,
                 plan.methods[cells[best].method].name,
                 num(Some(energy(best)), 1.0, 0),

@@ -23,7 +23,7 @@ fn point(knob: f64, completeness: &[f64], energy_j: &[f64]) -> PointRuns {
 }
 
 fn family(points: Vec<PointRuns>) -> FamilyRuns {
-    FamilyRuns { points, duration_s: 500.0 }
+    FamilyRuns { points, duration_s: 500.0, energy: Default::default() }
 }
 
 #[test]
@@ -147,4 +147,36 @@ fn a_family_against_itself_has_ratio_one_exactly() {
     let (r, defined) = energy_ratio(&f, &nowhere, &boot, AT_ENERGY);
     assert!(r.expect_err("no crossing").contains("conventional family"));
     assert_eq!(defined, 0);
+}
+
+/// A power budget's family (the shape of scenario 7's): the total falls as the budget grows while
+/// the test article's part rises. On the total the largest budget is cheapest and holds: no
+/// crossing. On the test article's part the crossing lies half way between the 1-W and 2-W
+/// points, and both energies at 98 % are read there, with the bracket's interval on each.
+#[test]
+fn a_budget_family_crosses_on_the_test_articles_energy() {
+    // (knob, completeness, total J, TA J)
+    let pts = [(0.5, 0.96, 1500.0, 100.0), (1.0, 0.97, 1400.0, 300.0), (2.0, 0.99, 1300.0, 700.0)];
+    let points: Vec<PointRuns> = pts
+        .iter()
+        .map(|&(knob, c, total, ta)| {
+            let mut p = point(knob, &[c; 3], &[total; 3]);
+            p.figures[mimo_study::challenge::RUN_TA_ENERGY] = vec![Some(ta); 3];
+            p
+        })
+        .collect();
+    let boot = resamples(5, 3, RESAMPLES);
+    let total = challenge(&family(points.clone()), &boot);
+    assert_eq!(total.at, Err(Crossing::BelowRange));
+    assert_eq!(total.frontier, vec![2]);
+    let on_ta = FamilyRuns { energy: mimo_study::challenge::FrontierEnergy::TestArticle, ..family(points) };
+    let c = challenge(&on_ta, &boot);
+    assert_eq!(c.frontier, vec![0, 1, 2]);
+    let a = c.at.expect("a crossing on the test article's energy");
+    assert_eq!(a.bracket, (1, 2));
+    assert!((a.knob.expect("knob") - 1.5).abs() < 1e-12);
+    let ta = a.figures[AT_TA_ENERGY].expect("TA energy");
+    assert!((ta.0 - 500.0).abs() < 1e-9 && ta.1 == Some(300.0) && ta.2 == Some(700.0), "{ta:?}");
+    let e = a.figures[AT_ENERGY].expect("total energy");
+    assert!((e.0 - 1350.0).abs() < 1e-9 && e.1 == Some(1300.0) && e.2 == Some(1400.0), "{e:?}");
 }

@@ -36,7 +36,11 @@ fn a_grid_family_crosses_on_its_frontier() {
         ("g@b:2,p:2", 0.99, 260.0),
         ("g@b:2,p:4", 0.995, 400.0),
     ];
-    let f = FamilyRuns { points: pts.iter().map(|(m, c, e)| flat(m, 3, *c, *e)).collect(), duration_s: 100.0 };
+    let f = FamilyRuns {
+        points: pts.iter().map(|(m, c, e)| flat(m, 3, *c, *e)).collect(),
+        duration_s: 100.0,
+        energy: Default::default(),
+    };
     let c = challenge(&f, &resamples(4, 3, RESAMPLES));
     assert_eq!(c.frontier, vec![0, 1, 4, 5]);
     let a = c.at.expect("a crossing");
@@ -85,7 +89,7 @@ fn synthetic(knobs: &[f64], runs: usize, seed: u64) -> FamilyRuns {
             }
         })
         .collect();
-    FamilyRuns { points, duration_s: 1000.0 }
+    FamilyRuns { points, duration_s: 1000.0, energy: Default::default() }
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! The energy-frontier chart (`energy_vs_completeness`): per scenario, each family of the study
-//! as its points (x: total energy, search and test article, per scorable object; y: mean
-//! completeness) with 95 % confidence bars on both axes, and its efficient frontier as a line
+//! as its points (x: total energy, search and test article, per scorable object, or the test
+//! article's part alone when the study's frontiers are built on it; y: mean completeness) with 95 % confidence bars on both axes, and its efficient frontier as a line
 //! through the points on it, by energy (docs/studies.md, "The challenge"); MIMO families solid
 //! with filled dots, conventional ones dashed with open squares, points off the frontier smaller;
 //! the required completeness as a dashed line and each family's crossing on its frontier as a
@@ -33,6 +33,8 @@ pub(super) struct CurvePanel {
     title: Option<String>,
     curves: Vec<Curve>,
     hline: f64,
+    /// The energy axis's label.
+    x_label: &'static str,
 }
 
 fn family_color(charts: &StudyCharts, name: &str) -> RGBColor {
@@ -83,6 +85,11 @@ pub(super) fn energy_frontier(charts: &StudyCharts) -> StudyChart {
                 title: Some(format!("scenario {s}")),
                 curves: charts.families.iter().filter(|f| &f.scenario == s).map(|f| curve(charts, f)).collect(),
                 hline: 100.0 * charts.completeness_required,
+                x_label: if charts.frontier_on_ta_energy {
+                    "test-article energy per scorable object, search left out (J, log scale)"
+                } else {
+                    "energy per scorable object, search and TA (J, log scale)"
+                },
             })
         })
         .collect();
@@ -101,9 +108,11 @@ pub(super) fn energy_frontier(charts: &StudyCharts) -> StudyChart {
         "lines: efficient frontiers; bars: 95 % confidence intervals of the means; labels: knob values".into(),
         Swatch::Line(RGBColor(90, 90, 90), 1),
     ));
+    let energy = if charts.frontier_on_ta_energy { "Test-article energy" } else { "Total energy" };
     StudyChart {
-        title: "Total energy against track completeness, with each family's efficient frontier (energy on a log scale)"
-            .to_string(),
+        title: format!(
+            "{energy} against track completeness, with each family's efficient frontier (energy on a log scale)"
+        ),
         columns: charts.scenarios.len().clamp(1, 3),
         panels,
         legend,
@@ -143,7 +152,7 @@ fn clip(v: f64, r: (f64, f64)) -> f64 {
 /// Draw a panel of curves.
 pub(super) fn draw_curves<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &CurvePanel) -> DrawResult {
     let (x, y) = axis_ranges(p);
-    let labels = ("energy per scorable object, search and TA (J, log scale)", "mean track completeness (%)");
+    let labels = (p.x_label, "mean track completeness (%)");
     let mut chart = framed(area, p.title.as_deref(), x, y, labels, true)?;
     chart
         .draw_series(DashedLineSeries::new(vec![(x.0, p.hline), (x.1, p.hline)], 10, 6, BLACK.stroke_width(2)))

@@ -2,7 +2,7 @@
 //!
 //! | file stem | content |
 //! |---|---|
-//! | `energy_vs_completeness` | per scenario (one panel each), each family's points (an unswept method is a single point): the total energy (search and test article) per scorable object (x) against mean track completeness (y), both with their 95 % confidence intervals as bars, and the family's efficient frontier as a line through the points on it; MIMO families solid with dots, conventional ones dashed with open squares, points off the frontier smaller; the required completeness as a dashed line and each family's crossing on its frontier as a triangle with its bootstrap interval |
+//! | `energy_vs_completeness` | per scenario (one panel each), each family's points (an unswept method is a single point): the total energy (search and test article) per scorable object, or the test article's part when the study's frontiers are built on it (x), against mean track completeness (y), both with their 95 % confidence intervals as bars, and the family's efficient frontier as a line through the points on it; MIMO families solid with dots, conventional ones dashed with open squares, points off the frontier smaller; the required completeness as a dashed line and each family's crossing on its frontier as a triangle with its bootstrap interval |
 //! | `compute_vs_accuracy` | a point per method and scenario: the test article's CPU seconds per simulated second (log x) against position RMSE and against GOSPA |
 //! | `stability_<axis>` | completeness, switches and TA energy per object against the axis value, a line per method with its confidence band; on the completeness panel each method's failure point (where its mean completeness falls through the requirement, interpolated between grid values) as a diamond with its 95 % bootstrap interval as a bar, stacked just below the requirement line one row per method, an end without a tick running off the grid; a method that fails already at the least stressing value marked there with a cross |
 //!
@@ -74,7 +74,8 @@ impl StudyCell {
 pub struct FamilyPoint {
     /// The knob value (`None` for an unswept method or a grid's point).
     pub knob: Option<f64>,
-    /// Total energy (search and TA) per scorable object (J).
+    /// Energy per scorable object (J) on the frontier's basis: total (search and TA), or the
+    /// test article's part ([`StudyCharts::frontier_on_ta_energy`]).
     pub energy_j: Estimate,
     /// Whether the point lies on its family's efficient frontier.
     pub on_frontier: bool,
@@ -94,7 +95,8 @@ pub struct StudyFamily {
     pub scenario: String,
     /// Points in knob order.
     pub points: Vec<FamilyPoint>,
-    /// Total energy per scorable object where the frontier crosses the requirement, with its
+    /// Energy per scorable object (on the frontier's basis) where the frontier crosses the
+    /// requirement, with its
     /// bootstrap interval (an end `None` lies beyond the sweep).
     pub crossing: Option<Estimate>,
 }
@@ -152,6 +154,9 @@ pub struct StudyCharts {
     pub failures: Vec<StudyFailure>,
     /// The completeness required (0.98).
     pub completeness_required: f64,
+    /// The energy-frontier chart's energy is the test article's part alone (a plan's
+    /// `frontier_energy = "test_article"`), not the total of search and test article.
+    pub frontier_on_ta_energy: bool,
 }
 
 /// A point with optional error bars.
@@ -264,6 +269,7 @@ mod tests {
                 failure("b", "fails_at_baseline", None, (None, None), "above_grid"),
             ],
             completeness_required: 0.98,
+            frontier_on_ta_energy: false,
         };
         let sw = sweep_cells(&charts, "rcs_offset_db", "a", "7");
         assert_eq!(sw.iter().map(|s| s.0).collect::<Vec<_>>(), vec![-9.0, -6.0, -3.0, 0.0]);
