@@ -283,3 +283,66 @@ fn a_study_of_one_point_gets_a_page_saying_why_it_has_no_frontier() {
     assert!(why.contains("one point: there is no frontier"), "{why}");
     assert!(v["stress_why"].as_str().expect("why").contains("no stress axis"), "{v}");
 }
+
+/// A study whose frontiers are built on the test article's energy (`frontier_energy =
+/// "test_article"`): the frontier table's flags are the frontier of the points' mean TA energies
+/// (not of their totals), the report says which energy it used, and the page draws the TA energy
+/// with its own axis title.
+#[test]
+fn a_study_on_the_test_articles_energy_builds_its_frontier_on_it() {
+    use arrow::array::{Array, AsArray};
+    use arrow::datatypes::Float64Type;
+    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    let tmp = tempfile::tempdir().expect("tmp");
+    let plan = "scenarios = [1]\nruns = 2\nduration_s = 30\nfrontier_energy = \"test_article\"\n[[methods]]\nname = \
+                \"mimo\"\nta = \"default\"\nsweep = { \"resource_manager.power_budget_w\" = [0.1, 1.0, 100.0] }\n";
+    std::fs::write(tmp.path().join("ta.toml"), plan).expect("plan");
+    let out = mimo_in(tmp.path(), &["study", "ta.toml", "--out", "st", "--quiet", "--threads", "2"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let st = tmp.path().join("st");
+    let batch = |name: &str| {
+        let f = std::fs::File::open(st.join(name)).expect("table");
+        let mut r = ParquetRecordBatchReaderBuilder::try_new(f).expect("parquet").build().expect("reader");
+        r.next().expect("a batch").expect("batch")
+    };
+    let (frontier, summary) = (batch("frontier.parquet"), batch("summary.parquet"));
+    let text = |b: &arrow::array::RecordBatch, c: &str| -> Vec<String> {
+        let col = b.column_by_name(c).expect(c).as_string::<i32>().clone();
+        (0..col.len()).map(|i| col.value(i).to_string()).collect()
+    };
+    let num = |b: &arrow::array::RecordBatch, c: &str| -> Vec<f64> {
+        let col = b.column_by_name(c).expect(c).as_primitive::<Float64Type>().clone();
+        (0..col.len()).map(|i| col.value(i)).collect()
+    };
+    let on: Vec<bool> = {
+        let col = frontier.column_by_name("on_frontier").expect("on_frontier").as_boolean().clone();
+        (0..col.len()).map(|i| col.value(i)).collect()
+    };
+    let (f_methods, s_methods) = (text(&frontier, "method"), text(&summary, "method"));
+    let (ta, total, done) = (
+        num(&summary, "ta_energy_per_object_j_mean"),
+        num(&summary, "energy_per_object_j_mean"),
+        num(&summary, "completeness_mean"),
+    );
+    // The frontier by hand: a point is on it when no other reaches at least its completeness for
+    // at most its TA energy (and strictly better in one of the two).
+    let at = |m: &str| s_methods.iter().position(|s| s == m).expect("summary row");
+    for (i, m) in f_methods.iter().enumerate() {
+        let k = at(m);
+        let beaten = (0..s_methods.len())
+            .any(|j| j != k && ta[j] <= ta[k] && done[j] >= done[k] && (ta[j] < ta[k] || done[j] > done[k]));
+        assert_eq!(on[i], !beaten, "{m}: TA {} J, completeness {}", ta[k], done[k]);
+    }
+    // The budget raises the TA's energy from point to point (the frontier's axis here), while the
+    // total is not what the flags follow.
+    let budget = |b: &str| s_methods.iter().position(|s| s == &format!("mimo@{b}")).expect("point");
+    assert!(ta[budget("0.1")] < ta[budget("100")], "{ta:?} (totals {total:?})");
+    let md = std::fs::read_to_string(st.join("report.md")).expect("report");
+    assert!(md.contains("This study's frontiers are built on the test article's energy"), "{md}");
+    assert!(md.contains("x: the test article's energy per scorable object"), "{md}");
+    let v = selftest(&st.join("report.html"));
+    assert_eq!(v["errors"], serde_json::json!([]), "{v}");
+    assert_eq!(v["checks"]["frontier_points_drawn"], true, "{v}");
+    let html = std::fs::read_to_string(st.join("report.html")).expect("page");
+    assert!(html.contains("\"energy\":\"test_article\""), "the page's data names its energy");
+}
