@@ -87,7 +87,59 @@ pub fn challenge_md(plan: &Plan, cells: &[Cell], c: &Challenge) -> String {
         );
     }
     ratios_md(&mut o, plan, cells, c, pct);
+    steps_md(&mut o, plan, cells, c);
     o
+}
+
+/// Each family's frontier point by point with the marginal cost of each step (energy per point
+/// of completeness gained from the frontier point before it); nothing when no frontier has two
+/// points.
+fn steps_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge) {
+    if c.families.iter().all(|f| f.challenge.frontier.len() < 2) {
+        return;
+    }
+    let basis = plan.frontier_energy;
+    let _ = writeln!(
+        o,
+        "Each family's efficient frontier point by point, on its {}, with the marginal cost of each step: the \
+         energy added per point of completeness gained from the frontier point before it. Where the marginal cost \
+         falls (↓), the frontier is not convex at that step; with the runs' spread a step whose completeness gain \
+         lies inside its points' intervals can do that by chance.\n\n\
+         | scenario | stress | family | frontier point | energy (J) | completeness % | J per point |\n\
+         |---|---|---|---|---|---|---|",
+        basis.words()
+    );
+    for f in c.families.iter().filter(|f| f.challenge.frontier.len() >= 2) {
+        let cell = &cells[f.cell];
+        let means = crate::challenge::all_means(&f.runs);
+        let points: Vec<(usize, f64, f64)> = f
+            .challenge
+            .frontier
+            .iter()
+            .filter_map(|&j| Some((j, means[j].figures[basis.run_figure()]?, means[j].completeness?)))
+            .collect();
+        let costs = marginal_costs(&points.iter().map(|&(_, e, c)| (e, c)).collect::<Vec<_>>());
+        let mut last_cost: Option<f64> = None;
+        for (&(j, e, done), &cost) in points.iter().zip(&costs) {
+            let cost_text = match (cost, last_cost) {
+                (Some(x), Some(before)) if x < before => format!("{} ↓", num(x, 1)),
+                (Some(x), _) => num(x, 1),
+                (None, _) => "–".to_string(),
+            };
+            let _ = writeln!(
+                o,
+                "| {} | {} | {} | {} | {} | {} | {cost_text} |",
+                plan.scenarios[cell.scenario].label(),
+                crate::report::point_text(cell),
+                f.family,
+                f.runs.points[j].method,
+                num(e, 0),
+                num(100.0 * done, 2),
+            );
+            last_cost = cost.or(last_cost);
+        }
+    }
+    let _ = writeln!(o);
 }
 
 /// The figures of a family's row, from the knob on.
@@ -168,4 +220,31 @@ fn ratios_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge, pct: f6
         );
     }
     let _ = writeln!(o);
+}
+
+/// The marginal cost of each step along a frontier's points `(energy, completeness fraction)`:
+/// the energy added per point (per cent) of completeness gained from the point before; none for
+/// the first point, or a step that gains nothing.
+fn marginal_costs(points: &[(f64, f64)]) -> Vec<Option<f64>> {
+    let mut out = vec![None; points.len()];
+    for (k, w) in points.windows(2).enumerate() {
+        let ((e0, c0), (e1, c1)) = (w[0], w[1]);
+        out[k + 1] = (c1 > c0).then(|| (e1 - e0) / (100.0 * (c1 - c0)));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_steps_cost_is_its_energy_per_point_gained() {
+        // 100 → 200 J for 90 → 95 %: 20 J a point; 200 → 250 J for 95 → 99 %: 12.5 J a point.
+        let got = marginal_costs(&[(100.0, 0.90), (200.0, 0.95), (250.0, 0.99)]);
+        assert_eq!(got.len(), 3);
+        assert_eq!(got[0], None);
+        assert!((got[1].expect("step") - 20.0).abs() < 1e-9 && (got[2].expect("step") - 12.5).abs() < 1e-9, "{got:?}");
+        assert_eq!(marginal_costs(&[(1.0, 0.5), (2.0, 0.5)]), vec![None, None]);
+    }
 }
