@@ -1,6 +1,7 @@
 //! The energy-frontier chart (`energy_vs_completeness`): per scenario, each family of the study
 //! as its points (x: total energy, search and test article, per scorable object, or the test
-//! article's part alone when the study's frontiers are built on it; y: mean completeness) with 95 % confidence bars on both axes, and its efficient frontier as a line
+//! article's part alone when the study's frontiers are built on it; y: mean completeness) with
+//! 95 % confidence bars on both axes, and its efficient frontier as a line
 //! through the points on it, by energy (docs/studies.md, "The challenge"); MIMO families solid
 //! with filled dots, conventional ones dashed with open squares, points off the frontier smaller;
 //! the required completeness as a dashed line and each family's crossing on its frontier as a
