@@ -7,6 +7,11 @@
 #
 #   scripts/bench_raid.sh [N...]          (default: 32 128 512)
 #
+# With ROUNDS=R (default 1) the sizes are measured R times, alternating (N1 N2 … N1 N2 …), and a
+# last table gives each column's median over the rounds and, for every N after the first, the
+# ratio of its median CPU per target to the first N's, for simulate and score each (issue 38's
+# goal: 512 within 1.5× of 32): one run's CPU time moves by ±20 % on a loaded machine.
+#
 # Environment: MIMO=path/to/mimo (default target/debug/mimo: the dev profile optimises the mimo
 # crates), SCENARIO (default 7), DURATION_S (default 300), SEED (default the simulator's),
 # OUT=dir for the scratch runs (default a temporary directory, removed at the end).
@@ -15,6 +20,7 @@ cd "$(dirname "$0")/.."
 mimo="${MIMO:-target/debug/mimo}"
 scenario="${SCENARIO:-7}"
 duration="${DURATION_S:-300}"
+rounds="${ROUNDS:-1}"
 sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(32 128 512)
 seed_args=()
@@ -30,14 +36,39 @@ measure() { # LOG CMD...: run CMD under /usr/bin/time -v; print "cpu_s rss_mb"
   awk -F': ' '/User time/ {u=$2} /System time/ {s=$2} /Maximum resident set size/ {r=$2}
     END {printf "%.2f %d\n", u + s, r / 1024}' "$log"
 }
-printf "%6s %8s %10s %10s %22s %12s %12s\n" N targets "sim CPU s" "score CPU s" "CPU us/(target*sim s)" "sim RSS MB" "score RSS MB"
-for n in "${sizes[@]}"; do
-  run="$out/raid-$n"
-  read -r sim_cpu sim_rss < <(measure "$out/sim-$n.log" "$mimo" simulate --scenario "$scenario" --raid "$n" \
-    --duration "$duration" --threads 1 "${seed_args[@]}" --out "$run" --force --quiet)
-  read -r score_cpu score_rss < <(measure "$out/score-$n.log" "$mimo" score "$run")
-  targets=$(jq '.scenario.resolved.targets | length' "$run/manifest.json")
-  per=$(echo "($sim_cpu + $score_cpu) * 1000000 / ($targets * $duration)" | bc -l)
-  printf "%6d %8d %10.2f %10.2f %22.1f %12d %12d\n" "$n" "$targets" "$sim_cpu" "$score_cpu" "$per" "$sim_rss" "$score_rss"
-  [ -z "${OUT:-}" ] && rm -rf "$run"
+printf "%5s %6s %8s %10s %10s %22s %12s %12s\n" round N targets "sim CPU s" "score CPU s" "CPU us/(target*sim s)" "sim RSS MB" "score RSS MB"
+rows="$out/rows.txt"
+: >"$rows"
+for r in $(seq 1 "$rounds"); do
+  for n in "${sizes[@]}"; do
+    run="$out/raid-$n"
+    read -r sim_cpu sim_rss < <(measure "$out/sim-$n.log" "$mimo" simulate --scenario "$scenario" --raid "$n" \
+      --duration "$duration" --threads 1 "${seed_args[@]}" --out "$run" --force --quiet)
+    read -r score_cpu score_rss < <(measure "$out/score-$n.log" "$mimo" score "$run")
+    targets=$(jq '.scenario.resolved.targets | length' "$run/manifest.json")
+    per=$(echo "($sim_cpu + $score_cpu) * 1000000 / ($targets * $duration)" | bc -l)
+    printf "%5d %6d %8d %10.2f %10.2f %22.1f %12d %12d\n" "$r" "$n" "$targets" "$sim_cpu" "$score_cpu" "$per" "$sim_rss" "$score_rss"
+    echo "$n $targets $sim_cpu $score_cpu $per" >>"$rows"
+    [ -z "${OUT:-}" ] && rm -rf "$run"
+  done
 done
+if [ "$rounds" -gt 1 ]; then
+  echo
+  echo "medians over $rounds rounds (load average $(cut -d' ' -f1-3 /proc/loadavg) at the end):"
+  awk -v order="${sizes[*]}" '
+    function median(list,   a, k, n, t, i, j) {
+      n = split(list, a, " ")
+      for (i = 2; i <= n; i++) { t = a[i]; for (j = i - 1; j >= 1 && a[j] > t; j--) a[j + 1] = a[j]; a[j + 1] = t }
+      return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2
+    }
+    { tg[$1] = $2; sim[$1] = sim[$1] " " $3; sc[$1] = sc[$1] " " $4; per[$1] = per[$1] " " $5 }
+    END {
+      printf "%6s %10s %10s %22s %18s %18s %18s\n", "N", "sim CPU s", "score CPU s", "CPU us/(target*sim s)", "sim per target", "score per target", "total per target"
+      k = split(order, ns, " ")
+      for (i = 1; i <= k; i++) {
+        n = ns[i]; s = median(sim[n]); c = median(sc[n]); p = median(per[n])
+        if (i == 1) { s0 = s / tg[n]; c0 = c / tg[n]; p0 = p }
+        printf "%6d %10.2f %10.2f %22.1f %17.2fx %17.2fx %17.2fx\n", n, s, c, p, (s / tg[n]) / s0, (c / tg[n]) / c0, p / p0
+      }
+    }' "$rows"
+fi

@@ -9,6 +9,7 @@ use crate::challenge::{
 };
 use crate::challenge_table::{FamilyRow, RatioRow};
 use crate::frontier_energy::FrontierEnergy;
+use crate::frontier_steps::{marginal_costs, steeper_share};
 use crate::grid::Cell;
 use crate::plan::Plan;
 use std::fmt::Write;
@@ -103,12 +104,15 @@ fn steps_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge) {
         o,
         "Each family's efficient frontier point by point, on its {}, with the marginal cost of each step: the \
          energy added per point of completeness gained from the frontier point before it. Where the marginal cost \
-         falls (↓), the frontier is not convex at that step; with the runs' spread a step whose completeness gain \
-         lies inside its points' intervals can do that by chance.\n\n\
-         | scenario | stress | family | frontier point | energy (J) | completeness % | J per point |\n\
-         |---|---|---|---|---|---|---|",
+         falls (↓), the frontier is not convex at that step. From the third point on, the last column gives the \
+         share of the {RESAMPLES} bootstrap resamples of the runs in which the step into the point gains \
+         completeness faster per joule than the step before (the same points, their means re-read): a fall that \
+         holds in at least 97.5 % of them is a knee the runs resolve; one in fewer may be the runs' spread.\n\n\
+         | scenario | stress | family | frontier point | energy (J) | completeness % | J per point | falls in resamples |\n\
+         |---|---|---|---|---|---|---|---|",
         basis.words()
     );
+    let boot = crate::bootstrap::resamples(plan.seed, plan.runs as usize, RESAMPLES);
     for f in c.families.iter().filter(|f| f.challenge.frontier.len() >= 2) {
         let cell = &cells[f.cell];
         let means = crate::challenge::all_means(&f.runs);
@@ -119,8 +123,9 @@ fn steps_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge) {
             .filter_map(|&j| Some((j, means[j].figures[basis.run_figure()]?, means[j].completeness?)))
             .collect();
         let costs = marginal_costs(&points.iter().map(|&(_, e, c)| (e, c)).collect::<Vec<_>>());
+        let shares = steeper_share(&f.runs, &points.iter().map(|&(j, _, _)| j).collect::<Vec<_>>(), &boot);
         let mut last_cost: Option<f64> = None;
-        for (&(j, e, done), &cost) in points.iter().zip(&costs) {
+        for ((&(j, e, done), &cost), share) in points.iter().zip(&costs).zip(&shares) {
             let cost_text = match (cost, last_cost) {
                 (Some(x), Some(before)) if x < before => format!("{} ↓", num(x, 1)),
                 (Some(x), _) => num(x, 1),
@@ -128,13 +133,14 @@ fn steps_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge) {
             };
             let _ = writeln!(
                 o,
-                "| {} | {} | {} | {} | {} | {} | {cost_text} |",
+                "| {} | {} | {} | {} | {} | {} | {cost_text} | {} |",
                 plan.scenarios[cell.scenario].label(),
                 crate::report::point_text(cell),
                 f.family,
                 f.runs.points[j].method,
                 num(e, 0),
                 num(100.0 * done, 2),
+                share.map_or_else(|| "–".to_string(), |x| format!("{} %", num(100.0 * x, 1))),
             );
             last_cost = cost.or(last_cost);
         }
@@ -220,31 +226,4 @@ fn ratios_md(o: &mut String, plan: &Plan, cells: &[Cell], c: &Challenge, pct: f6
         );
     }
     let _ = writeln!(o);
-}
-
-/// The marginal cost of each step along a frontier's points `(energy, completeness fraction)`:
-/// the energy added per point (per cent) of completeness gained from the point before; none for
-/// the first point, or a step that gains nothing.
-fn marginal_costs(points: &[(f64, f64)]) -> Vec<Option<f64>> {
-    let mut out = vec![None; points.len()];
-    for (k, w) in points.windows(2).enumerate() {
-        let ((e0, c0), (e1, c1)) = (w[0], w[1]);
-        out[k + 1] = (c1 > c0).then(|| (e1 - e0) / (100.0 * (c1 - c0)));
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_steps_cost_is_its_energy_per_point_gained() {
-        // 100 → 200 J for 90 → 95 %: 20 J a point; 200 → 250 J for 95 → 99 %: 12.5 J a point.
-        let got = marginal_costs(&[(100.0, 0.90), (200.0, 0.95), (250.0, 0.99)]);
-        assert_eq!(got.len(), 3);
-        assert_eq!(got[0], None);
-        assert!((got[1].expect("step") - 20.0).abs() < 1e-9 && (got[2].expect("step") - 12.5).abs() < 1e-9, "{got:?}");
-        assert_eq!(marginal_costs(&[(1.0, 0.5), (2.0, 0.5)]), vec![None, None]);
-    }
 }

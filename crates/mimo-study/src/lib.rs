@@ -25,6 +25,7 @@ pub mod failure_report;
 pub mod failure_table;
 pub mod frontier;
 pub mod frontier_energy;
+pub mod frontier_steps;
 pub mod grid;
 pub mod guard;
 pub mod inflight;
