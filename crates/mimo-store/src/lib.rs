@@ -219,9 +219,30 @@ const ZSTD_LEVEL: i32 = -5;
 /// docs/decisions/0025-no-float-page-statistics.md). Every Parquet reader (polars, pyarrow,
 /// DuckDB, arrow-rs) reads them.
 pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterProperties {
+    writer_props_for(schema, WriteMode::Kept)
+}
+
+/// What a table file is written for: to be kept (the settings of [`writer_props`]), or as a
+/// scratch file that one reader reads back and deletes (a study's scored run): the same columns,
+/// values and layout, with plain floats and no compression of them — on floats zstd and the
+/// byte-stream split save a little disk, which a scratch file does not keep, for much of the
+/// writer's time; labels and integers keep zstd, which folds their runs of equal values away for
+/// little (docs/decisions/0319-scratch-tables-for-scored-study-runs.md). Every reader takes
+/// both, the scorer's page decoder included ([`page_columns`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WriteMode {
+    /// The files users keep: zstd pages and the declared encodings.
+    Kept,
+    /// A file read back once and deleted: plain, uncompressed floats.
+    Scratch,
+}
+
+/// [`writer_props`] for a file written for `mode`.
+pub(crate) fn writer_props_for(schema: &arrow::datatypes::Schema, mode: WriteMode) -> WriterProperties {
     use parquet::file::properties::EnabledStatistics;
     use schema::Storage;
     let spec = schema.metadata().get(schema::META_TABLE).and_then(|t| schema::table(t));
+    let scratch = mode == WriteMode::Scratch;
     let mut b = WriterProperties::builder()
         .set_compression(Compression::ZSTD(parquet::basic::ZstdLevel::try_new(ZSTD_LEVEL).unwrap_or_default()))
         .set_created_by(format!("mimo {}", env!("CARGO_PKG_VERSION")))
@@ -236,12 +257,14 @@ pub(crate) fn writer_props(schema: &arrow::datatypes::Schema) -> WriterPropertie
         if is_integer(field.data_type()) || storage.contains(&Storage::PageStats) {
             b = b.set_column_statistics_enabled(path.clone(), EnabledStatistics::Page);
         }
-        if storage.contains(&Storage::Uncompressed) {
+        let float =
+            matches!(field.data_type(), arrow::datatypes::DataType::Float64 | arrow::datatypes::DataType::Float32);
+        if storage.contains(&Storage::Uncompressed) || (scratch && float) {
             b = b.set_column_compression(path.clone(), Compression::UNCOMPRESSED);
         }
         if storage.contains(&Storage::Delta) {
             b = b.set_column_encoding(path, parquet::basic::Encoding::DELTA_BINARY_PACKED);
-        } else if storage.contains(&Storage::Split) {
+        } else if storage.contains(&Storage::Split) && !scratch {
             b = b.set_column_encoding(path, parquet::basic::Encoding::BYTE_STREAM_SPLIT);
         }
     }
@@ -406,5 +429,14 @@ mod tests {
         // A schema of no known table takes the defaults, whatever its column names.
         let unknown = arrow::datatypes::Schema::new(schema::DWELLS.arrow_schema().fields().clone());
         assert_eq!(writer_props(&unknown).encoding(&col("dwell_id")), None);
+        // A scratch file: the same settings but plain, uncompressed floats.
+        let scratch = writer_props_for(&schema::DWELLS.arrow_schema(), WriteMode::Scratch);
+        assert_eq!(scratch.encoding(&col("dwell_id")), Some(Encoding::DELTA_BINARY_PACKED));
+        assert_eq!(scratch.encoding(&col("aim_x_m")), None);
+        assert_eq!(scratch.compression(&col("energy_j")), Compression::UNCOMPRESSED);
+        assert_eq!(scratch.compression(&col("t_s")), Compression::UNCOMPRESSED);
+        assert_eq!(scratch.compression(&col("radar")), zstd);
+        assert_eq!(scratch.statistics_enabled(&col("t_s")), EnabledStatistics::Page);
+        assert!(!scratch.dictionary_enabled(&col("radar")));
     }
 }

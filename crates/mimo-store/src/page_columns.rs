@@ -383,18 +383,29 @@ mod tests {
     }
 
     /// The writer's output, across pages and row groups, decodes to the values written, and as
-    /// the writer streams it (the run sink's [`crate::table_writer::TableWriter`]) too.
+    /// the writer streams it (the run sink's [`crate::table_writer::TableWriter`]) too, kept or
+    /// scratch ([`crate::WriteMode`]).
     #[test]
     fn the_store_writer_output_decodes_to_the_rows_written() {
         let dir = tempfile::tempdir().expect("tempdir");
         let rows = dwells(crate::ROW_GROUP_ROWS + crate::PAGE_ROWS + 100);
         let once = dir.path().join("run-0003.parquet");
         crate::write_table(&once, &rows).expect("write");
-        let streamed = dir.path().join("streamed.parquet");
-        let mut w = crate::table_writer::TableWriter::create(&streamed).expect("create");
-        rows.chunks(977).try_for_each(|c| w.extend(c.to_vec())).expect("extend");
-        w.finish().expect("finish");
-        for path in [&once, &streamed] {
+        let mut files = vec![once];
+        for mode in [crate::WriteMode::Kept, crate::WriteMode::Scratch] {
+            let streamed = dir.path().join(format!("streamed-{mode:?}.parquet"));
+            let mut w = crate::table_writer::TableWriter::create_for(&streamed, mode).expect("create");
+            rows.chunks(977).try_for_each(|c| w.extend(c.to_vec())).expect("extend");
+            w.finish().expect("finish");
+            files.push(streamed);
+        }
+        // The scratch file is the one written uncompressed, and the checked typed reader takes it.
+        assert!(
+            std::fs::metadata(&files[2]).expect("scratch").len()
+                > 2 * std::fs::metadata(&files[1]).expect("kept").len()
+        );
+        assert_eq!(crate::read_table::<DwellRow>(&files[2]).expect("read"), rows);
+        for path in &files {
             let got = decode(path).expect("the store's own file takes the page decoder");
             assert_eq!(got.0, rows.iter().map(|r| r.run).collect::<Vec<_>>());
             assert_eq!(got.1, rows.iter().map(|r| r.radar.to_string()).collect::<Vec<_>>());
@@ -440,9 +451,11 @@ mod tests {
     fn the_writer_settings_stay_within_what_the_decoder_takes() {
         use arrow::datatypes::DataType;
         let mut checked = 0;
-        for spec in &crate::schema::ALL_TABLES {
+        for (spec, mode) in
+            crate::schema::ALL_TABLES.iter().flat_map(|s| [(s, crate::WriteMode::Kept), (s, crate::WriteMode::Scratch)])
+        {
             let schema = spec.arrow_schema();
-            let props = crate::writer_props(&schema);
+            let props = crate::writer_props_for(&schema, mode);
             for field in schema.fields() {
                 let physical = match field.data_type() {
                     DataType::UInt8 | DataType::UInt32 => PhysicalType::INT32,
@@ -461,7 +474,7 @@ mod tests {
                 checked += 1;
             }
         }
-        assert!(checked > 40, "{checked} columns checked");
+        assert!(checked > 80, "{checked} columns checked");
     }
 
     /// A file written with other settings (dictionary pages, the Parquet writer's defaults) is

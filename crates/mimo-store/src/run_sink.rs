@@ -40,6 +40,20 @@ impl RunFiles for RunDir {
     }
 }
 
+/// A study cell's directory whose run tables are scratch files ([`crate::WriteMode::Scratch`]):
+/// written in place as [`RunDir`] writes them, read back once by the item's score and deleted
+/// (a study that does not keep its runs, docs/studies.md).
+pub struct ScratchRunDir(pub RunDir);
+
+impl RunFiles for ScratchRunDir {
+    fn open_run_table<R: TableRow>(&self, table: &str, run: u32) -> Result<(String, TableWriter<R>), StoreError> {
+        let dir = self.0.table_dir(table);
+        std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        let writer = TableWriter::create_for(&self.0.table_file(table, run), crate::WriteMode::Scratch)?;
+        Ok((RunDir::table_file_rel(table, run), writer))
+    }
+}
+
 /// One table of a run being written, with its path in the run directory.
 struct Open<R: TableRow> {
     table: &'static str,

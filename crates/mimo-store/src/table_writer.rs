@@ -12,7 +12,7 @@
 //! ones a single write of all the rows gives.
 
 use crate::rows::{TableRow, to_batch};
-use crate::{StoreError, writer_props};
+use crate::{StoreError, WriteMode, writer_props_for};
 use parquet::arrow::ArrowWriter;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -32,18 +32,25 @@ pub struct TableWriter<R: TableRow> {
 }
 
 impl<R: TableRow> TableWriter<R> {
-    /// Start writing table `R` at `path` (its directory must exist).
+    /// Start writing table `R` at `path` (its directory must exist), to be kept.
     pub fn create(path: &Path) -> Result<TableWriter<R>, StoreError> {
+        TableWriter::create_for(path, WriteMode::Kept)
+    }
+
+    /// Start writing table `R` at `path` (its directory must exist) for `mode`
+    /// ([`WriteMode::Scratch`]: read back once and deleted).
+    pub fn create_for(path: &Path, mode: WriteMode) -> Result<TableWriter<R>, StoreError> {
         let name = path.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
         let tmp = path.with_file_name(format!(".{name}.tmp"));
         let write_err = |why: String| StoreError::Write { path: path.to_path_buf(), why };
         let schema = std::sync::Arc::new(R::SPEC.arrow_schema());
         let file = crate::output::create_registered(&tmp)?;
-        let writer = ArrowWriter::try_new(file, schema.clone(), Some(writer_props(&schema))).map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            crate::output::unregister(&tmp);
-            write_err(e.to_string())
-        })?;
+        let writer =
+            ArrowWriter::try_new(file, schema.clone(), Some(writer_props_for(&schema, mode))).map_err(|e| {
+                let _ = std::fs::remove_file(&tmp);
+                crate::output::unregister(&tmp);
+                write_err(e.to_string())
+            })?;
         Ok(TableWriter {
             path: path.to_path_buf(),
             tmp,

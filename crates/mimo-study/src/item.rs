@@ -15,7 +15,7 @@ use mimo_sim::World;
 use mimo_store::StoreError;
 use mimo_store::layout::RunDir;
 use mimo_store::manifest::TableFile;
-use mimo_store::run_sink::ParquetRunSink;
+use mimo_store::run_sink::{ParquetRunSink, ScratchRunDir};
 use mimo_store::schema::STUDY_METRICS;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -142,7 +142,12 @@ pub fn do_item(
 ) -> Result<ItemRecord, ItemError> {
     let (c0, w0) = (crate::cpu::thread_cpu(), std::time::Instant::now());
     let recorded = |t: &str| plan.tables.iter().any(|x| x == t);
-    let mut sink = ParquetRunSink::with_tables(&RunDir::new(cell_dir), run, &recorded)?;
+    // A run the plan does not keep is scored from scratch files, then deleted (docs/studies.md).
+    let mut sink = if plan.keep_runs {
+        ParquetRunSink::with_tables(&RunDir::new(cell_dir), run, &recorded)?
+    } else {
+        ParquetRunSink::with_tables(&ScratchRunDir(RunDir::new(cell_dir)), run, &recorded)?
+    };
     let r = run_item(plan, cell, world, run, &mut sink, ScoreOptions::default().interval_s);
     if let Some(fault) = r.fault {
         return Err(ItemError::Sink(fault));
