@@ -3,7 +3,6 @@
 //! energy and dwell-time metrics come.
 
 use mimo_core::records::{DwellRow, Requester, Role};
-use std::collections::BTreeMap;
 
 /// A run's transmit usage, summed in dwell order (so the sums never depend on how a dataframe
 /// engine splits its work): totals and, per scoring interval, the sums the per-object figures
@@ -13,8 +12,9 @@ use std::collections::BTreeMap;
 pub struct RunUsage {
     /// Dwell time, energy, TA dwell time, TA energy over the run.
     pub totals: [f64; 4],
-    /// The same per interval.
-    pub per_interval: BTreeMap<u32, [f64; 4]>,
+    /// The same per interval, indexed by `j` (index 0 unused; an interval with no transmit dwell
+    /// holds zeros).
+    pub per_interval: Vec<[f64; 4]>,
 }
 
 impl RunUsage {
@@ -34,8 +34,11 @@ impl RunUsage {
         }
         let ta = d.requested_by == Requester::Ta;
         let add = [d.duration_s, d.energy_j, if ta { d.duration_s } else { 0.0 }, if ta { d.energy_j } else { 0.0 }];
-        let j = (d.t_s / interval_s).floor() as u32 + 1;
-        let slot = self.per_interval.entry(j).or_default();
+        let j = (d.t_s / interval_s).floor() as u32 as usize + 1;
+        if self.per_interval.len() <= j {
+            self.per_interval.resize(j + 1, [0.0; 4]);
+        }
+        let slot = &mut self.per_interval[j];
         for i in 0..4 {
             self.totals[i] += add[i];
             slot[i] += add[i];
@@ -48,7 +51,7 @@ impl RunUsage {
         let mut total = None;
         for (j, n) in n_scorable.iter().enumerate() {
             if *n > 0 {
-                let s = self.per_interval.get(&(j as u32 + 1)).map_or(0.0, |v| v[i]);
+                let s = self.per_interval.get(j + 1).map_or(0.0, |v| v[i]);
                 *total.get_or_insert(0.0) += s / f64::from(*n);
             }
         }
