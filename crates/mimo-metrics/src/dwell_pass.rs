@@ -36,6 +36,20 @@ impl DwellPass {
         DwellPass { paths_given: !input.dwells.is_empty(), per_file, truth_files }
     }
 
+    /// One run's dwells reduced in memory ([`crate::dwell_rows`]) in place of its files: the
+    /// same sums, classified with the truth files of `input` as a file's rows are.
+    pub(crate) fn from_rows(input: &PurposeInput<'_>, rows: crate::dwell_rows::DwellRows) -> DwellPass {
+        let truth_files = crate::purpose::truth_files(input);
+        let result: FileResult = match rows.finish() {
+            Ok((sums, rows)) => {
+                let purpose = truth_files.as_ref().ok().map(|truth| crate::purpose::classify(rows, input, truth));
+                (Ok(sums), purpose)
+            }
+            Err(e) => (Err(e), None),
+        };
+        DwellPass { paths_given: true, per_file: vec![result], truth_files }
+    }
+
     /// The dwells table reduced to what the usage figures need: the transmit sums per run, radar
     /// and scoring interval ([`DwellSums`]), and every radar named in it (any role).
     ///

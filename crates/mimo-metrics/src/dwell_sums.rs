@@ -179,7 +179,9 @@ pub(crate) struct Rows<'a> {
 
 /// The one pass over the rows of a dwells file: the labels, the checks and the sums.
 pub(crate) struct FilePass<'r> {
-    runs: &'r BTreeSet<u32>,
+    /// The runs a row may be of (borrowed from the score's, or owned by a pass over rows in
+    /// memory, [`crate::dwell_rows`]).
+    runs: std::borrow::Cow<'r, BTreeSet<u32>>,
     interval_s: f64,
     slice_rows: usize,
     /// Rows left before the current slice ends (a count down, not a division per row).
@@ -198,6 +200,15 @@ pub(crate) struct FilePass<'r> {
 impl<'r> FilePass<'r> {
     /// A pass whose sums are split every `slice_rows` rows (at least one) of the file.
     pub(crate) fn new(runs: &'r BTreeSet<u32>, interval_s: f64, slice_rows: usize) -> FilePass<'r> {
+        FilePass::with_runs(std::borrow::Cow::Borrowed(runs), interval_s, slice_rows)
+    }
+
+    /// [`FilePass::new`] with the runs given as borrowed or owned.
+    pub(crate) fn with_runs(
+        runs: std::borrow::Cow<'r, BTreeSet<u32>>,
+        interval_s: f64,
+        slice_rows: usize,
+    ) -> FilePass<'r> {
         let mut role = Labels::fixed(&Role::LABELS);
         let mut requested_by = Labels::fixed(&Requester::LABELS);
         let (rx, ta) = (role.of(Role::Rx.as_str()), requested_by.of(Requester::Ta.as_str()));

@@ -109,6 +109,7 @@
 mod dwell_pages;
 mod dwell_pass;
 mod dwell_read;
+mod dwell_rows;
 mod dwell_sums;
 mod error;
 mod first_track;
@@ -138,6 +139,7 @@ pub use output::{NamedList, write_outputs};
 pub use purpose_rule::{BeamGeometry, Purpose};
 pub use results::*;
 
+pub use dwell_rows::DwellRows;
 use glam::DVec3;
 use mean::GroupMean;
 use mimo_store::layout::RunDir;
@@ -300,6 +302,22 @@ pub fn attach_registration(
 
 /// Score the tables of `input` with `opts`. See the crate docs for every definition.
 pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsError> {
+    score_from(input, opts, None)
+}
+
+/// [`score`] of one run whose dwells were reduced as the run made them ([`DwellRows`]) instead
+/// of read from files (`input.dwells` is not read): a study item that does not keep its run's
+/// tables (docs/decisions/0321-study-runs-scored-from-their-dwell-rows.md). The figures are
+/// those of [`score`] on the run's dwells file, bit for bit.
+pub fn score_with_dwell_rows(
+    input: &ScoreInput,
+    opts: &ScoreOptions,
+    dwells: DwellRows,
+) -> Result<Score, MetricsError> {
+    score_from(input, opts, Some(dwells))
+}
+
+fn score_from(input: &ScoreInput, opts: &ScoreOptions, dwell_rows: Option<DwellRows>) -> Result<Score, MetricsError> {
     opts.validate()?;
     let threads = if opts.threads == 0 {
         std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)
@@ -329,7 +347,10 @@ pub fn score(input: &ScoreInput, opts: &ScoreOptions) -> Result<Score, MetricsEr
         threads,
     };
     // The dwells read once for the usage sums and the usage by purpose.
-    let mut dwells = dwell_pass::DwellPass::run(&purpose_input, &run_set);
+    let mut dwells = match dwell_rows {
+        Some(rows) => dwell_pass::DwellPass::from_rows(&purpose_input, rows),
+        None => dwell_pass::DwellPass::run(&purpose_input, &run_set),
+    };
     let (dwell_sums, dwell_radars) = dwells.usage_sums()?;
     let TrackResults { runs, target_names, track_metrics, assignments, tally, n_scorable } = tr;
     let track_metrics_mean = mean_over_runs(&track_metrics)?;

@@ -39,6 +39,8 @@ pub struct ItemRun {
     pub biases: Vec<mimo_core::records::BiasRow>,
     /// The test article's registration estimates (empty if it reported none).
     pub registration: Vec<mimo_core::records::RegistrationRow>,
+    /// The run's dwells reduced for its score, when asked for.
+    pub dwell_rows: Option<mimo_metrics::DwellRows>,
 }
 
 /// The engine settings of a cell.
@@ -60,14 +62,26 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// Run item `run` of `cell`, its rows handed to `out` as they come (those of a failed run up to
-/// its failure) and its usage summed per scoring interval of `interval_s`. Never fails: a
-/// failure of the method is in [`ItemRun::failure`], one of `out` in [`ItemRun::fault`].
-pub fn run_item(plan: &Plan, cell: &Cell, world: &World, run: u32, out: &mut dyn RunSink, interval_s: f64) -> ItemRun {
+/// its failure) and its usage summed per scoring interval of `interval_s`; with `reduce_dwells`
+/// its dwells are also reduced for its score ([`ItemRun::dwell_rows`]). Never fails: a failure
+/// of the method is in [`ItemRun::failure`], one of `out` in [`ItemRun::fault`].
+pub fn run_item(
+    plan: &Plan,
+    cell: &Cell,
+    world: &World,
+    run: u32,
+    out: &mut dyn RunSink,
+    interval_s: f64,
+    reduce_dwells: bool,
+) -> ItemRun {
     let (c0, w0) = (thread_cpu(), Instant::now());
     let cfg = engine_config(plan, cell, world);
     let method = &plan.methods[cell.method];
     let deadline = w0 + Duration::from_secs_f64(plan.limits.wall_s_per_run);
     let mut sink = Guarded::new(out, plan.limits.max_tracks, deadline, interval_s);
+    if reduce_dwells {
+        sink = sink.reducing_dwells(run, interval_s);
+    }
     let made: Result<Box<dyn TestArticle + '_>, String> = match &method.ta {
         MethodTa::Builtin { ta, config } => mimo_ta::registry::build(ta, config, world).map_err(|e| e.to_string()),
         MethodTa::Process { cmd, .. } => ProcessTa::spawn(cmd, plan.limits.wall_s_per_run)
@@ -106,5 +120,6 @@ pub fn run_item(plan: &Plan, cell: &Cell, world: &World, run: u32, out: &mut dyn
         wall: w0.elapsed(),
         biases: sink.biases,
         registration: sink.registration,
+        dwell_rows: sink.dwell_rows,
     }
 }

@@ -9,6 +9,7 @@ use mimo_core::records::{
     BiasRow, DwellRow, MeasurementRow, PrimitiveRow, RegistrationRow, TrackRow, TruthRow, VoltageRow, unpack_cov,
 };
 use mimo_core::sink::{RunSink, SinkError};
+use mimo_metrics::DwellRows;
 use std::collections::BTreeSet;
 use std::time::Instant;
 
@@ -61,6 +62,9 @@ pub struct Guarded<'s> {
     pub biases: Vec<BiasRow>,
     /// See [`Guarded::biases`].
     pub registration: Vec<RegistrationRow>,
+    /// The run's dwells reduced for its score as they are handed on, when the run is scored
+    /// from them rather than from its dwells file ([`Guarded::reducing_dwells`]).
+    pub dwell_rows: Option<DwellRows>,
 }
 
 impl<'s> Guarded<'s> {
@@ -79,7 +83,15 @@ impl<'s> Guarded<'s> {
             fault: None,
             biases: Vec::new(),
             registration: Vec::new(),
+            dwell_rows: None,
         }
+    }
+
+    /// Also reduce run `run`'s dwells for its score as they come (per scoring interval of
+    /// `interval_s`; docs/decisions/0321-study-runs-scored-from-their-dwell-rows.md).
+    pub fn reducing_dwells(mut self, run: u32, interval_s: f64) -> Guarded<'s> {
+        self.dwell_rows = Some(DwellRows::new(run, interval_s));
+        self
     }
 
     fn fail(&mut self, why: String) -> SinkError {
@@ -110,6 +122,9 @@ impl RunSink for Guarded<'_> {
             return Err(self.fail(format!("{FAIL_TIME} (at t = {:.1} s of the run)", row.t_s)));
         }
         self.usage.add(&row, self.interval_s);
+        if let Some(d) = &mut self.dwell_rows {
+            d.push(&row);
+        }
         let r = self.inner.dwell(row);
         self.pass(r)
     }

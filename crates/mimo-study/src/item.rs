@@ -10,7 +10,7 @@ use crate::grid::Cell;
 use crate::plan::Plan;
 use crate::record::{ItemCosts, ItemRecord, RecordError, record_path};
 use crate::run_usage::RunUsage;
-use mimo_metrics::{MetricsError, Purpose, Score, ScoreInput, ScoreOptions};
+use mimo_metrics::{DwellRows, MetricsError, Purpose, Score, ScoreInput, ScoreOptions};
 use mimo_sim::World;
 use mimo_store::StoreError;
 use mimo_store::layout::RunDir;
@@ -63,13 +63,19 @@ pub fn remove_empty_table_dirs(cell_dir: &Path) {
     }
 }
 
-/// Score one run from its files.
-pub fn score_run(world: &World, cell_dir: &Path, run: u32) -> Result<Score, MetricsError> {
+/// Score one run from its files, or from its dwells reduced as the run made them
+/// (`dwell_rows`: its dwells file is then not read, and need not exist).
+pub fn score_run(
+    world: &World,
+    cell_dir: &Path,
+    run: u32,
+    dwell_rows: Option<DwellRows>,
+) -> Result<Score, MetricsError> {
     let file = |t: &str| vec![RunDir::new(cell_dir).table_file(t, run)];
     let ships = world.scenario.ships.clone();
     let input = ScoreInput {
         truth: file("truth"),
-        dwells: file("dwells"),
+        dwells: if dwell_rows.is_some() { Vec::new() } else { file("dwells") },
         tracks: file("tracks"),
         scorable: Box::new(move |t, pos, alt| ships.iter().any(|s| s.sees(t, pos, alt))),
         beams: crate::beams::beam_geometry(&world.scenario),
@@ -80,7 +86,10 @@ pub fn score_run(world: &World, cell_dir: &Path, run: u32) -> Result<Score, Metr
         threads: 1,
         ..ScoreOptions::default()
     };
-    mimo_metrics::score(&input, &opts)
+    match dwell_rows {
+        Some(rows) => mimo_metrics::score_with_dwell_rows(&input, &opts, rows),
+        None => mimo_metrics::score(&input, &opts),
+    }
 }
 
 /// The study metrics of a one-run score and the run's usage, by name.
@@ -141,14 +150,17 @@ pub fn do_item(
     kf_cycle_s: Option<f64>,
 ) -> Result<ItemRecord, ItemError> {
     let (c0, w0) = (crate::cpu::thread_cpu(), std::time::Instant::now());
-    let recorded = |t: &str| plan.tables.iter().any(|x| x == t);
-    // A run the plan does not keep is scored from scratch files, then deleted (docs/studies.md).
+    // A run the plan does not keep is scored from its dwells reduced as they come, with no
+    // dwells file, and from scratch files of its other tables, deleted once it is scored
+    // (docs/studies.md, "What a cell keeps").
+    let reduce_dwells = !plan.keep_runs;
+    let recorded = |t: &str| plan.tables.iter().any(|x| x == t) && !(reduce_dwells && t == "dwells");
     let mut sink = if plan.keep_runs {
         ParquetRunSink::with_tables(&RunDir::new(cell_dir), run, &recorded)?
     } else {
         ParquetRunSink::with_tables(&ScratchRunDir(RunDir::new(cell_dir)), run, &recorded)?
     };
-    let r = run_item(plan, cell, world, run, &mut sink, ScoreOptions::default().interval_s);
+    let mut r = run_item(plan, cell, world, run, &mut sink, ScoreOptions::default().interval_s, reduce_dwells);
     if let Some(fault) = r.fault {
         return Err(ItemError::Sink(fault));
     }
@@ -158,7 +170,7 @@ pub fn do_item(
     let metrics = match &r.failure {
         Some(_) => STUDY_METRICS.iter().map(|(n, _, _)| (n.to_string(), None)).collect(),
         None => {
-            let mut score = score_run(world, cell_dir, run)
+            let mut score = score_run(world, cell_dir, run, r.dwell_rows.take())
                 .map_err(|e| ItemError::Score { dir: cell_dir.into(), source: Box::new(e) })?;
             mimo_metrics::attach_registration(&mut score, &r.biases, &r.registration);
             if !plan.keep_runs {

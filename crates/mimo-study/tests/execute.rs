@@ -16,7 +16,7 @@ fn plan(methods: &str) -> Plan {
 /// Item 0 of cell `i`, its rows kept in memory.
 fn item(p: &Plan, prep: &Prepared, i: usize) -> (ItemRun, RunTables) {
     let mut tables = RunTables::default();
-    let r = run_item(p, &prep.cells[i], &prep.worlds[prep.world_of[i]], 0, &mut tables, 1.0);
+    let r = run_item(p, &prep.cells[i], &prep.worlds[prep.world_of[i]], 0, &mut tables, 1.0, false);
     (r, tables)
 }
 
