@@ -340,7 +340,7 @@ pub struct Summary {
     pub repaired_covariances: std::collections::BTreeMap<String, u64>,
 }
 
-/// The result of [`score`].
+/// The result of [`crate::score`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Score {
     /// The options the score was computed with.
