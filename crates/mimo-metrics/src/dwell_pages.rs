@@ -222,11 +222,11 @@ fn purpose_rows(rg: &PageRowGroup<'_>, b: &mut Buffers, p: &mut Purposes, first_
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// Dwells of run 3 across several row groups, every column the pass reads varied.
-    fn rows(n: usize) -> Vec<DwellRow> {
+    pub(crate) fn rows(n: usize) -> Vec<DwellRow> {
         let t_s: Vec<f64> = (0..n).map(|i| 0.0137 * i as f64).collect();
         let mut rows = mimo_store::testing::varied_dwell_rows(3, &t_s);
         for (i, r) in rows.iter_mut().enumerate() {

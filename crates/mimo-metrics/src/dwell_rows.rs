@@ -6,7 +6,7 @@
 //! the same row order: the usage sums' pass ([`crate::dwell_sums::FilePass`], whose slices count
 //! rows, not files or row groups) and the usage by purpose's rows ([`crate::purpose::FileRows`]),
 //! radars indexed in order of first appearance, the same checks. The sums are therefore those a
-//! score of the run's dwells file gives, bit for bit. Rows are held [`CHUNK_ROWS`] at a time, so
+//! score of the run's dwells file gives, bit for bit. Rows are held, as columns, [`CHUNK_ROWS`] at a time, so
 //! the memory is that of the sums and of the few non-search parts the usage by purpose keeps for
 //! classification, whatever the run's length.
 
@@ -28,16 +28,19 @@ pub struct DwellRows {
     interval_s: f64,
     pass: FilePass<'static>,
     purposes: FileRows,
-    held: Vec<DwellRow>,
-    first_row: usize,
-    /// The first check that failed, if any (the rest of the rows are then not reduced).
-    broken: Option<String>,
-    /// Each radar's label index, as the pass gave it.
-    radars: Vec<(RadarId, u8)>,
+    /// The rows held, as columns (at most [`CHUNK_ROWS`]).
     cols: Cols,
+    /// Index in the run of the first row held.
+    first_row: usize,
+    /// The first check that failed, if any (the rows after it are not reduced).
+    broken: Option<String>,
+    /// Each radar's label index, as the pass gave it, and the last row's.
+    radars: Vec<(RadarId, u8)>,
+    last_radar: Option<(RadarId, u8)>,
 }
 
-/// The columns of a chunk, reused from chunk to chunk.
+/// The columns of the rows held, in the pass's label indices (radars, roles, requesters) and as
+/// the usage by purpose reads them.
 #[derive(Default)]
 struct Cols {
     run: Vec<u32>,
@@ -57,6 +60,26 @@ struct Cols {
     kinds: Vec<DwellKind>,
 }
 
+impl Cols {
+    /// Every column emptied, its capacity kept.
+    fn clear(&mut self) {
+        for v in [&mut self.radar, &mut self.role, &mut self.by, &mut self.face] {
+            v.clear();
+        }
+        for v in [&mut self.t_s, &mut self.duration_s, &mut self.energy_j, &mut self.beam_u, &mut self.beam_v] {
+            v.clear();
+        }
+        for v in &mut self.aim_m {
+            v.clear();
+        }
+        self.run.clear();
+        self.group.clear();
+        self.radar_index.clear();
+        self.roles.clear();
+        self.kinds.clear();
+    }
+}
+
 /// The index of `label` in the fixed list `labels` (as the pass's fixed labels index it).
 fn fixed_index(labels: &[&str], label: &str) -> u8 {
     labels.iter().position(|l| *l == label).and_then(|i| u8::try_from(i).ok()).unwrap_or(u8::MAX)
@@ -70,18 +93,51 @@ impl DwellRows {
             interval_s,
             pass: FilePass::with_runs(Cow::Owned(BTreeSet::from([run])), interval_s, DWELL_SLICE_ROWS),
             purposes: FileRows::default(),
-            held: Vec::with_capacity(CHUNK_ROWS),
+            cols: Cols::default(),
             first_row: 0,
             broken: None,
             radars: Vec::new(),
-            cols: Cols::default(),
+            last_radar: None,
         }
     }
 
     /// The run's next dwell row, in the order the run makes them.
-    pub fn push(&mut self, row: &DwellRow) {
-        self.held.push(row.clone());
-        if self.held.len() == CHUNK_ROWS {
+    pub fn push(&mut self, r: &DwellRow) {
+        if self.broken.is_some() {
+            return;
+        }
+        let radar = match self.last_radar {
+            Some((id, i)) if id == r.radar => i,
+            _ => match self.radar_label(r.radar) {
+                Some(i) => {
+                    self.last_radar = Some((r.radar, i));
+                    i
+                }
+                None => {
+                    self.broken = Some(format!("radar {} refused", r.radar));
+                    return;
+                }
+            },
+        };
+        let c = &mut self.cols;
+        c.run.push(r.run);
+        c.radar.push(radar);
+        c.radar_index.push(usize::from(radar));
+        c.role.push(fixed_index(&Role::LABELS, r.role.as_str()));
+        c.by.push(fixed_index(&Requester::LABELS, r.requested_by.as_str()));
+        c.roles.push(r.role);
+        c.kinds.push(r.kind);
+        c.t_s.push(r.t_s);
+        c.duration_s.push(r.duration_s);
+        c.energy_j.push(r.energy_j);
+        c.group.push(r.group_id);
+        c.face.push(r.face);
+        c.beam_u.push(r.beam_u);
+        c.beam_v.push(r.beam_v);
+        c.aim_m[0].push(r.aim_x_m);
+        c.aim_m[1].push(r.aim_y_m);
+        c.aim_m[2].push(r.aim_z_m);
+        if c.run.len() == CHUNK_ROWS {
             self.reduce();
         }
     }
@@ -96,69 +152,17 @@ impl DwellRows {
         Some(i)
     }
 
-    /// The rows held reduced, in order.
+    /// The rows held reduced, in order, and let go.
     fn reduce(&mut self) {
-        let rows = std::mem::take(&mut self.held);
-        if self.broken.is_none()
-            && let Err(why) = self.reduce_rows(&rows)
-        {
+        if let Err(why) = self.reduce_held() {
             self.broken = Some(why);
         }
-        self.first_row += rows.len();
-        self.held = rows;
-        self.held.clear();
+        self.first_row += self.cols.run.len();
+        self.cols.clear();
     }
 
-    fn reduce_rows(&mut self, rows: &[DwellRow]) -> Result<(), String> {
-        let mut c = std::mem::take(&mut self.cols);
-        let out = self.fill_and_add(rows, &mut c);
-        self.cols = c;
-        out
-    }
-
-    fn fill_and_add(&mut self, rows: &[DwellRow], c: &mut Cols) -> Result<(), String> {
-        for v in [&mut c.radar, &mut c.role, &mut c.by, &mut c.face] {
-            v.clear();
-        }
-        c.run.clear();
-        c.group.clear();
-        c.radar_index.clear();
-        c.roles.clear();
-        c.kinds.clear();
-        for v in [&mut c.t_s, &mut c.duration_s, &mut c.energy_j, &mut c.beam_u, &mut c.beam_v] {
-            v.clear();
-        }
-        for v in &mut c.aim_m {
-            v.clear();
-        }
-        let mut last_radar: Option<(RadarId, u8)> = None;
-        for r in rows {
-            let radar = match last_radar {
-                Some((id, i)) if id == r.radar => i,
-                _ => {
-                    let i = self.radar_label(r.radar).ok_or_else(|| format!("radar {} refused", r.radar))?;
-                    last_radar = Some((r.radar, i));
-                    i
-                }
-            };
-            c.run.push(r.run);
-            c.radar.push(radar);
-            c.radar_index.push(usize::from(radar));
-            c.role.push(fixed_index(&Role::LABELS, r.role.as_str()));
-            c.by.push(fixed_index(&Requester::LABELS, r.requested_by.as_str()));
-            c.roles.push(r.role);
-            c.kinds.push(r.kind);
-            c.t_s.push(r.t_s);
-            c.duration_s.push(r.duration_s);
-            c.energy_j.push(r.energy_j);
-            c.group.push(r.group_id);
-            c.face.push(r.face);
-            c.beam_u.push(r.beam_u);
-            c.beam_v.push(r.beam_v);
-            c.aim_m[0].push(r.aim_x_m);
-            c.aim_m[1].push(r.aim_y_m);
-            c.aim_m[2].push(r.aim_z_m);
-        }
+    fn reduce_held(&mut self) -> Result<(), String> {
+        let c = &self.cols;
         let sums_rows = Rows {
             run: &c.run,
             radar: &c.radar,
@@ -202,7 +206,7 @@ impl DwellRows {
     /// The run's usage sums and usage-by-purpose rows, as a score of its dwells file reduces them;
     /// an error names the run and the check its rows broke.
     pub(crate) fn finish(mut self) -> Result<(DwellSums, FileRows), MetricsError> {
-        if !self.held.is_empty() {
+        if self.broken.is_none() && !self.cols.run.is_empty() {
             self.reduce();
         }
         if let Some(why) = self.broken {
@@ -221,21 +225,7 @@ impl DwellRows {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Dwells of run 3 across several chunks and slices, every column the score reads varied.
-    fn rows(n: usize) -> Vec<DwellRow> {
-        let t_s: Vec<f64> = (0..n).map(|i| 0.0137 * i as f64).collect();
-        let mut rows = mimo_store::testing::varied_dwell_rows(3, &t_s);
-        for (i, r) in rows.iter_mut().enumerate() {
-            r.group_id = (i / 3) as u64 * 7;
-            r.beam_u = 0.01 * ((i * 13) % 11) as f64 - 0.05;
-            r.beam_v = -0.003 * ((i * 7) % 5) as f64;
-            r.aim_x_m = 3.1e6 + 17.0 * i as f64;
-            r.aim_y_m = -2.2e5;
-            r.aim_z_m = 5.3e6 - 3.0 * i as f64;
-        }
-        rows
-    }
+    use crate::dwell_pages::tests::rows;
 
     /// The rows reduced in memory give, bit for bit, what the pass over the same rows' file gives:
     /// the usage sums and the purpose rows (search sums and kept parts), across chunks.
