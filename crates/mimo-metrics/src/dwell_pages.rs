@@ -61,25 +61,78 @@ fn labels(rg: &PageRowGroup<'_>, col: usize, labels: &mut Labels, out: &mut Vec<
     })
 }
 
-/// The columns of one row group, reused from row group to row group.
+/// The columns of one row group (or of a chunk of rows in memory, [`crate::dwell_rows`]), reused
+/// from row group to row group.
 #[derive(Default)]
-struct Buffers {
-    run: Vec<u32>,
-    radar: Vec<u8>,
-    role: Vec<u8>,
-    kind: Vec<u8>,
-    by: Vec<u8>,
-    t_s: Vec<f64>,
-    duration_s: Vec<f64>,
-    energy_j: Vec<f64>,
-    group: Vec<u64>,
-    face: Vec<u8>,
-    beam_u: Vec<f64>,
-    beam_v: Vec<f64>,
-    aim_m: [Vec<f64>; 3],
-    radar_index: Vec<usize>,
-    roles: Vec<Role>,
-    kinds: Vec<DwellKind>,
+pub(crate) struct Buffers {
+    pub(crate) run: Vec<u32>,
+    pub(crate) radar: Vec<u8>,
+    pub(crate) role: Vec<u8>,
+    pub(crate) kind: Vec<u8>,
+    pub(crate) by: Vec<u8>,
+    pub(crate) t_s: Vec<f64>,
+    pub(crate) duration_s: Vec<f64>,
+    pub(crate) energy_j: Vec<f64>,
+    pub(crate) group: Vec<u64>,
+    pub(crate) face: Vec<u8>,
+    pub(crate) beam_u: Vec<f64>,
+    pub(crate) beam_v: Vec<f64>,
+    pub(crate) aim_m: [Vec<f64>; 3],
+    pub(crate) radar_index: Vec<usize>,
+    pub(crate) roles: Vec<Role>,
+    pub(crate) kinds: Vec<DwellKind>,
+}
+
+impl Buffers {
+    /// The columns the usage sums read.
+    pub(crate) fn sums_rows(&self) -> Rows<'_> {
+        Rows {
+            run: &self.run,
+            radar: &self.radar,
+            role: &self.role,
+            requested_by: &self.by,
+            t_s: &self.t_s,
+            duration_s: &self.duration_s,
+            energy_j: &self.energy_j,
+        }
+    }
+
+    /// The columns the usage by purpose reads, the first of them row `first_row` of the file.
+    pub(crate) fn purpose_cols(&self, first_row: usize) -> PurposeCols<'_> {
+        PurposeCols {
+            first_row,
+            run: &self.run,
+            group: &self.group,
+            radar: &self.radar_index,
+            role: &self.roles,
+            kind: &self.kinds,
+            t_s: &self.t_s,
+            duration_s: &self.duration_s,
+            energy_j: &self.energy_j,
+            face: &self.face,
+            beam_u: &self.beam_u,
+            beam_v: &self.beam_v,
+            aim_m: [&self.aim_m[0], &self.aim_m[1], &self.aim_m[2]],
+        }
+    }
+
+    /// Every column emptied, its capacity kept.
+    pub(crate) fn clear(&mut self) {
+        for v in [&mut self.radar, &mut self.role, &mut self.kind, &mut self.by, &mut self.face] {
+            v.clear();
+        }
+        for v in [&mut self.t_s, &mut self.duration_s, &mut self.energy_j, &mut self.beam_u, &mut self.beam_v] {
+            v.clear();
+        }
+        for v in &mut self.aim_m {
+            v.clear();
+        }
+        self.run.clear();
+        self.group.clear();
+        self.radar_index.clear();
+        self.roles.clear();
+        self.kinds.clear();
+    }
 }
 
 /// The rows of a row group added to the usage by purpose.
@@ -150,15 +203,7 @@ fn pass(
         if b.run.len() != n || b.kind.len() != n {
             return None;
         }
-        pass.rows(&Rows {
-            run: &b.run,
-            radar: &b.radar,
-            role: &b.role,
-            requested_by: &b.by,
-            t_s: &b.t_s,
-            duration_s: &b.duration_s,
-            energy_j: &b.energy_j,
-        })?;
+        pass.rows(&b.sums_rows())?;
         if let Some(p) = &mut purposes {
             purpose_rows(&rg, &mut b, p, first_row, n)?;
         }
@@ -202,22 +247,7 @@ fn purpose_rows(rg: &PageRowGroup<'_>, b: &mut Buffers, p: &mut Purposes, first_
     for &k in &b.kind {
         b.kinds.push(*p.kinds.get(usize::from(k))?);
     }
-    let cols = PurposeCols {
-        first_row,
-        run: &b.run,
-        group: &b.group,
-        radar: &b.radar_index,
-        role: &b.roles,
-        kind: &b.kinds,
-        t_s: &b.t_s,
-        duration_s: &b.duration_s,
-        energy_j: &b.energy_j,
-        face: &b.face,
-        beam_u: &b.beam_u,
-        beam_v: &b.beam_v,
-        aim_m: [&b.aim_m[0], &b.aim_m[1], &b.aim_m[2]],
-    };
-    p.rows.add(&cols, p.interval_s);
+    p.rows.add(&b.purpose_cols(first_row), p.interval_s);
     Some(())
 }
 

@@ -11,10 +11,11 @@
 //! classification, whatever the run's length.
 
 use crate::MetricsError;
-use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums, FilePass, Rows};
-use crate::purpose::{FileRows, PurposeCols};
+use crate::dwell_pages::Buffers;
+use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums, FilePass};
+use crate::purpose::FileRows;
 use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellKind, DwellRow, Requester, Role};
+use mimo_core::records::{DwellRow, Requester, Role};
 use std::borrow::Cow;
 use std::collections::BTreeSet;
 
@@ -28,8 +29,8 @@ pub struct DwellRows {
     interval_s: f64,
     pass: FilePass<'static>,
     purposes: FileRows,
-    /// The rows held, as columns (at most [`CHUNK_ROWS`]).
-    cols: Cols,
+    /// The rows held, as the columns a row group of a file decodes to (at most [`CHUNK_ROWS`]).
+    cols: Buffers,
     /// Index in the run of the first row held.
     first_row: usize,
     /// The first check that failed, if any (the rows after it are not reduced).
@@ -37,47 +38,10 @@ pub struct DwellRows {
     /// Each radar's label index, as the pass gave it, and the last row's.
     radars: Vec<(RadarId, u8)>,
     last_radar: Option<(RadarId, u8)>,
-}
-
-/// The columns of the rows held, in the pass's label indices (radars, roles, requesters) and as
-/// the usage by purpose reads them.
-#[derive(Default)]
-struct Cols {
-    run: Vec<u32>,
-    radar: Vec<u8>,
-    role: Vec<u8>,
-    by: Vec<u8>,
-    t_s: Vec<f64>,
-    duration_s: Vec<f64>,
-    energy_j: Vec<f64>,
-    group: Vec<u64>,
-    face: Vec<u8>,
-    beam_u: Vec<f64>,
-    beam_v: Vec<f64>,
-    aim_m: [Vec<f64>; 3],
-    radar_index: Vec<usize>,
-    roles: Vec<Role>,
-    kinds: Vec<DwellKind>,
-}
-
-impl Cols {
-    /// Every column emptied, its capacity kept.
-    fn clear(&mut self) {
-        for v in [&mut self.radar, &mut self.role, &mut self.by, &mut self.face] {
-            v.clear();
-        }
-        for v in [&mut self.t_s, &mut self.duration_s, &mut self.energy_j, &mut self.beam_u, &mut self.beam_v] {
-            v.clear();
-        }
-        for v in &mut self.aim_m {
-            v.clear();
-        }
-        self.run.clear();
-        self.group.clear();
-        self.radar_index.clear();
-        self.roles.clear();
-        self.kinds.clear();
-    }
+    /// The last row's role and requester with their label indices (runs of equal values are the
+    /// rule).
+    last_role: Option<(Role, u8)>,
+    last_by: Option<(Requester, u8)>,
 }
 
 /// The index of `label` in the fixed list `labels` (as the pass's fixed labels index it).
@@ -93,11 +57,13 @@ impl DwellRows {
             interval_s,
             pass: FilePass::with_runs(Cow::Owned(BTreeSet::from([run])), interval_s, DWELL_SLICE_ROWS),
             purposes: FileRows::default(),
-            cols: Cols::default(),
+            cols: Buffers::default(),
             first_row: 0,
             broken: None,
             radars: Vec::new(),
             last_radar: None,
+            last_role: None,
+            last_by: None,
         }
     }
 
@@ -119,12 +85,22 @@ impl DwellRows {
                 }
             },
         };
+        let role = match self.last_role {
+            Some((x, i)) if x == r.role => i,
+            _ => fixed_index(&Role::LABELS, r.role.as_str()),
+        };
+        self.last_role = Some((r.role, role));
+        let by = match self.last_by {
+            Some((x, i)) if x == r.requested_by => i,
+            _ => fixed_index(&Requester::LABELS, r.requested_by.as_str()),
+        };
+        self.last_by = Some((r.requested_by, by));
         let c = &mut self.cols;
         c.run.push(r.run);
         c.radar.push(radar);
         c.radar_index.push(usize::from(radar));
-        c.role.push(fixed_index(&Role::LABELS, r.role.as_str()));
-        c.by.push(fixed_index(&Requester::LABELS, r.requested_by.as_str()));
+        c.role.push(role);
+        c.by.push(by);
         c.roles.push(r.role);
         c.kinds.push(r.kind);
         c.t_s.push(r.t_s);
@@ -163,16 +139,7 @@ impl DwellRows {
 
     fn reduce_held(&mut self) -> Result<(), String> {
         let c = &self.cols;
-        let sums_rows = Rows {
-            run: &c.run,
-            radar: &c.radar,
-            role: &c.role,
-            requested_by: &c.by,
-            t_s: &c.t_s,
-            duration_s: &c.duration_s,
-            energy_j: &c.energy_j,
-        };
-        self.pass.rows(&sums_rows).ok_or_else(|| {
+        self.pass.rows(&c.sums_rows()).ok_or_else(|| {
             "a row breaks the dwells table's rules (a run other than its own, a time going back for \
              a radar, or a time, duration or energy that is negative or not finite)"
                 .to_string()
@@ -184,22 +151,7 @@ impl DwellRows {
         if !finite {
             return Err("a beam direction or aim point is not finite".to_string());
         }
-        let cols = PurposeCols {
-            first_row: self.first_row,
-            run: &c.run,
-            group: &c.group,
-            radar: &c.radar_index,
-            role: &c.roles,
-            kind: &c.kinds,
-            t_s: &c.t_s,
-            duration_s: &c.duration_s,
-            energy_j: &c.energy_j,
-            face: &c.face,
-            beam_u: &c.beam_u,
-            beam_v: &c.beam_v,
-            aim_m: [&c.aim_m[0], &c.aim_m[1], &c.aim_m[2]],
-        };
-        self.purposes.add(&cols, self.interval_s);
+        self.purposes.add(&c.purpose_cols(self.first_row), self.interval_s);
         Ok(())
     }
 
