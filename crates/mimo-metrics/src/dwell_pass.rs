@@ -1,5 +1,5 @@
 //! The one read of the dwells table a score makes (docs/design.md §6): each file's pages decoded
-//! once ([`crate::dwell_pages::file_pass`]) into both the usage sums ([`crate::dwell_sums`]) and
+//! once ([`crate::dwell_file::file_pass`]) into both the usage sums ([`crate::dwell_sums`]) and
 //! the usage by purpose's rows ([`crate::purpose`]), the latter classified in the same worker.
 //! A file the page decoder does not take, or whose values break a check, is read as before by
 //! the checked readers of each ([`crate::load::dwell_file_sums`], [`crate::purpose::read_rows`]),
@@ -91,7 +91,7 @@ fn file(path: &Path, runs: &BTreeSet<u32>, input: &PurposeInput<'_>, truth: Opti
     }
     let of_file = crate::load::runs_of_file(path, runs);
     let runs_here = of_file.as_ref().unwrap_or(runs);
-    if let Some((sums, rows)) = crate::dwell_pages::file_pass(path, runs_here, input.interval_s, DWELL_SLICE_ROWS) {
+    if let Some((sums, rows)) = crate::dwell_file::file_pass(path, runs_here, input.interval_s, DWELL_SLICE_ROWS) {
         return (Ok(sums), truth.map(|truth| crate::purpose::classify(rows, input, truth)));
     }
     let sums = crate::load::dwell_file_sums(path, runs, input.interval_s);

@@ -2,7 +2,7 @@
 //! item scores when it does not keep the run's tables
 //! (docs/decisions/0321-study-runs-scored-from-their-dwell-rows.md).
 //!
-//! The rows go through the same reduction as a dwells file's pages ([`crate::dwell_pages`]), in
+//! The rows go through the same reduction as a dwells file's chunks ([`crate::dwell_file`]), in
 //! the same row order: the usage sums' pass ([`crate::dwell_sums::FilePass`], whose slices count
 //! rows, not files or row groups) and the usage by purpose's rows ([`crate::purpose::FileRows`]),
 //! radars indexed in order of first appearance, the same checks. The sums are therefore those a
@@ -11,11 +11,11 @@
 //! classification, whatever the run's length.
 
 use crate::MetricsError;
-use crate::dwell_pages::Buffers;
 use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums, FilePass};
 use crate::purpose::FileRows;
 use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellRow, Requester, Role};
+use mimo_core::records::DwellRow;
+use mimo_store::dwell_chunks::DwellChunk;
 use std::borrow::Cow;
 use std::collections::BTreeSet;
 
@@ -29,24 +29,16 @@ pub struct DwellRows {
     interval_s: f64,
     pass: FilePass<'static>,
     purposes: FileRows,
-    /// The rows held, as the columns a row group of a file decodes to (at most [`CHUNK_ROWS`]).
-    cols: Buffers,
-    /// Index in the run of the first row held.
-    first_row: usize,
+    /// The rows held, as the chunk a reader of their file gives (at most [`CHUNK_ROWS`]).
+    chunk: DwellChunk,
+    /// The radars of the rows held, as indices in `radars`.
+    radar_index: Vec<usize>,
     /// The first check that failed, if any (the rows after it are not reduced).
     broken: Option<String>,
-    /// Each radar's label index, as the pass gave it, and the last row's.
-    radars: Vec<(RadarId, u8)>,
+    /// The radars in order of first appearance (a row's radar index into them), and the last
+    /// row's.
+    radars: Vec<RadarId>,
     last_radar: Option<(RadarId, u8)>,
-    /// The last row's role and requester with their label indices (runs of equal values are the
-    /// rule).
-    last_role: Option<(Role, u8)>,
-    last_by: Option<(Requester, u8)>,
-}
-
-/// The index of `label` in the fixed list `labels` (as the pass's fixed labels index it).
-fn fixed_index(labels: &[&str], label: &str) -> u8 {
-    labels.iter().position(|l| *l == label).and_then(|i| u8::try_from(i).ok()).unwrap_or(u8::MAX)
 }
 
 impl DwellRows {
@@ -57,13 +49,11 @@ impl DwellRows {
             interval_s,
             pass: FilePass::with_runs(Cow::Owned(BTreeSet::from([run])), interval_s, DWELL_SLICE_ROWS),
             purposes: FileRows::default(),
-            cols: Buffers::default(),
-            first_row: 0,
+            chunk: DwellChunk::default(),
+            radar_index: Vec::new(),
             broken: None,
             radars: Vec::new(),
             last_radar: None,
-            last_role: None,
-            last_by: None,
         }
     }
 
@@ -80,52 +70,27 @@ impl DwellRows {
                     i
                 }
                 None => {
-                    self.broken = Some(format!("radar {} refused", r.radar));
+                    self.broken = Some(format!("radar {} beyond the 255 a dwells file may name", r.radar));
                     return;
                 }
             },
         };
-        let role = match self.last_role {
-            Some((x, i)) if x == r.role => i,
-            _ => fixed_index(&Role::LABELS, r.role.as_str()),
-        };
-        self.last_role = Some((r.role, role));
-        let by = match self.last_by {
-            Some((x, i)) if x == r.requested_by => i,
-            _ => fixed_index(&Requester::LABELS, r.requested_by.as_str()),
-        };
-        self.last_by = Some((r.requested_by, by));
-        let c = &mut self.cols;
-        c.run.push(r.run);
-        c.radar.push(radar);
-        c.radar_index.push(usize::from(radar));
-        c.role.push(role);
-        c.by.push(by);
-        c.roles.push(r.role);
-        c.kinds.push(r.kind);
-        c.t_s.push(r.t_s);
-        c.duration_s.push(r.duration_s);
-        c.energy_j.push(r.energy_j);
-        c.group.push(r.group_id);
-        c.face.push(r.face);
-        c.beam_u.push(r.beam_u);
-        c.beam_v.push(r.beam_v);
-        c.aim_m[0].push(r.aim_x_m);
-        c.aim_m[1].push(r.aim_y_m);
-        c.aim_m[2].push(r.aim_z_m);
-        if c.run.len() == CHUNK_ROWS {
+        self.chunk.push(r, radar);
+        if self.chunk.len() == CHUNK_ROWS {
             self.reduce();
         }
     }
 
-    /// The label index of `radar` in the pass (its first appearance adds it).
+    /// The index of `radar` among the run's radars (its first appearance adds it).
     fn radar_label(&mut self, radar: RadarId) -> Option<u8> {
-        if let Some(&(_, i)) = self.radars.iter().find(|(r, _)| *r == radar) {
-            return Some(i);
-        }
-        let i = self.pass.radar.index(&radar.to_string(), None)?;
-        self.radars.push((radar, i));
-        Some(i)
+        let i = match self.radars.iter().position(|r| *r == radar) {
+            Some(i) => i,
+            None => {
+                self.radars.push(radar);
+                self.radars.len() - 1
+            }
+        };
+        u8::try_from(i).ok()
     }
 
     /// The rows held reduced, in order, and let go.
@@ -133,32 +98,36 @@ impl DwellRows {
         if let Err(why) = self.reduce_held() {
             self.broken = Some(why);
         }
-        self.first_row += self.cols.run.len();
-        self.cols.clear();
+        let first_row = self.chunk.first_row + self.chunk.len();
+        self.chunk.clear();
+        self.chunk.first_row = first_row;
     }
 
     fn reduce_held(&mut self) -> Result<(), String> {
-        let c = &self.cols;
-        self.pass.rows(&c.sums_rows()).ok_or_else(|| {
+        let c = &self.chunk;
+        // The column rules a reader of the file checks (times, durations and energies finite and
+        // >= 0 are the pass's own).
+        let finite = [&c.beam_u, &c.beam_v, &c.aim_m[0], &c.aim_m[1], &c.aim_m[2]]
+            .iter()
+            .all(|v| v.iter().all(|x| x.is_finite()));
+        self.pass.rows(&crate::dwell_file::sums_rows(c)).ok_or_else(|| {
             "a row breaks the dwells table's rules (a run other than its own, a time going back for \
              a radar, or a time, duration or energy that is negative or not finite)"
                 .to_string()
         })?;
-        // Finite, as the usage by purpose's checked read requires.
-        let finite = [&c.beam_u, &c.beam_v, &c.aim_m[0], &c.aim_m[1], &c.aim_m[2]]
-            .iter()
-            .all(|v| v.iter().all(|x| x.is_finite()));
         if !finite {
             return Err("a beam direction or aim point is not finite".to_string());
         }
-        self.purposes.add(&c.purpose_cols(self.first_row), self.interval_s);
+        self.radar_index.clear();
+        self.radar_index.extend(c.radar.iter().map(|&r| usize::from(r)));
+        self.purposes.add(&crate::dwell_file::purpose_cols(c, &self.radar_index), self.interval_s);
         Ok(())
     }
 
     /// The run's usage sums and usage-by-purpose rows, as a score of its dwells file reduces them;
     /// an error names the run and the check its rows broke.
     pub(crate) fn finish(mut self) -> Result<(DwellSums, FileRows), MetricsError> {
-        if self.broken.is_none() && !self.cols.run.is_empty() {
+        if self.broken.is_none() && !self.chunk.is_empty() {
             self.reduce();
         }
         if let Some(why) = self.broken {
@@ -167,7 +136,7 @@ impl DwellRows {
                 detail: format!("run {}: {why}", self.run),
             });
         }
-        let sums = self.pass.finish();
+        let sums = self.pass.finish(self.radars.iter().map(|r| r.to_string()).collect());
         let mut rows = self.purposes;
         rows.set_radars(sums.radar_names.clone());
         Ok((sums, rows))
@@ -177,7 +146,7 @@ impl DwellRows {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dwell_pages::tests::rows;
+    use crate::dwell_file::tests::rows;
 
     /// The rows reduced in memory give, bit for bit, what the pass over the same rows' file gives:
     /// the usage sums and the purpose rows (search sums and kept parts), across chunks.
@@ -188,7 +157,7 @@ mod tests {
         let path = dir.path().join("run-0003.parquet");
         mimo_store::write_table(&path, &rows).expect("write");
         let runs = BTreeSet::from([3]);
-        let (file_sums, file_rows) = crate::dwell_pages::file_pass(&path, &runs, 1.0, DWELL_SLICE_ROWS).expect("pass");
+        let (file_sums, file_rows) = crate::dwell_file::file_pass(&path, &runs, 1.0, DWELL_SLICE_ROWS).expect("pass");
         let mut memory = DwellRows::new(3, 1.0);
         rows.iter().for_each(|r| memory.push(r));
         let (sums, purpose_rows) = memory.finish().expect("rows");

@@ -1,18 +1,17 @@
-//! The dwells table reduced to the usage sums (docs/design.md §6) in one pass over its rows: each
-//! row's radar, role, kind and requester mapped to a small index once per distinct string, the
-//! checks of the dwells columns and table rule (docs/design.md §3, §7) made on the way, and the
-//! transmit dwells' duration and energy added to their (run, radar, interval) group.
+//! The dwells table reduced to the usage sums (docs/design.md §6) in one pass over its rows (as
+//! the dwells reader gives them, `mimo_store::dwell_chunks`, labels parsed): the checks of the
+//! dwells columns and table rule (docs/design.md §3, §7) made on the way, and the transmit
+//! dwells' duration and energy added to their (run, radar, interval) group.
 //!
 //! The additions are fixed, so that the same dwells give the same bits on every machine (see
 //! [`Sum`]): within a slice of [`DWELL_SLICE_ROWS`] rows, a group's rows in row order; the
 //! slices' sums of a group in slice order; the files' sums in file order. Groups come out in
 //! order of first appearance. Any check that fails makes the pass give up (`None`): the caller
 //! then reads the file with every check (`crate::read`), which names the file, column, row and
-//! rule. The columns are read by `crate::dwell_read`.
+//! rule. The columns are read by `crate::dwell_file`.
 
 use crate::mean::KahanSum;
-use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellKind, Requester, Role};
+use mimo_core::records::{Requester, Role};
 use std::collections::{BTreeSet, HashMap};
 
 /// Rows of a dwells file read at a time: the file is reduced slice by slice, so that memory
@@ -108,76 +107,19 @@ struct KeyState {
     partial: usize,
 }
 
-/// A utf8 column's distinct strings, each mapped to a small index once. A string is recognised
-/// by its [`short_key`] when short enough (12 bytes), else by comparison with the strings seen.
-pub(crate) struct Labels {
-    names: Vec<String>,
-    views: Vec<(u128, u8)>,
-    accept: fn(&str) -> bool,
-}
-
-/// The key of a string of at most 12 bytes (the store's page decoder gives it from the stored
-/// bytes in one load).
-pub(crate) use mimo_store::page_columns::short_key;
-
-/// Inline views remembered per column (more distinct short strings are compared as strings).
-const MAX_VIEWS: usize = 64;
-
-impl Labels {
-    /// Labels that grow with every string `accept` takes (at most 255).
-    pub(crate) fn open(accept: fn(&str) -> bool) -> Labels {
-        Labels { names: Vec::new(), views: Vec::new(), accept }
-    }
-
-    /// Labels of a fixed list: any other string is refused.
-    pub(crate) fn fixed(list: &[&str]) -> Labels {
-        Labels { names: list.iter().map(|s| s.to_string()).collect(), views: Vec::new(), accept: |_| false }
-    }
-
-    /// The index of the string whose inline view is `view`, if seen before.
-    #[inline]
-    pub(crate) fn by_view(&self, view: u128) -> Option<u8> {
-        self.views.iter().find(|(v, _)| *v == view).map(|(_, index)| *index)
-    }
-
-    /// The index of `s`, remembered under its inline view `view` if any; `None` when refused or
-    /// beyond 255 strings.
-    pub(crate) fn index(&mut self, s: &str, view: Option<u128>) -> Option<u8> {
-        let index = match self.names.iter().position(|n| n == s) {
-            Some(index) => index,
-            None if (self.accept)(s) && self.names.len() < 255 => {
-                self.names.push(s.to_string());
-                self.names.len() - 1
-            }
-            None => return None,
-        };
-        let index = u8::try_from(index).ok()?;
-        if let Some(view) = view
-            && self.views.len() < MAX_VIEWS
-        {
-            self.views.push((view, index));
-        }
-        Some(index)
-    }
-
-    /// The index of a string of the list (never refused for `fixed` labels of that list).
-    fn of(&mut self, s: &str) -> u8 {
-        self.index(s, None).unwrap_or(u8::MAX)
-    }
-}
-
-/// One slice of rows of a dwells file, its labels already mapped by [`Labels`].
+/// One slice of rows of a dwells file, its labels parsed (radars as indices among the file's
+/// radars, in order of first appearance).
 pub(crate) struct Rows<'a> {
     pub run: &'a [u32],
     pub radar: &'a [u8],
-    pub role: &'a [u8],
-    pub requested_by: &'a [u8],
+    pub role: &'a [Role],
+    pub requested_by: &'a [Requester],
     pub t_s: &'a [f64],
     pub duration_s: &'a [f64],
     pub energy_j: &'a [f64],
 }
 
-/// The one pass over the rows of a dwells file: the labels, the checks and the sums.
+/// The one pass over the rows of a dwells file: the checks between rows and the sums.
 pub(crate) struct FilePass<'r> {
     /// The runs a row may be of (borrowed from the score's, or owned by a pass over rows in
     /// memory, [`crate::dwell_rows`]).
@@ -186,15 +128,9 @@ pub(crate) struct FilePass<'r> {
     slice_rows: usize,
     /// Rows left before the current slice ends (a count down, not a division per row).
     rows_left_in_slice: usize,
-    pub(crate) radar: Labels,
-    pub(crate) role: Labels,
-    pub(crate) kind: Labels,
-    pub(crate) requested_by: Labels,
     out: DwellSums,
     keys: Vec<KeyState>,
     partials: Vec<(usize, Sum)>,
-    rx: u8,
-    ta: u8,
 }
 
 impl<'r> FilePass<'r> {
@@ -209,23 +145,14 @@ impl<'r> FilePass<'r> {
         interval_s: f64,
         slice_rows: usize,
     ) -> FilePass<'r> {
-        let mut role = Labels::fixed(&Role::LABELS);
-        let mut requested_by = Labels::fixed(&Requester::LABELS);
-        let (rx, ta) = (role.of(Role::Rx.as_str()), requested_by.of(Requester::Ta.as_str()));
         FilePass {
             runs,
             interval_s,
             slice_rows: slice_rows.max(1),
             rows_left_in_slice: slice_rows.max(1),
-            radar: Labels::open(|s| RadarId::parse(s).is_some()),
-            role,
-            kind: Labels::fixed(&DwellKind::LABELS),
-            requested_by,
             out: DwellSums::default(),
             keys: Vec::new(),
             partials: Vec::new(),
-            rx,
-            ta,
         }
     }
 
@@ -291,7 +218,7 @@ impl<'r> FilePass<'r> {
                 return None;
             }
             key.latest_t_s = t;
-            if rows.role[i] == self.rx {
+            if rows.role[i] == Role::Rx {
                 continue;
             }
             // `floor(t_s / interval_s) + 1` (docs/design.md §6) as an i64; beyond that the
@@ -314,16 +241,16 @@ impl<'r> FilePass<'r> {
                 key.partial = self.partials.len() - 1;
             }
             let (d, e) = (rows.duration_s[i], rows.energy_j[i]);
-            let is_ta = rows.requested_by[i] == self.ta;
+            let is_ta = rows.requested_by[i] == Requester::Ta;
             self.partials[key.partial].1.add([d, e, if is_ta { d } else { 0.0 }, if is_ta { e } else { 0.0 }]);
         }
         Some(())
     }
 
-    /// The file's sums and radars.
-    pub(crate) fn finish(mut self) -> DwellSums {
+    /// The file's sums, its radars named by `radar_names` (a row's radar index into them).
+    pub(crate) fn finish(mut self, radar_names: Vec<String>) -> DwellSums {
         self.end_slice();
-        self.out.radar_names = self.radar.names;
+        self.out.radar_names = radar_names;
         self.out
     }
 }

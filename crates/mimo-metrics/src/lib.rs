@@ -106,7 +106,7 @@
 //! one time that `n_updates` cannot order).
 #![warn(missing_docs)]
 
-mod dwell_pages;
+mod dwell_file;
 mod dwell_pass;
 mod dwell_read;
 mod dwell_rows;

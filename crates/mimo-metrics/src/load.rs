@@ -2,7 +2,7 @@
 //! column (see the crate docs, "Errors"), into the structures the per-run scoring walks.
 
 use crate::MetricsError;
-use crate::dwell_sums::DwellSums;
+use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums};
 use crate::frame::Frame;
 use crate::read::{Check, Col, col as rcol, read_file, read_table_checked};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
@@ -186,7 +186,9 @@ pub(crate) fn dwell_file_sums(
     let n_rows = crate::read::file_rows(DwellRow::TABLE, path)?;
     let of_file = runs_of_file(path, runs);
     let runs_here = of_file.as_ref().unwrap_or(runs);
-    if let Some(sums) = crate::dwell_read::file_sums(path, &dwell_cols(runs_here), runs_here, interval_s, n_rows) {
+    if n_rows > 0
+        && let Some(sums) = crate::dwell_file::file_sums(path, runs_here, interval_s, DWELL_SLICE_ROWS)
+    {
         return Ok(sums);
     }
     dwell_file_sums_whole(path, runs, interval_s)
@@ -209,8 +211,9 @@ fn dwell_file_sums_whole(
     let df = read_file(DwellRow::TABLE, path, &dwell_cols(runs))?;
     crate::rules::check_dwells(path, &df)?;
     let mut pass = crate::dwell_sums::FilePass::new(runs, interval_s, df.height());
-    if crate::dwell_read::frame_rows(&mut pass, &df, &mut crate::dwell_read::Buffers::default()).is_some() {
-        return Ok(pass.finish());
+    let mut bufs = crate::dwell_read::Buffers::default();
+    if crate::dwell_read::frame_rows(&mut pass, &df, &mut bufs).is_some() {
+        return Ok(pass.finish(bufs.radar_names));
     }
     // Every check passed: only a time too far out for an interval number is left.
     let t = df.f64s(D.t_s)?;
@@ -343,15 +346,9 @@ mod tests {
         assert_ne!(whole, sliced);
         let radars_whole: BTreeSet<String> =
             df.strs("radar").expect("radar").iter().flatten().map(str::to_string).collect();
-        for (reference, slice_rows, pages) in
-            [(&whole, 1000, false), (&sliced, 64, false), (&whole, 1000, true), (&sliced, 64, true)]
-        {
-            let sums = if pages {
-                crate::dwell_pages::file_sums(&path, &runs, 1.0, slice_rows)
-            } else {
-                crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, slice_rows)
-            };
-            let sums = sums.expect("no broken rule, the pages read");
+        for (reference, slice_rows) in [(&whole, 1000), (&sliced, 64)] {
+            let sums = crate::dwell_file::file_sums(&path, &runs, 1.0, slice_rows);
+            let sums = sums.expect("no broken rule, the file read");
             assert_eq!(sums.radars(), radars_whole);
             let got: Vec<((u32, String, i64), [u64; 4])> = sums
                 .groups
@@ -359,7 +356,7 @@ mod tests {
                 .zip(&sums.sums)
                 .map(|(&(r, rad, k), s)| ((r, sums.radar_names[rad].clone(), k), s.value().map(f64::to_bits)))
                 .collect();
-            assert_eq!(&got, reference, "slices of {slice_rows} rows, from the pages {pages}");
+            assert_eq!(&got, reference, "slices of {slice_rows} rows");
         }
         // The checked whole-file read gives the one-slice sums too.
         let all = dwell_file_sums_whole(&path, &runs, 1.0).expect("whole");
@@ -367,7 +364,7 @@ mod tests {
         assert_eq!(got, whole.iter().map(|(_, s)| *s).collect::<Vec<_>>());
     }
 
-    /// The store's own writer output takes the page decoder's fast path (`crate::dwell_pages`),
+    /// The store's own writer output takes the page decoder's fast path (`mimo_store::dwell_chunks`),
     /// across pages and row groups: a change of the writer's settings, or of the parquet crate,
     /// that turned the fast path off fails here.
     #[test]
@@ -378,11 +375,20 @@ mod tests {
         let t: Vec<f64> = (0..n).map(|i| 0.013 * i as f64).collect();
         mimo_store::write_table(&path, &varied_dwell_rows(0, &t)).expect("write");
         let runs = BTreeSet::from([0u32]);
-        let fast = crate::dwell_pages::file_sums(&path, &runs, 1.0, crate::dwell_sums::DWELL_SLICE_ROWS);
-        let fast = fast.expect("the store's dwells file takes the fast path");
+        assert!(pages_only(&path), "the store's dwells file takes the fast path");
+        let fast = crate::dwell_file::file_sums(&path, &runs, 1.0, DWELL_SLICE_ROWS).expect("pass");
         let whole = dwell_file_sums_whole(&path, &runs, 1.0).expect("checked read");
         assert_eq!(fast.groups, whole.groups);
         assert_eq!(fast.radars(), whole.radars());
+    }
+
+    /// Whether the dwells reader decodes every row of `path` from its pages.
+    fn pages_only(path: &std::path::Path) -> bool {
+        use mimo_store::dwell_chunks::{DwellChunk, DwellChunks, DwellField};
+        let mut r = DwellChunks::open(path, &[DwellField::Run, DwellField::TS]).expect("open");
+        let mut c = DwellChunk::default();
+        while r.next_chunk(&mut c).expect("chunk") {}
+        r.pages_only()
     }
 
     /// A dwells file written with other settings than the store's (dictionary pages, the
@@ -405,9 +411,8 @@ mod tests {
         w.write(&batch).expect("write");
         w.close().expect("close");
         let runs = BTreeSet::from([0u32]);
-        let slice = crate::dwell_sums::DWELL_SLICE_ROWS;
-        assert!(crate::dwell_pages::file_sums(&other, &runs, 1.0, slice).is_none(), "not the store's layout");
-        assert!(crate::dwell_pages::file_sums(&ours, &runs, 1.0, slice).is_some(), "the store's layout");
+        assert!(!pages_only(&other), "not the store's layout");
+        assert!(pages_only(&ours), "the store's layout");
         let bits = |s: &DwellSums| -> Vec<[u64; 4]> { s.sums.iter().map(|x| x.value().map(f64::to_bits)).collect() };
         let a = dwell_file_sums(&ours, &runs, 1.0).expect("ours");
         let b = dwell_file_sums(&other, &runs, 1.0).expect("other");
@@ -422,9 +427,7 @@ mod tests {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dwells_file(dir.path(), 1000, Some(128), None);
         let runs = BTreeSet::from([0u32]);
-        let cols = dwell_cols(&runs);
-        assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
-        assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
+        assert!(crate::dwell_file::file_sums(&path, &runs, 1.0, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("out of order");
         assert!(matches!(err, MetricsError::BrokenRule { row: 128, .. }), "{err}");
     }
@@ -436,9 +439,7 @@ mod tests {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dwells_file(dir.path(), 1000, None, Some(500));
         let runs = BTreeSet::from([0u32]);
-        let cols = dwell_cols(&runs);
-        assert!(crate::dwell_pages::file_sums(&path, &runs, 1.0, 64).is_none());
-        assert!(crate::dwell_read::file_sums_in_slices(&path, &cols, &runs, 1.0, 1000, 64).is_none());
+        assert!(crate::dwell_file::file_sums(&path, &runs, 1.0, 64).is_none());
         let err = dwell_file_sums(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");
         assert!(err.to_string().contains("column 'role' is 'bogus' at row 500"), "{err}");
         let whole = dwell_file_sums_whole(&path, &runs, 1.0).map(|_| ()).expect_err("bad role");

@@ -3,8 +3,8 @@
 //! summed per run, radar and scoring interval.
 //!
 //! Each dwells file is read once, in the one pass over the dwells that also gives the usage sums
-//! ([`crate::dwell_pass`], from the file's pages), or batch by batch by the Arrow reader
-//! ([`crate::purpose_read`]) when that pass gives up: search rows are added as they come; the other rows (a few per cent) are kept, grouped into their looks by
+//! ([`crate::dwell_pass`], through the dwells reader `mimo_store::dwell_chunks`), or batch by
+//! batch by the checked Arrow reader ([`crate::purpose_read`]) when that pass gives up: search rows are added as they come; the other rows (a few per cent) are kept, grouped into their looks by
 //! `(run, group_id)` and classified with the truth of their run at each look's mid-time (the
 //! truth samples interpolated as the track metrics interpolate them), then added in row order,
 //! so the sums never depend on the thread count. Files are summed again in file order.

@@ -93,60 +93,11 @@ pub(crate) fn read_table_checked(
     Frame::stack(frames)
 }
 
-/// Read one file of `table` with the given columns (in that order), validated.
-pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<Frame, MetricsError> {
-    read_file_slice(table, path, cols, None)
-}
-
-fn read_error<'a>(table: &'static str, path: &'a Path) -> impl Fn(parquet::errors::ParquetError) -> MetricsError + 'a {
-    move |e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() }
-}
-
-/// The number of rows of one file of `table` (from its footer), after the file's checks
-/// ([`open_checked`]).
-pub(crate) fn file_rows(table: &'static str, path: &Path) -> Result<usize, MetricsError> {
-    let builder = open_checked(table, path)?;
-    let rows = builder.metadata().file_metadata().num_rows();
-    usize::try_from(rows).map_err(|_| MetricsError::Read {
-        table,
-        path: path.to_path_buf(),
-        detail: format!("the footer gives {rows} rows"),
-    })
-}
-
-/// [`read_file`] of the rows `slice` = (first row, count) only (all rows for `None`); row
-/// numbers in its errors are the file's.
-pub(crate) fn read_file_slice(
-    table: &'static str,
-    path: &Path,
-    cols: &[Col<'_>],
-    slice: Option<(usize, usize)>,
-) -> Result<Frame, MetricsError> {
-    read_file_slice_checking(table, path, cols, slice, true)
-}
-
-/// [`read_file_slice`] with the file and its schema checked, but not the values (nulls, rules,
-/// [`Check`]s): for a caller that checks them itself and reads again with
-/// [`read_file_slice`] to report what it found.
-pub(crate) fn read_file_slice_unchecked(
-    table: &'static str,
-    path: &Path,
-    cols: &[Col<'_>],
-    slice: Option<(usize, usize)>,
-) -> Result<Frame, MetricsError> {
-    read_file_slice_checking(table, path, cols, slice, false)
-}
-
 /// Rows decoded per Arrow batch.
 const BATCH_ROWS: usize = 1 << 16;
 
-fn read_file_slice_checking(
-    table: &'static str,
-    path: &Path,
-    cols: &[Col<'_>],
-    slice: Option<(usize, usize)>,
-    check: bool,
-) -> Result<Frame, MetricsError> {
+/// Read one file of `table` with the given columns (in that order), every value checked.
+pub(crate) fn read_file(table: &'static str, path: &Path, cols: &[Col<'_>]) -> Result<Frame, MetricsError> {
     let spec = spec_of(table)?;
     let builder = open_checked(table, path)?;
     let schema = builder.schema().clone();
@@ -162,10 +113,7 @@ fn read_file_slice_checking(
         );
     }
     let mask = ProjectionMask::roots(builder.parquet_schema(), roots);
-    let mut builder = builder.with_projection(mask).with_batch_size(BATCH_ROWS);
-    if let Some((first, len)) = slice {
-        builder = builder.with_offset(first).with_limit(len);
-    }
+    let builder = builder.with_projection(mask).with_batch_size(BATCH_ROWS);
     let reader = builder.build().map_err(read_error(table, path))?;
     let mut parts: Vec<Vec<ArrayRef>> = vec![Vec::new(); cols.len()];
     for batch in reader {
@@ -178,16 +126,28 @@ fn read_file_slice_checking(
             part.push(array.clone());
         }
     }
-    let first_row = slice.map_or(0, |(first, _)| first);
     let mut columns = Vec::with_capacity(cols.len());
     for ((c, s), part) in cols.iter().zip(specs).zip(parts) {
         let column = crate::frame::concat(part, &s.ty.arrow())?;
-        if check {
-            check_values(table, path, c, s, &column, first_row)?;
-        }
+        check_values(table, path, c, s, &column, 0)?;
         columns.push((c.name, column));
     }
     Frame::new(columns)
+}
+fn read_error<'a>(table: &'static str, path: &'a Path) -> impl Fn(parquet::errors::ParquetError) -> MetricsError + 'a {
+    move |e| MetricsError::Read { table, path: path.to_path_buf(), detail: e.to_string() }
+}
+
+/// The number of rows of one file of `table` (from its footer), after the file's checks
+/// ([`open_checked`]).
+pub(crate) fn file_rows(table: &'static str, path: &Path) -> Result<usize, MetricsError> {
+    let builder = open_checked(table, path)?;
+    let rows = builder.metadata().file_metadata().num_rows();
+    usize::try_from(rows).map_err(|_| MetricsError::Read {
+        table,
+        path: path.to_path_buf(),
+        detail: format!("the footer gives {rows} rows"),
+    })
 }
 
 /// A column's values against its spec ([`mimo_store::checked::check_array`]), the [`Check`]

@@ -2,8 +2,9 @@
 //!
 //! A re-run delivers only the dwell groups its test article subscribes to (by default those
 //! with a detection or ordered by the test article: a few percent of the rows). The first pass,
-//! [`read_dwell_keys`], decodes the columns that decide which rows those are (run, ids, radar,
-//! face, requester) and `t_s`, for every row, and checks the table's rules on them
+//! [`read_dwell_keys`], decodes with the dwells table's one reader ([`crate::dwell_chunks`]) the
+//! columns that decide which rows those are (run, ids, radar, face, requester) and `t_s`, for
+//! every row, and checks the table's rules on them
 //! (docs/design.md §7: unique `dwell_id`, times ordered per radar, one run per file) exactly as
 //! [`crate::read_table`] does; it keeps the key columns only (about 23 bytes a row, sized once
 //! from the file's row count). The second, [`read_dwell_rows`], decodes whole rows only for the
@@ -11,6 +12,7 @@
 //! those rows.
 
 use crate::cell::Cell;
+use crate::dwell_chunks::{DwellChunk, DwellChunks, DwellField};
 use crate::rows::{Batch, TableRow};
 use crate::{StoreError, invariants, schema};
 use arrow::array::BooleanArray;
@@ -69,9 +71,18 @@ const READ_THROUGH_GAP_ROWS: usize = 16;
 const C: DwellColumns = DwellRow::COLUMNS;
 /// The columns [`DwellKeys`] holds.
 const KEY_COLUMNS: [&str; 6] = [C.run, C.dwell_id, C.group_id, C.radar, C.face, C.requested_by];
-/// The columns the first pass reads: the keys, and `t_s` for the rule on times (checked, then
-/// dropped: the second pass reads it again for the rows asked for).
-const FIRST_PASS_COLUMNS: [&str; 7] = [C.run, C.dwell_id, C.group_id, C.radar, C.face, C.requested_by, C.t_s];
+/// The fields the first pass reads (with the dwells table's one reader): the keys, and `t_s`
+/// for the rule on times (checked, then dropped: the second pass reads it again for the rows
+/// asked for).
+const FIRST_PASS_FIELDS: [DwellField; 7] = [
+    DwellField::Run,
+    DwellField::DwellId,
+    DwellField::GroupId,
+    DwellField::Radar,
+    DwellField::Face,
+    DwellField::RequestedBy,
+    DwellField::TS,
+];
 
 /// The columns of a dwells row that are not keys, in file order.
 fn rest_columns() -> impl Iterator<Item = &'static str> {
@@ -98,23 +109,21 @@ fn parquet_err(path: &Path) -> impl Fn(parquet::errors::ParquetError) -> StoreEr
 /// The columns are sized once from the file's row count, so a re-run holds them and nothing
 /// beside them.
 pub fn read_dwell_keys(path: &Path) -> Result<DwellKeys, StoreError> {
-    let (builder, spec) = open_checked(path)?;
-    let n_rows = usize::try_from(builder.metadata().file_metadata().num_rows()).unwrap_or(0);
-    let mask = ProjectionMask::columns(builder.parquet_schema(), FIRST_PASS_COLUMNS);
-    let reader = builder.with_projection(mask).build().map_err(parquet_err(path))?;
+    let mut reader = DwellChunks::open(path, &FIRST_PASS_FIELDS)?;
+    let n_rows = reader.num_rows();
     let mut k = DwellKeys::with_capacity(n_rows);
     let mut t_s: Vec<f64> = Vec::new();
     let _ = t_s.try_reserve_exact(n_rows);
-    for batch in reader {
-        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch::check_values(&batch, path, spec, k.len())?;
-        k.run.extend(u32::read(&b, C.run)?);
-        k.dwell_id.extend(u64::read(&b, C.dwell_id)?);
-        k.group_id.extend(u64::read(&b, C.group_id)?);
-        k.radar.extend(RadarId::read(&b, C.radar)?);
-        k.face.extend(u8::read(&b, C.face)?);
-        k.requested_by.extend(Requester::read(&b, C.requested_by)?);
-        t_s.extend(f64::read(&b, C.t_s)?);
+    let mut c = DwellChunk::default();
+    while reader.next_chunk(&mut c)? {
+        k.run.extend_from_slice(&c.run);
+        k.dwell_id.extend_from_slice(&c.dwell_id);
+        k.group_id.extend_from_slice(&c.group_id);
+        let radars = reader.radars();
+        k.radar.extend(c.radar.iter().map(|&r| radars[usize::from(r)]));
+        k.face.extend_from_slice(&c.face);
+        k.requested_by.extend_from_slice(&c.requested_by);
+        t_s.extend_from_slice(&c.t_s);
     }
     // The rules of `invariants` for `DwellRow`, on the same values.
     let to_err = |v: mimo_core::table_rules::Violation| StoreError::BadRow {

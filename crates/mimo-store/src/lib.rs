@@ -25,6 +25,9 @@
 //!   run's tables written that way, the sink of `mimo simulate`, `mimo track` and a study's runs
 //!   (memory flat in the run's length).
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
+//! * [`dwell_chunks`]: the dwells table's streaming reader: typed, checked column chunks a row
+//!   group at a time, from the pages of the store's layout or with the Arrow reader (the score's
+//!   one pass over the dwells, the key pass of re-runs).
 //! * [`dwell_keys`]: the dwells table read in two passes for re-runs: every row's keys, then
 //!   whole rows only where asked.
 //! * [`page_columns`]: columns decoded straight from the Parquet pages of the layout
@@ -36,6 +39,7 @@ pub mod cell;
 pub mod challenge_schema;
 pub mod checked;
 pub mod columns;
+pub mod dwell_chunks;
 pub mod dwell_keys;
 pub mod failure_point_schema;
 pub mod invariants;
