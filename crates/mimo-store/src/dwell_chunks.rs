@@ -226,8 +226,8 @@ pub struct DwellChunks {
     decoder: Decoder,
     first_row: usize,
     radars: Vec<RadarId>,
-    /// The last radar label seen: its stored key and index in `radars`.
-    last_radar: Option<(u128, u8)>,
+    /// The radar labels seen, by stored key: their index in `radars`.
+    radar_keys: KeyCache<u8>,
     /// The file's run and the run's end (s), when the file is a run's.
     file_run: Option<u32>,
     end_s: Option<f64>,
@@ -259,7 +259,7 @@ impl DwellChunks {
             decoder,
             first_row: 0,
             radars: Vec::new(),
-            last_radar: None,
+            radar_keys: KeyCache::default(),
             file_run: crate::invariants::file_run(path),
             end_s: crate::run_window::run_end_s(path),
             arrow_used: false,
@@ -305,7 +305,7 @@ impl DwellChunks {
                     // The checked read from this row group on: it names what broke, or takes
                     // a layout the page decoder does not.
                     self.radars.truncate(radars_before);
-                    self.last_radar = None;
+                    self.radar_keys = KeyCache::default();
                     chunk.clear();
                     self.decoder = Decoder::Arrow(arrow_reader(&self.path, self.spec, &self.names, next)?);
                 }
@@ -395,11 +395,11 @@ impl DwellChunks {
     /// The radar column as indices into `radars` (a new radar appended; at most 255).
     fn radar_labels(&mut self, rg: &PageRowGroup<'_>, col: usize, out: &mut Vec<u8>) -> Option<()> {
         out.clear();
-        let (radars, last) = (&mut self.radars, &mut self.last_radar);
+        let (radars, cache) = (&mut self.radars, &mut self.radar_keys);
         rg.keyed_strs(col, |key, bytes| {
-            let index = match (key, *last) {
-                (Some(k), Some((l, index))) if k == l => index,
-                _ => {
+            let index = match key.and_then(|k| cache.get(k)) {
+                Some(index) => index,
+                None => {
                     let id = RadarId::parse(std::str::from_utf8(bytes).ok()?)?;
                     let index = match radars.iter().position(|r| *r == id) {
                         Some(i) => i,
@@ -409,13 +409,54 @@ impl DwellChunks {
                         }
                     };
                     let index = u8::try_from(index).ok()?;
-                    *last = key.map(|k| (k, index));
+                    if let Some(k) = key {
+                        cache.insert(k, index);
+                    }
                     index
                 }
             };
             out.push(index);
             Some(())
         })
+    }
+}
+
+/// Labels already parsed, by their stored key ([`crate::page_columns::short_key`]): the last one
+/// tried first (runs of equal labels are the rule), then up to [`KeyCache::MAX`] others.
+struct KeyCache<T> {
+    last: Option<(u128, T)>,
+    keys: Vec<(u128, T)>,
+}
+
+impl<T> Default for KeyCache<T> {
+    fn default() -> Self {
+        KeyCache { last: None, keys: Vec::new() }
+    }
+}
+
+impl<T: Copy> KeyCache<T> {
+    /// Keys remembered (more distinct labels are parsed again each time).
+    const MAX: usize = 32;
+
+    /// The value of `key`, if seen.
+    #[inline]
+    fn get(&mut self, key: u128) -> Option<T> {
+        if let Some((k, v)) = self.last
+            && k == key
+        {
+            return Some(v);
+        }
+        let v = self.keys.iter().find(|(k, _)| *k == key).map(|(_, v)| *v)?;
+        self.last = Some((key, v));
+        Some(v)
+    }
+
+    /// `key` parsed to `v`.
+    fn insert(&mut self, key: u128, v: T) {
+        if self.keys.len() < Self::MAX {
+            self.keys.push((key, v));
+        }
+        self.last = Some((key, v));
     }
 }
 
@@ -473,19 +514,14 @@ fn arrow_chunk(
 /// label not of the enumeration.
 fn labels<T: Copy + LabelParse>(rg: &PageRowGroup<'_>, col: usize, out: &mut Vec<T>) -> Option<()> {
     out.clear();
-    let mut seen: [(u128, Option<T>); 8] = [(u128::MAX, None); 8];
-    let mut n_seen = 0;
+    let mut cache = KeyCache::default();
     rg.keyed_strs(col, |key, bytes| {
-        let cached = key.and_then(|k| seen[..n_seen].iter().find(|(s, _)| *s == k).and_then(|(_, v)| *v));
-        let value = match cached {
+        let value = match key.and_then(|k| cache.get(k)) {
             Some(v) => v,
             None => {
                 let v = T::parse_label(std::str::from_utf8(bytes).ok()?)?;
-                if let Some(k) = key
-                    && n_seen < seen.len()
-                {
-                    seen[n_seen] = (k, Some(v));
-                    n_seen += 1;
+                if let Some(k) = key {
+                    cache.insert(k, v);
                 }
                 v
             }
