@@ -156,12 +156,20 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let t_score = t0.elapsed().as_secs_f64();
     let replaced = replace_dir_locked(score_dir.root(), &lock, |dir: &Path| -> Result<(), CliError> {
-        mimo_metrics::write_outputs(&score, dir).map_err(metrics_err)?;
-        if !a.no_charts {
-            let charts = ScoreDir::new(dir).charts();
-            mimo_report::render_all(&score, &charts).map_err(|e| CliError::Other(e.to_string()))?;
+        // The tables and the charts are written side by side (separate files, each made from
+        // `score` alone, so the bytes do not depend on it); the tables' error comes first.
+        let charts = ScoreDir::new(dir).charts();
+        let (tables, charts) = std::thread::scope(|s| {
+            let charts = (!a.no_charts).then(|| s.spawn(|| mimo_report::render_all(&score, &charts)));
+            let tables = mimo_metrics::write_outputs(&score, dir);
+            (tables, charts.map(|c| c.join()))
+        });
+        tables.map_err(metrics_err)?;
+        match charts {
+            None | Some(Ok(Ok(_))) => Ok(()),
+            Some(Ok(Err(e))) => Err(CliError::Other(e.to_string())),
+            Some(Err(panic)) => std::panic::resume_unwind(panic),
         }
-        Ok(())
     })?;
     if let Some(w) = repairs.warning(&format!("{} tracks", a.run.display())).filter(|_| !a.quiet) {
         eprintln!("{w}");
