@@ -176,7 +176,7 @@ fn dwell_cols(runs: &BTreeSet<u32>) -> [Col<'_>; 8] {
 }
 
 /// One dwells file read, checked and reduced to its usage sums and the radars it names, in one
-/// pass ([`crate::dwell_read::file_sums`]). When any check fails the whole file is read with
+/// pass ([`crate::dwell_file::file_sums`]). When any check fails the whole file is read with
 /// every check, whose error names the row and rule.
 pub(crate) fn dwell_file_sums(
     path: &std::path::Path,
