@@ -118,6 +118,7 @@ mod load;
 mod mean;
 pub mod memory;
 pub mod ospa;
+mod ospa_power;
 mod output;
 mod parallel;
 mod parts;

@@ -44,7 +44,7 @@ pub fn ospa_gospa(x: &[DVec3], y: &[DVec3], c_m: f64, p: f64) -> OspaGospa {
             // `min(d, c)^p`: a pair at the cut-off or beyond (or NaN, which `min` takes as
             // absent) costs `c^p`, computed once; in a raid most pairs are.
             let d = ai.distance(*bj);
-            cost[i * m + j] = if d < c_m { d.powf(p) } else { cp };
+            cost[i * m + j] = if d < c_m { crate::ospa_power::cost_power(d, p) } else { cp };
         }
     }
     let pairs: Vec<f64> = if n == 0 {
