@@ -28,6 +28,7 @@ use crate::cell::Cell;
 use crate::page_columns::{PageFile, PageRowGroup};
 use crate::rows::Batch;
 use crate::schema::{Rule, TableSpec};
+use crate::stored_labels::{KeyCache, labels};
 use crate::{StoreError, checked};
 use mimo_core::ids::RadarId;
 use mimo_core::records::{DwellColumns, DwellKind, DwellRow, Requester, Role};
@@ -423,45 +424,6 @@ impl DwellChunks {
     }
 }
 
-/// Labels already parsed, by their stored key ([`crate::page_columns::short_key`]): the last one
-/// tried first (runs of equal labels are the rule), then up to [`KeyCache::MAX`] others.
-struct KeyCache<T> {
-    last: Option<(u128, T)>,
-    keys: Vec<(u128, T)>,
-}
-
-impl<T> Default for KeyCache<T> {
-    fn default() -> Self {
-        KeyCache { last: None, keys: Vec::new() }
-    }
-}
-
-impl<T: Copy> KeyCache<T> {
-    /// Keys remembered (more distinct labels are parsed again each time).
-    const MAX: usize = 32;
-
-    /// The value of `key`, if seen.
-    #[inline]
-    fn get(&mut self, key: u128) -> Option<T> {
-        if let Some((k, v)) = self.last
-            && k == key
-        {
-            return Some(v);
-        }
-        let v = self.keys.iter().find(|(k, _)| *k == key).map(|(_, v)| *v)?;
-        self.last = Some((key, v));
-        Some(v)
-    }
-
-    /// `key` parsed to `v`.
-    fn insert(&mut self, key: u128, v: T) {
-        if self.keys.len() < Self::MAX {
-            self.keys.push((key, v));
-        }
-        self.last = Some((key, v));
-    }
-}
-
 /// A checked batch's columns into `chunk`.
 fn arrow_chunk(
     b: &Batch<'_>,
@@ -510,50 +472,6 @@ fn arrow_chunk(
         }
     }
     Ok(())
-}
-
-/// A label column parsed to its enumeration, each distinct stored key parsed once; `None` on a
-/// label not of the enumeration.
-fn labels<T: Copy + LabelParse>(rg: &PageRowGroup<'_>, col: usize, out: &mut Vec<T>) -> Option<()> {
-    out.clear();
-    let mut cache = KeyCache::default();
-    rg.keyed_strs(col, |key, bytes| {
-        let value = match key.and_then(|k| cache.get(k)) {
-            Some(v) => v,
-            None => {
-                let v = T::parse_label(std::str::from_utf8(bytes).ok()?)?;
-                if let Some(k) = key {
-                    cache.insert(k, v);
-                }
-                v
-            }
-        };
-        out.push(value);
-        Some(())
-    })
-}
-
-/// An enumeration stored as its labels.
-trait LabelParse: Sized {
-    fn parse_label(s: &str) -> Option<Self>;
-}
-
-impl LabelParse for Role {
-    fn parse_label(s: &str) -> Option<Self> {
-        Role::parse(s)
-    }
-}
-
-impl LabelParse for DwellKind {
-    fn parse_label(s: &str) -> Option<Self> {
-        DwellKind::parse(s)
-    }
-}
-
-impl LabelParse for Requester {
-    fn parse_label(s: &str) -> Option<Self> {
-        Requester::parse(s)
-    }
 }
 
 fn parquet_err(path: &Path, e: impl std::fmt::Display) -> StoreError {

@@ -57,6 +57,7 @@ pub mod run_window;
 pub mod rundir;
 pub mod schema;
 pub mod score_schema;
+mod stored_labels;
 pub mod study_schema;
 pub mod table_writer;
 #[doc(hidden)]
