@@ -1,11 +1,13 @@
-//! The one read of the dwells table a score makes (docs/design.md §6): each file's pages decoded
-//! once ([`crate::dwell_file::file_pass`]) into both the usage sums ([`crate::dwell_sums`]) and
-//! the usage by purpose's rows ([`crate::purpose`]), the latter classified in the same worker.
-//! A file the page decoder does not take, or whose values break a check, is read as before by
-//! the checked readers of each ([`crate::load::dwell_file_sums`], [`crate::purpose::read_rows`]),
-//! so that an error names the same file, column and row as ever, and in the same order: every
-//! usage-sum error (in file order) before the usage by purpose's
-//! (docs/decisions/0299-one-pass-dwell-reader.md).
+//! The one read of the dwells table a score makes (docs/design.md §6): each file read once by
+//! the dwells table's streaming reader ([`crate::dwell_file::file_pass`], over
+//! `mimo_store::dwell_chunks`: from the pages of the store's layout, with the Arrow reader for
+//! any other) into both the usage sums ([`crate::dwell_sums`]) and the usage by purpose's rows
+//! ([`crate::purpose`]), the latter classified in the same worker. A file whose values break a
+//! check is read again by the checked readers of each ([`crate::load::dwell_file_sums`],
+//! [`crate::purpose::read_rows`]), so that an error names the same file, column and row as
+//! ever, and in the same order: every usage-sum error (in file order) before the usage by
+//! purpose's (docs/decisions/0299-one-pass-dwell-reader.md,
+//! docs/decisions/0322-one-streaming-reader-of-the-dwells-table.md).
 
 use crate::MetricsError;
 use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums};
