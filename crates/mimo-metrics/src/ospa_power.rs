@@ -4,9 +4,9 @@
 //! `powf` is the platform's `pow`. A scored raid calls it for every truth–track pair closer than
 //! the cut-off at every scoring time: at 512 raid aircraft it was a fifth of the score (`perf`,
 //! reports/BENCHMARKS.md). For p = 2 the product `d·d` is the exact square rounded once. glibc's
-//! `pow` computes the square to within about 0.01 ulp and rounds it, so the two differ only when
-//! the exact square lies that close to a midpoint between two doubles: 0.08 % of random
-//! distances, every one of them within 0.009 ulp of a midpoint (measured over 174 M samples).
+//! `pow` differs from it only when the exact square lies very close to a midpoint between two
+//! doubles: 0.08 % of random distances, every one of them within 0.009 ulp of a midpoint
+//! (measured over 174 M samples).
 //! The product's exact error is known from one fused multiply-add (`d² = d·d + e` exactly), so:
 //!
 //! * where the exact square is at least 0.05 ulp from every midpoint (`|e| ≤ 0.45 ulp`, the
