@@ -12,20 +12,9 @@ use mimo_store::dwell_chunks::{DwellChunk, DwellChunks, DwellField};
 use std::collections::BTreeSet;
 use std::path::Path;
 
-/// The fields the usage sums read (`kind` only for its check).
-const SUMS_FIELDS: [DwellField; 8] = [
-    DwellField::Run,
-    DwellField::Radar,
-    DwellField::Role,
-    DwellField::Kind,
-    DwellField::RequestedBy,
-    DwellField::TS,
-    DwellField::DurationS,
-    DwellField::EnergyJ,
-];
-
-/// The fields the usage sums and the usage by purpose read.
-const PURPOSE_FIELDS: [DwellField; 13] = [
+/// The fields read, in this order: the usage sums' eight (`kind` only for its check), then the
+/// usage by purpose's.
+const FIELDS: [DwellField; 13] = [
     DwellField::Run,
     DwellField::Radar,
     DwellField::Role,
@@ -40,6 +29,9 @@ const PURPOSE_FIELDS: [DwellField; 13] = [
     DwellField::BeamV,
     DwellField::AimM,
 ];
+
+/// Fields the usage sums read (the first of [`FIELDS`]).
+const SUMS_FIELDS: usize = 8;
 
 /// The usage sums' columns of a chunk.
 pub(crate) fn sums_rows(c: &DwellChunk) -> Rows<'_> {
@@ -100,7 +92,7 @@ fn pass(
     slice_rows: usize,
     mut purposes: Option<FileRows>,
 ) -> Option<(DwellSums, Option<FileRows>)> {
-    let fields: &[DwellField] = if purposes.is_some() { &PURPOSE_FIELDS } else { &SUMS_FIELDS };
+    let fields = if purposes.is_some() { &FIELDS[..] } else { &FIELDS[..SUMS_FIELDS] };
     let mut reader = DwellChunks::open(path, fields).ok()?;
     let mut pass = FilePass::new(runs, interval_s, slice_rows);
     let mut chunk = DwellChunk::default();
