@@ -117,14 +117,14 @@ const CASES: &[Case] = &[
         },
         args: &["score", "r"],
         code: 2,
-        fragment: "column `t_s` row",
+        fragment: "column 't_s' row",
     },
     Case {
         name: "a tracks row of another run",
         setup: |d| edit_table::<TrackRow>(&d.join("r"), "tracks", |rows| rows[0].run = 5),
         args: &["score", "r"],
         code: 2,
-        fragment: "tracks column `run`",
+        fragment: "tracks/run-0000.parquet: column 'run' row 0: 5 in the file of run 0",
     },
     Case {
         name: "dwells with times reversed",

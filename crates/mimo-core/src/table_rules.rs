@@ -21,6 +21,9 @@
 //!   ([`covariance_ok`], [`crate::covariance`]).
 //!
 //! Each check returns the first offending row (0-based, within the file checked) and a reason.
+//! The checks over a whole file are the streaming rules ([`TimeRule`], [`UniqueRule`],
+//! [`OrderableRule`]) fed the file at once, so a reader that checks rows chunk by chunk as they
+//! stream by names the same row, whatever its chunks.
 
 use std::collections::HashMap;
 use std::hash::Hash;
@@ -43,7 +46,7 @@ pub const TRACK_OUT_OF_SEQUENCE_S: f64 = 1.0;
 
 /// Track times: no row more than `tolerance_s` before the latest earlier time of its key (the
 /// running maximum, so a table read backwards is caught however small its steps are).
-pub fn times_nearly_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
+pub fn times_nearly_ordered_per_key<K: Hash + Eq + Clone + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     t_s: &[f64],
     tolerance_s: f64,
@@ -54,7 +57,7 @@ pub fn times_nearly_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
 
 /// Times within each key: strictly increasing (`strict`, no repeated time) or non-decreasing.
 /// `what` names the key in messages ("track", "target", "radar").
-pub fn times_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
+pub fn times_ordered_per_key<K: Hash + Eq + Clone + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     t_s: &[f64],
     strict: bool,
@@ -66,19 +69,53 @@ pub fn times_ordered_per_key<K: Hash + Eq + std::fmt::Display>(
 /// The one time rule: each row against the latest time of its key so far (for a table in order
 /// that is the previous row of the key); a row more than `tolerance_s` before it, or (`strict`)
 /// at it, breaks the rule.
-fn check_times<K: Hash + Eq + std::fmt::Display>(
+fn check_times<K: Hash + Eq + Clone + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     t_s: &[f64],
     tolerance_s: f64,
     strict: bool,
     what: &str,
 ) -> Result<(), Violation> {
-    let mut latest = Latest::default();
+    let mut rule = TimeRule { latest: Latest::default(), tolerance_s, strict, what };
     for (row, (key, &t)) in keys.into_iter().zip(t_s).enumerate() {
-        let Some((max, max_row)) = latest.get(&key) else {
-            latest.set(key, (t, row));
-            continue;
+        rule.check(row, key, t)?;
+    }
+    Ok(())
+}
+
+/// The time rule ([`times_ordered_per_key`], [`times_nearly_ordered_per_key`]) row by row, for a
+/// reader that checks rows as they stream by: [`TimeRule::check`] takes the file's rows in order.
+/// It holds the latest time of each key, so its memory is the keys', not the rows'.
+pub struct TimeRule<'w, K> {
+    latest: Latest<K>,
+    tolerance_s: f64,
+    strict: bool,
+    what: &'w str,
+}
+
+impl<'w, K: Hash + Eq + Clone + std::fmt::Display> TimeRule<'w, K> {
+    /// Times strictly increasing (`strict`) or non-decreasing within each key; `what` names the
+    /// key in messages ("target", "radar").
+    pub fn ordered(strict: bool, what: &'w str) -> Self {
+        TimeRule { latest: Latest::default(), tolerance_s: 0.0, strict, what }
+    }
+
+    /// No time more than `tolerance_s` before its key's latest earlier time.
+    pub fn nearly_ordered(tolerance_s: f64, what: &'w str) -> Self {
+        TimeRule { latest: Latest::default(), tolerance_s, strict: false, what }
+    }
+
+    /// Row `row` of the file (after every earlier row), of key `key` at time `t`.
+    pub fn check(&mut self, row: usize, key: K, t: f64) -> Result<(), Violation> {
+        let (tolerance_s, strict, what) = (self.tolerance_s, self.strict, self.what);
+        let (key, slot) = match self.latest.slot(key) {
+            Slot::New(slot) => {
+                *slot = (t, row);
+                return Ok(());
+            }
+            Slot::Seen((key, slot)) => (&*key, slot),
         };
+        let (max, max_row) = *slot;
         let back = t < max - tolerance_s;
         if back || (strict && t == max) {
             let why = match (back, tolerance_s > 0.0, strict) {
@@ -96,82 +133,118 @@ fn check_times<K: Hash + Eq + std::fmt::Display>(
             return Err(Violation { column: "t_s", row, why });
         }
         if t > max {
-            latest.set(key, (t, row));
+            *slot = (t, row);
         }
+        Ok(())
     }
-    Ok(())
 }
 
 /// The latest time and row of each key: a short list while the keys are few (a file's radars or
-/// targets: a few comparisons a row instead of a hash), a hash map beyond.
+/// targets: a few comparisons a row instead of a hash), indexed by a hash map beyond.
 struct Latest<K> {
-    few: Vec<(K, (f64, usize))>,
-    many: HashMap<K, (f64, usize)>,
+    entries: Vec<(K, (f64, usize))>,
+    index: HashMap<K, usize>,
 }
 
 impl<K> Default for Latest<K> {
     fn default() -> Self {
-        Latest { few: Vec::new(), many: HashMap::new() }
+        Latest { entries: Vec::new(), index: HashMap::new() }
     }
 }
 
-impl<K: Hash + Eq> Latest<K> {
+/// A key's entry in [`Latest`]: new (its time and row to be set), or seen (the key as first
+/// stored, for messages, with its latest time and row).
+enum Slot<'a, K> {
+    New(&'a mut (f64, usize)),
+    Seen(&'a mut (K, (f64, usize))),
+}
+
+impl<K: Hash + Eq + Clone> Latest<K> {
     const FEW: usize = 16;
 
-    fn get(&self, key: &K) -> Option<(f64, usize)> {
-        if self.many.is_empty() {
-            self.few.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+    /// The entry of `key`, found in one look-up.
+    fn slot(&mut self, key: K) -> Slot<'_, K> {
+        let found = if self.entries.len() <= Self::FEW {
+            self.entries.iter().position(|(k, _)| *k == key)
         } else {
-            self.many.get(key).copied()
+            self.index.get(&key).copied()
+        };
+        if let Some(i) = found {
+            return Slot::Seen(&mut self.entries[i]);
         }
-    }
-
-    fn set(&mut self, key: K, v: (f64, usize)) {
-        if self.many.is_empty() {
-            if let Some(slot) = self.few.iter_mut().find(|(k, _)| *k == key) {
-                slot.1 = v;
-                return;
-            }
-            if self.few.len() < Self::FEW {
-                self.few.push((key, v));
-                return;
-            }
-            self.many.extend(self.few.drain(..));
+        self.entries.push((key, (0.0, 0)));
+        let n = self.entries.len();
+        if n == Self::FEW + 1 {
+            self.index = self.entries.iter().enumerate().map(|(i, (k, _))| (k.clone(), i)).collect();
+        } else if n > Self::FEW + 1 {
+            self.index.insert(self.entries[n - 1].0.clone(), n - 1);
         }
-        self.many.insert(key, v);
+        Slot::New(&mut self.entries[n - 1].1)
     }
 }
 
-/// Keys that must be unique (e.g. `(run, dwell_id)`): the first repeat.
-///
-/// Tables are written in key order, so keys that strictly increase are accepted after one
-/// comparison per row; only otherwise are they sorted, to find the first repeat and its row.
+/// Keys that must be unique (e.g. `(run, dwell_id)`): the first repeat ([`UniqueRule`] over the
+/// whole file at once).
 pub fn unique<K: Hash + Eq + Ord + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     column: &'static str,
 ) -> Result<(), Violation> {
-    let keys: Vec<K> = keys.into_iter().collect();
-    if keys.windows(2).all(|w| w[0] < w[1]) {
-        return Ok(());
+    UniqueRule::new(column).check(0, keys)
+}
+
+/// The rule that keys are unique, checked chunk by chunk as a reader streams a file's rows: the
+/// first repeat in the file is found in the chunk that holds its second row, whatever the chunks.
+///
+/// It keeps every key read, sorted with its row. Tables are written nearly in key order (ids
+/// count in the order dwells start, rows come in the order they end), so a chunk's keys go in
+/// after the earlier ones with an insertion sort from the first earlier key they reach
+/// ([`crate::nearly_sorted`]): a chunk costs its length plus its keys' displacement.
+pub struct UniqueRule<K> {
+    column: &'static str,
+    /// Every key read, with its row, sorted by (key, row).
+    sorted: Vec<(K, usize)>,
+}
+
+impl<K: Ord + std::fmt::Display> UniqueRule<K> {
+    /// Keys of `column` must be unique.
+    pub fn new(column: &'static str) -> Self {
+        UniqueRule { column, sorted: Vec::new() }
     }
-    // Sorted by (key, row), each key's rows are together in file order; the first repeat in the
-    // file is the smallest second row of any key, and it repeats that key's first row.
-    let mut order: Vec<(&K, usize)> = keys.iter().zip(0..).collect();
-    crate::nearly_sorted::sort_nearly_sorted(&mut order);
-    let mut first: Option<(usize, usize)> = None;
-    for i in 1..order.len() {
-        let starts_group = i == 1 || order[i - 2].0 != order[i - 1].0;
-        if starts_group && order[i].0 == order[i - 1].0 && first.is_none_or(|(r, _)| order[i].1 < r) {
-            first = Some((order[i].1, order[i - 1].1));
+
+    /// The keys of the next rows, the first of them row `first_row` of the file (rows follow
+    /// the earlier chunks').
+    pub fn check(&mut self, first_row: usize, keys: impl IntoIterator<Item = K>) -> Result<(), Violation> {
+        let start = self.sorted.len();
+        self.sorted.extend(keys.into_iter().zip(first_row..));
+        let Some(smallest) = self.sorted[start..].iter().map(|(k, _)| k).min() else {
+            return Ok(());
+        };
+        // Earlier keys below the chunk's smallest key stay where they are; every key equal to a
+        // new one is at or after `from`.
+        let from = self.sorted[..start].partition_point(|(k, _)| k < smallest);
+        crate::nearly_sorted::sort_nearly_sorted(&mut self.sorted[from..]);
+        // Sorted by (key, row), each key's rows are together in file order; the first repeat in
+        // the file is the smallest second row of any key, and it repeats that key's first row.
+        // Earlier chunks held no repeat, so every second row found here is in this chunk.
+        let part = &self.sorted[from..];
+        let mut first: Option<usize> = None;
+        for i in 1..part.len() {
+            let starts_group = i == 1 || part[i - 2].0 != part[i - 1].0;
+            if starts_group && part[i].0 == part[i - 1].0 && first.is_none_or(|f| part[i].1 < part[f].1) {
+                first = Some(i);
+            }
         }
-    }
-    match first {
-        None => Ok(()),
-        Some((row, was)) => Err(Violation {
-            column,
-            row,
-            why: format!("{} repeats row {was} ({column} must be unique within a run)", keys[row]),
-        }),
+        match first {
+            None => Ok(()),
+            Some(i) => {
+                let (column, (key, row), was) = (self.column, &part[i], part[i - 1].1);
+                Err(Violation {
+                    column,
+                    row: *row,
+                    why: format!("{key} repeats row {was} ({column} must be unique within a run)"),
+                })
+            }
+        }
     }
 }
 
@@ -199,35 +272,55 @@ pub fn track_row_order(n_updates: u32, deleted: bool) -> u64 {
 }
 
 /// Rows of one track at one time must differ in their [`track_row_order`]: the first row that
-/// repeats an earlier row's (key, `t_s`, rank) cannot be ordered by the table and breaks the rule.
+/// repeats an earlier row's (key, `t_s`, rank) cannot be ordered by the table and breaks the rule
+/// ([`OrderableRule`] over the whole file at once).
 pub fn track_rows_orderable<K: Hash + Eq + std::fmt::Display>(
     keys: impl IntoIterator<Item = K>,
     t_s: &[f64],
     rank: &[u64],
 ) -> Result<(), Violation> {
-    let mut seen: HashMap<(K, u64, u64), usize> = HashMap::new();
+    let mut rule = OrderableRule::default();
     for (row, ((key, &t), &r)) in keys.into_iter().zip(t_s).zip(rank).enumerate() {
+        rule.check(row, key, t, r)?;
+    }
+    Ok(())
+}
+
+/// [`track_rows_orderable`] row by row, for a reader that checks rows as they stream by.
+pub struct OrderableRule<K> {
+    seen: HashMap<(K, u64, u64), usize>,
+}
+
+impl<K> Default for OrderableRule<K> {
+    fn default() -> Self {
+        OrderableRule { seen: HashMap::new() }
+    }
+}
+
+impl<K: Hash + Eq + std::fmt::Display> OrderableRule<K> {
+    /// Row `row` of the file (after every earlier row): its key, time and rank.
+    pub fn check(&mut self, row: usize, key: K, t: f64, rank: u64) -> Result<(), Violation> {
         // -0.0 and 0.0 are one time.
         let bits = if t == 0.0 { 0 } else { t.to_bits() };
-        match seen.entry((key, bits, r)) {
+        match self.seen.entry((key, bits, rank)) {
             std::collections::hash_map::Entry::Vacant(v) => {
                 v.insert(row);
+                Ok(())
             }
             std::collections::hash_map::Entry::Occupied(o) => {
                 let was = *o.get();
                 let key = &o.key().0;
-                return Err(Violation {
+                Err(Violation {
                     column: "n_updates",
                     row,
                     why: format!(
                         "repeats row {was}: track {key} has two rows at t_s {t} with n_updates {} (rows of one track at one time are ordered by n_updates, the deleted row last; these cannot be)",
-                        r >> 1
+                        rank >> 1
                     ),
-                });
+                })
             }
         }
     }
-    Ok(())
 }
 
 /// Whether a packed covariance can be one: finite values, positive variances, and positive
@@ -270,6 +363,36 @@ mod tests {
         assert_eq!((e.column, e.row), ("dwell_id", 2));
         assert!(unique([Key2(0u32, 7u64), Key2(1, 7)], "dwell_id").is_ok());
         assert_eq!(runs_match(&[3, 3, 4], 3).expect_err("run").row, 2);
+    }
+
+    /// Chunk by chunk, the streaming rules name the row the whole-file checks name, wherever the
+    /// chunks are cut (here: keys a few rows out of place, as dwell ids are, and one repeat).
+    #[test]
+    fn streamed_rules_name_the_whole_files_row() {
+        let mut keys: Vec<Key2<u32, u64>> = (0..200u64).map(|i| Key2(0, i)).collect();
+        for i in (0..196).step_by(7) {
+            keys.swap(i, i + 3);
+        }
+        let t: Vec<f64> = (0..200).map(|i| f64::from(i / 3)).collect();
+        for repeat in [None, Some((150usize, 40usize)), Some((41, 40)), Some((199, 0))] {
+            let mut k = keys.clone();
+            if let Some((at, of)) = repeat {
+                k[at] = k[of].clone();
+            }
+            let whole = unique(k.iter().cloned(), "dwell_id");
+            assert_eq!(whole.is_err(), repeat.is_some());
+            for chunk in [1, 2, 7, 16, 64, 200] {
+                let mut rule = UniqueRule::new("dwell_id");
+                let streamed =
+                    k.chunks(chunk).enumerate().try_for_each(|(c, part)| rule.check(c * chunk, part.iter().cloned()));
+                assert_eq!(streamed, whole, "chunks of {chunk}, repeat {repeat:?}");
+            }
+            let radars = || k.iter().map(|k| Key2(0u32, k.1 % 3));
+            let whole_t = times_ordered_per_key(radars(), &t, true, "radar");
+            let mut rule = TimeRule::ordered(true, "radar");
+            let streamed = radars().zip(&t).enumerate().try_for_each(|(row, (key, &t))| rule.check(row, key, t));
+            assert_eq!(streamed, whole_t);
+        }
     }
 
     #[test]

@@ -1,10 +1,11 @@
-//! A [`Frame`]: the columns of one input table as Arrow arrays, each of the type its table's spec
-//! gives (checked by `crate::read`), looked up by name. It is all the scorer needs of a
-//! data frame: typed slices of the values, stacking the files of a table, and slices of rows.
+//! A [`Frame`]: the columns of one dwells file as Arrow arrays, each of the type its table's spec
+//! gives (checked by `crate::read`), looked up by name: the checked read that names a broken
+//! rule when the dwells' one-pass reader gives up ([`crate::load`]). Truth and tracks come as
+//! typed rows from the store's reader instead (`mimo_store::table_chunks`).
 
 use crate::error::MetricsError;
 use arrow::array::{Array, ArrayRef, AsArray, StringArray};
-use arrow::datatypes::{Float64Type, UInt32Type, UInt64Type};
+use arrow::datatypes::{Float64Type, UInt32Type};
 
 /// Named columns of equal length.
 #[derive(Debug, Clone)]
@@ -27,30 +28,6 @@ impl Frame {
         Ok(Frame { height, columns })
     }
 
-    /// The frames' rows one after the other (same columns in the same order).
-    pub(crate) fn stack(frames: Vec<Frame>) -> Result<Frame, MetricsError> {
-        let mut frames = frames.into_iter();
-        let first = frames.next().ok_or_else(|| internal("stacking files", "no files"))?;
-        let rest: Vec<Frame> = frames.collect();
-        if rest.is_empty() {
-            return Ok(first);
-        }
-        let mut columns = Vec::with_capacity(first.columns.len());
-        for (i, (name, array)) in first.columns.iter().enumerate() {
-            let mut parts: Vec<&dyn Array> = vec![array.as_ref()];
-            for f in &rest {
-                let (other, a) = f.columns.get(i).ok_or_else(|| internal("stacking files", "column count"))?;
-                if other != name {
-                    return Err(internal("stacking files", format!("column {other} where {name} was")));
-                }
-                parts.push(a.as_ref());
-            }
-            let stacked = arrow::compute::concat(&parts).map_err(|e| internal("stacking files", e.to_string()))?;
-            columns.push((*name, stacked));
-        }
-        Frame::new(columns)
-    }
-
     /// The number of rows.
     pub(crate) fn height(&self) -> usize {
         self.height
@@ -71,14 +48,6 @@ impl Frame {
         c.as_primitive_opt::<UInt32Type>()
             .map(|a| a.values().as_ref())
             .ok_or_else(|| internal("column", format!("{name} is not uint32")))
-    }
-
-    /// A uint64 column's values.
-    pub(crate) fn u64s(&self, name: &str) -> Result<&[u64], MetricsError> {
-        let c = self.column(name)?;
-        c.as_primitive_opt::<UInt64Type>()
-            .map(|a| a.values().as_ref())
-            .ok_or_else(|| internal("column", format!("{name} is not uint64")))
     }
 
     /// A float64 column's values.

@@ -3,11 +3,13 @@
 
 use crate::MetricsError;
 use crate::dwell_sums::{DWELL_SLICE_ROWS, DwellSums};
-use crate::frame::Frame;
-use crate::read::{Check, Col, col as rcol, read_file, read_table_checked};
+use crate::read::{Check, Col, col as rcol, read_file};
 use crate::track_metrics::{TargetTruth, TrackLife, TrackState, TruthSample};
 use glam::DVec3;
 use mimo_core::records::{DwellColumns, DwellRow, TrackColumns, TrackRow, TrackStatus, TruthColumns, TruthRow};
+use mimo_core::table_rules::track_row_order;
+use mimo_store::rows::TableRow;
+use mimo_store::table_chunks::TableChunks;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::PathBuf;
 
@@ -16,15 +18,11 @@ const T: TruthColumns = TruthRow::COLUMNS;
 const D: DwellColumns = DwellRow::COLUMNS;
 const K: TrackColumns = TrackRow::COLUMNS;
 
-/// Every column of `table`'s spec (the whole table, each column checked), `run` with `run_check`.
-fn all_columns<'a>(table: &'static str, run_check: Check<'a>) -> Result<Vec<Col<'a>>, MetricsError> {
-    let spec = crate::read::spec_of(table)?;
-    Ok(spec.columns.iter().map(|c| rcol(c.name, if c.name == T.run { run_check } else { Check::Any })).collect())
-}
-
-pub(crate) fn vec3s(df: &Frame, names: [&str; 3]) -> Result<Vec<DVec3>, MetricsError> {
-    let (x, y, z) = (df.f64s(names[0])?, df.f64s(names[1])?, df.f64s(names[2])?);
-    Ok(x.iter().zip(y).zip(z).map(|((&x, &y), &z)| DVec3::new(x, y, z)).collect())
+/// `out` extended with the points of three checked float64 columns of a batch.
+fn extend3(out: &mut Vec<DVec3>, b: &mimo_store::rows::Batch<'_>, names: [&str; 3]) -> Result<(), MetricsError> {
+    let (x, y, z) = (b.f64_values(names[0])?, b.f64_values(names[1])?, b.f64_values(names[2])?);
+    out.extend(x.iter().zip(y).zip(z).map(|((&x, &y), &z)| DVec3::new(x, y, z)));
+    Ok(())
 }
 
 /// Truth grouped by run and target.
@@ -36,43 +34,56 @@ pub(crate) struct Truth {
 }
 
 pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
-    let cols = all_columns(TruthRow::TABLE, Check::Any)?;
-    let df = read_table_checked(TruthRow::TABLE, paths, &cols, &crate::rules::check_truth)?;
-    let run = df.u32s(T.run)?;
-    let t = df.f64s(T.t_s)?;
-    let p = vec3s(&df, [T.x_m, T.y_m, T.z_m])?;
-    let v = vec3s(&df, [T.vx_mps, T.vy_mps, T.vz_mps])?;
-    let alt = df.f64s(T.alt_m)?;
-    let targets = df.strs(T.target)?;
+    let (mut run, mut t, mut p, mut v, mut alt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
 
     // Each row's target, first as its index in order of first appearance: the name that followed
     // the row's predecessor's target last time is tried first (the truth is written time by time,
     // its targets in the same order each time), the names' map only when that guess fails.
-    let mut seen: Vec<&str> = Vec::new();
-    let mut seen_index: HashMap<&str, usize> = HashMap::new();
+    let mut seen: Vec<String> = Vec::new();
+    let mut seen_index: HashMap<String, usize> = HashMap::new();
     let mut successor: Vec<usize> = Vec::new();
     let mut prev: Option<usize> = None;
-    let mut target_of_row = Vec::with_capacity(run.len());
-    for s in targets.iter().flatten() {
-        let guess = prev.map(|p| successor[p]).filter(|&g| seen.get(g) == Some(&s));
-        let target = match guess.or_else(|| seen_index.get(s).copied()) {
-            Some(target) => target,
-            None => {
-                seen_index.insert(s, seen.len());
-                seen.push(s);
-                successor.push(usize::MAX);
-                seen.len() - 1
+    let mut target_of_row = Vec::new();
+    for path in paths {
+        let mut chunks = open_rows::<TruthRow>(path)?;
+        let n = chunks.num_rows();
+        run.reserve(n);
+        t.reserve(n);
+        alt.reserve(n);
+        p.reserve(n);
+        v.reserve(n);
+        target_of_row.reserve(n);
+        while let Some(batch) = chunks.next_batch()? {
+            let b = chunks.view(&batch);
+            let target = b.utf8(T.target)?;
+            run.extend_from_slice(b.u32_values(T.run)?);
+            t.extend_from_slice(b.f64_values(T.t_s)?);
+            alt.extend_from_slice(b.f64_values(T.alt_m)?);
+            extend3(&mut p, &b, [T.x_m, T.y_m, T.z_m])?;
+            extend3(&mut v, &b, [T.vx_mps, T.vy_mps, T.vz_mps])?;
+            for i in 0..b.num_rows() {
+                let s = target.value(i);
+                let guess = prev.map(|p| successor[p]).filter(|&g| seen.get(g).is_some_and(|n| n == s));
+                let target = match guess.or_else(|| seen_index.get(s).copied()) {
+                    Some(target) => target,
+                    None => {
+                        seen_index.insert(s.to_string(), seen.len());
+                        seen.push(s.to_string());
+                        successor.push(usize::MAX);
+                        seen.len() - 1
+                    }
+                };
+                if let Some(p) = prev {
+                    successor[p] = target;
+                }
+                prev = Some(target);
+                target_of_row.push(target);
             }
-        };
-        if let Some(p) = prev {
-            successor[p] = target;
         }
-        prev = Some(target);
-        target_of_row.push(target);
     }
     // A target's index is its rank among the names, so that the rows sort by it as by name.
     let mut by_name: Vec<usize> = (0..seen.len()).collect();
-    by_name.sort_by(|&a, &b| seen[a].cmp(seen[b]));
+    by_name.sort_by(|&a, &b| seen[a].cmp(&seen[b]));
     let mut rank = vec![0; seen.len()];
     for (r, &i) in by_name.iter().enumerate() {
         rank[i] = r;
@@ -80,13 +91,13 @@ pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
     for t in &mut target_of_row {
         *t = rank[*t];
     }
-    let target_names: Vec<String> = by_name.iter().map(|&i| seen[i].to_string()).collect();
+    let target_names: Vec<String> = by_name.iter().map(|&i| seen[i].clone()).collect();
 
     // The rows by run, target and time (docs/design.md §6: a target's samples in time order).
     let mut per_run: BTreeMap<u32, Vec<TargetTruth>> = BTreeMap::new();
     let mut t_end: BTreeMap<u32, f64> = BTreeMap::new();
     let mut current: Option<(u32, usize)> = None;
-    for i in crate::row_order::stable_order(run, &target_of_row, t, None) {
+    for i in crate::row_order::stable_order(&run, &target_of_row, &t, None) {
         let key = (run[i], target_of_row[i]);
         let list = per_run.entry(run[i]).or_default();
         if current != Some(key) {
@@ -106,15 +117,51 @@ pub(crate) fn load_tracks(
     paths: &[PathBuf],
     runs: &BTreeSet<u32>,
 ) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
-    let cols = all_columns(TrackRow::TABLE, Check::RunIn(runs))?;
-    let df = read_table_checked(TrackRow::TABLE, paths, &cols, &crate::rules::check_tracks)?;
-    let run = df.u32s(K.run)?;
-    let id = df.u64s(K.track_id)?;
-    let t = df.f64s(K.t_s)?;
-    let p = vec3s(&df, [K.x_m, K.y_m, K.z_m])?;
-    let v = vec3s(&df, [K.vx_mps, K.vy_mps, K.vz_mps])?;
-    let status = crate::rules::track_statuses(&df)?;
-    let rank = crate::rules::track_ranks(&df, &status)?;
+    let (mut run, mut id, mut t, mut p, mut v) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut status, mut rank) = (Vec::new(), Vec::new());
+    for path in paths {
+        let mut chunks = open_rows::<TrackRow>(path)?;
+        let n = chunks.num_rows();
+        run.reserve(n);
+        id.reserve(n);
+        t.reserve(n);
+        p.reserve(n);
+        v.reserve(n);
+        status.reserve(n);
+        rank.reserve(n);
+        let mut first_row = 0;
+        while let Some(batch) = chunks.next_batch()? {
+            let b = chunks.view(&batch);
+            let runs_here = b.u32_values(K.run)?;
+            // A track of a run the truth does not hold has nothing to be scored against.
+            if let Some(i) = runs_here.iter().position(|r| !runs.contains(r)) {
+                return Err(not_a_truth_run(path, first_row + i, runs_here[i], runs));
+            }
+            first_row += b.num_rows();
+            run.extend_from_slice(runs_here);
+            id.extend_from_slice(b.u64_values(K.track_id)?);
+            t.extend_from_slice(b.f64_values(K.t_s)?);
+            extend3(&mut p, &b, [K.x_m, K.y_m, K.z_m])?;
+            extend3(&mut v, &b, [K.vx_mps, K.vy_mps, K.vz_mps])?;
+            let n_updates = b.u32_values(K.n_updates)?;
+            // Labels the checked read accepted; a run of equal labels is parsed once.
+            let mut last: Option<(&str, TrackStatus)> = None;
+            for (i, s) in b.utf8(K.status)?.iter().enumerate() {
+                let s = s.unwrap_or_default();
+                let parsed = match last {
+                    Some((name, parsed)) if name == s => parsed,
+                    _ => TrackStatus::parse(s).ok_or_else(|| MetricsError::Internal {
+                        context: "reading tracks",
+                        detail: format!("status '{s}' passed the checked read"),
+                    })?,
+                };
+                last = Some((s, parsed));
+                status.push(parsed);
+                rank.push(track_row_order(n_updates[i], parsed == TrackStatus::Deleted));
+            }
+        }
+    }
+    let (run, id, t) = (&run[..], &id[..], &t[..]);
 
     // The rows by run, track, time and rank at one time (the table's order, whatever the files'
     // row order: rows it cannot order were refused by `check_tracks`).
@@ -134,11 +181,11 @@ pub(crate) fn load_tracks(
             continue;
         }
         match status[i] {
-            Some(TrackStatus::Deleted) => {
+            TrackStatus::Deleted => {
                 tr.t_delete = t[i];
                 ended = true;
             }
-            Some(TrackStatus::Confirmed) => {
+            TrackStatus::Confirmed => {
                 if !tr.t_confirm.is_finite() {
                     tr.t_confirm = t[i];
                 }
@@ -148,6 +195,57 @@ pub(crate) fn load_tracks(
         }
     }
     Ok(out)
+}
+
+/// One file of a run table read with the store's reader of its checked rows
+/// ([`mimo_store::table_chunks`]). Its errors are the store's, worded as `mimo plot` and
+/// `mimo track` word them for the same file; only a missing file is a missing table.
+pub(crate) struct TableRows<R: TableRow>(TableChunks<R>);
+
+impl<R: TableRow> TableRows<R> {
+    /// The file's rows, from its footer.
+    pub(crate) fn num_rows(&self) -> usize {
+        self.0.num_rows()
+    }
+
+    /// The next checked batch ([`TableChunks::next_batch`]); `None` after the last.
+    pub(crate) fn next_batch(&mut self) -> Result<Option<arrow::array::RecordBatch>, MetricsError> {
+        self.0.next_batch().map_err(in_table::<R>)
+    }
+
+    /// A batch of this file with its typed accessors.
+    pub(crate) fn view<'a>(&'a self, batch: &'a arrow::array::RecordBatch) -> mimo_store::rows::Batch<'a> {
+        self.0.view(batch)
+    }
+}
+
+/// A store error of `R`'s table, a missing file named as a missing table.
+fn in_table<R: TableRow>(e: mimo_store::StoreError) -> MetricsError {
+    match e {
+        mimo_store::StoreError::Missing { path } => {
+            MetricsError::MissingTable { table: R::SPEC.name, path, detail: "file does not exist".into() }
+        }
+        e => e.into(),
+    }
+}
+
+/// Open one file of a run table ([`TableRows`]).
+pub(crate) fn open_rows<R: TableRow>(path: &std::path::Path) -> Result<TableRows<R>, MetricsError> {
+    TableChunks::<R>::open(path).map(TableRows).map_err(in_table::<R>)
+}
+
+/// The error of a tracks row whose run the truth does not hold.
+fn not_a_truth_run(path: &std::path::Path, row: usize, run: u32, runs: &BTreeSet<u32>) -> MetricsError {
+    let list: Vec<String> = runs.iter().take(8).map(|r| r.to_string()).collect();
+    let more = if runs.len() > 8 { ", …" } else { "" };
+    MetricsError::InvalidValue {
+        table: TrackRow::TABLE,
+        path: path.to_path_buf(),
+        column: K.run,
+        row,
+        value: run.to_string(),
+        expected: format!("a run present in the truth table ({}{more})", list.join(", ")),
+    }
 }
 
 /// The error of a score given no dwells file.
@@ -231,6 +329,7 @@ fn dwell_file_sums_whole(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::Frame;
     use mimo_store::testing::varied_dwell_rows;
 
     /// A dwells file of `n` rows: four radars in turn, every role, kind and requester, times

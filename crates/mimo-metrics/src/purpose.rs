@@ -283,19 +283,19 @@ impl RunTargets {
 /// The truth of `runs` from the truth files: each run's targets in name order, each target's
 /// samples sorted by time (stably, so samples of one time keep their file order).
 fn load_truth(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, RunTruth>, MetricsError> {
-    let cols = [T.run, T.target, T.t_s, T.x_m, T.y_m, T.z_m, T.vx_mps, T.vy_mps, T.vz_mps, T.alt_m];
     let mut slot_of_run: BTreeMap<u32, usize> = BTreeMap::new();
     let mut slots: Vec<RunTargets> = Vec::new();
     for path in paths {
-        for_batches(TruthRow::TABLE, path, &cols, |b| {
-            let (run, target, t, alt) = (b.u32(T.run)?, b.utf8(T.target)?, b.f64(T.t_s)?, b.f64(T.alt_m)?);
-            let (x, y, z) = (b.f64(T.x_m)?, b.f64(T.y_m)?, b.f64(T.z_m)?);
-            let (vx, vy, vz) = (b.f64(T.vx_mps)?, b.f64(T.vy_mps)?, b.f64(T.vz_mps)?);
-            let (run, t, alt, x, y, z) = (run.values(), t.values(), alt.values(), x.values(), y.values(), z.values());
-            let (vx, vy, vz) = (vx.values(), vy.values(), vz.values());
+        let mut chunks = crate::load::open_rows::<TruthRow>(path)?;
+        while let Some(batch) = chunks.next_batch()? {
+            let b = chunks.view(&batch);
+            let (run, target, t, alt) =
+                (b.u32_values(T.run)?, b.utf8(T.target)?, b.f64_values(T.t_s)?, b.f64_values(T.alt_m)?);
+            let (x, y, z) = (b.f64_values(T.x_m)?, b.f64_values(T.y_m)?, b.f64_values(T.z_m)?);
+            let (vx, vy, vz) = (b.f64_values(T.vx_mps)?, b.f64_values(T.vy_mps)?, b.f64_values(T.vz_mps)?);
             // The slot of the row's run, looked up when the run changes (`None`: not scored).
             let mut current: Option<(u32, Option<usize>)> = None;
-            for i in 0..b.len() {
+            for i in 0..b.num_rows() {
                 let slot = match current {
                     Some((r, slot)) if r == run[i] => slot,
                     _ => {
@@ -318,8 +318,7 @@ fn load_truth(paths: &[PathBuf], runs: &BTreeSet<u32>) -> Result<BTreeMap<u32, R
                 };
                 slots[slot].samples(target.value(i)).push(sample);
             }
-            Ok(())
-        })?;
+        }
     }
     let mut out: BTreeMap<u32, RunTruth> = BTreeMap::new();
     for (run, slot) in slot_of_run {

@@ -1,4 +1,4 @@
-//! The columns the usage by purpose reads from the dwells and truth tables
+//! The columns the usage by purpose reads from the dwells table, and the truth's `run` column
 //! ([`crate::purpose`]), with the `arrow` and `parquet` crates: only the columns named, batch by
 //! batch, each checked for its type, nulls and (floats) finiteness, errors naming the file, the
 //! column and the row.

@@ -1,13 +1,16 @@
-//! Reading the input tables, through the store's checks.
+//! Reading columns of the input tables, through the store's checks: the checked read of a dwells
+//! file's usage columns when its one-pass reader gives up ([`crate::load`]), and the `run`
+//! columns that split a score by run ([`crate::parts`]). Truth and tracks are read with the
+//! store's reader of every run table (`mimo_store::table_chunks`, rules included).
 //!
 //! Each file is opened with `mimo_store::checked::open` (the table's name and schema version in
 //! its metadata, every column of the table's spec with exactly its type) and read on its own,
-//! only the columns the metrics need (a projection: names only; types, nullability and value
-//! rules come from the table's spec in `mimo-store`), each column's values checked against its
-//! spec ([`mimo_store::checked::check_array`]), `run` against the file's run and, for tracks and
-//! dwells, against the runs of the truth table, before the files of a table are stacked. Errors
-//! therefore always name the file, the column, the row and what was expected. Files are read with
-//! the parquet crate's Arrow reader into a [`Frame`] of Arrow arrays.
+//! only the columns named (a projection: names only; types, nullability and value rules come
+//! from the table's spec in `mimo-store`), each column's values checked against its spec
+//! ([`mimo_store::checked::check_array`]), `run` against the file's run and, for the dwells,
+//! against the runs of the truth table. Errors therefore always name the file, the column, the
+//! row and what was expected. Files are read with the parquet crate's Arrow reader into a
+//! [`Frame`] of Arrow arrays.
 
 use crate::error::MetricsError;
 use crate::frame::Frame;
@@ -64,33 +67,6 @@ pub(crate) fn open_checked(
         }
         Err(e) => Err(e.into()),
     }
-}
-
-/// Read `paths` as one table with the given columns (in that order), validating every file.
-/// A check of one file's frame (its table rules) before the files are stacked.
-pub(crate) type FileCheck<'a> = &'a dyn Fn(&Path, &Frame) -> Result<(), MetricsError>;
-
-/// Read and stack the files of a table, with `check` run on each file's frame (row numbers are then the file's).
-pub(crate) fn read_table_checked(
-    table: &'static str,
-    paths: &[PathBuf],
-    cols: &[Col<'_>],
-    check: FileCheck<'_>,
-) -> Result<Frame, MetricsError> {
-    if paths.is_empty() {
-        return Err(MetricsError::MissingTable {
-            table,
-            path: PathBuf::from(table),
-            detail: "no Parquet files given".into(),
-        });
-    }
-    let mut frames = Vec::with_capacity(paths.len());
-    for path in paths {
-        let frame = read_file(table, path, cols)?;
-        check(path, &frame)?;
-        frames.push(frame);
-    }
-    Frame::stack(frames)
 }
 
 /// Rows decoded per Arrow batch.

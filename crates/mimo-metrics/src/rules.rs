@@ -1,20 +1,15 @@
-//! The table rules of `mimo_core::table_rules` (docs/design.md §7), checked on each file this
-//! crate reads before its rows are sorted and stacked: a tracks table whose times run backwards
-//! would otherwise be re-sorted into a different (and wrong) track history, silently.
+//! The dwells' rule of `mimo_core::table_rules` (docs/design.md §7) on the checked read of a
+//! dwells file's usage columns ([`crate::load`]); the truth and tracks come checked, rules
+//! included, from the store's reader (`mimo_store::table_chunks`).
 
 use crate::MetricsError;
 use crate::frame::Frame;
-use mimo_core::records::{DwellColumns, DwellRow, TrackColumns, TrackRow, TrackStatus, TruthColumns, TruthRow};
-use mimo_core::table_rules::{
-    Key2, TRACK_OUT_OF_SEQUENCE_S, Violation, times_nearly_ordered_per_key, times_ordered_per_key, track_row_order,
-    track_rows_orderable,
-};
+use mimo_core::records::{DwellColumns, DwellRow};
+use mimo_core::table_rules::{Key2, Violation, times_ordered_per_key};
 use std::path::Path;
 
 /// The run tables' column names (from their declarations in `mimo_core::records`).
-const T: TruthColumns = TruthRow::COLUMNS;
 const D: DwellColumns = DwellRow::COLUMNS;
-const K: TrackColumns = TrackRow::COLUMNS;
 
 fn to_err<'a>(table: &'static str, path: &'a Path) -> impl FnOnce(Violation) -> MetricsError + 'a {
     move |v| MetricsError::BrokenRule { table, path: path.to_path_buf(), column: v.column, row: v.row, why: v.why }
@@ -59,48 +54,6 @@ fn ordered_few_keys<K: PartialEq>(keys: impl IntoIterator<Item = K>, t_s: &[f64]
         }
     }
     true
-}
-
-/// Tracks: no row more than `TRACK_OUT_OF_SEQUENCE_S` before its track's latest earlier row, and
-/// rows of one track at one time that the table can order (`track_rows_orderable`).
-pub(crate) fn check_tracks(path: &Path, df: &Frame) -> Result<(), MetricsError> {
-    let (run, id, t) = (df.u32s(K.run)?, df.u64s(K.track_id)?, df.f64s(K.t_s)?);
-    let keys = || run.iter().zip(id).map(|(r, i)| Key2(*r, *i));
-    times_nearly_ordered_per_key(keys(), t, TRACK_OUT_OF_SEQUENCE_S, "track").map_err(to_err(TrackRow::TABLE, path))?;
-    let rank = track_ranks(df, &track_statuses(df)?)?;
-    track_rows_orderable(keys(), t, &rank).map_err(to_err(TrackRow::TABLE, path))
-}
-
-/// Each tracks row's status (`None` only for a label the checked read refused).
-pub(crate) fn track_statuses(df: &Frame) -> Result<Vec<Option<TrackStatus>>, MetricsError> {
-    let mut last: Option<(&str, Option<TrackStatus>)> = None;
-    let mut status = Vec::with_capacity(df.height());
-    for s in df.strs(K.status)?.iter() {
-        let s = s.unwrap_or_default();
-        let parsed = match last {
-            Some((name, parsed)) if name == s => parsed,
-            _ => TrackStatus::parse(s),
-        };
-        last = Some((s, parsed));
-        status.push(parsed);
-    }
-    Ok(status)
-}
-
-/// Each tracks row's rank among its track's rows at its time (`track_row_order`).
-pub(crate) fn track_ranks(df: &Frame, status: &[Option<TrackStatus>]) -> Result<Vec<u64>, MetricsError> {
-    let n_updates = df.u32s(K.n_updates)?;
-    Ok(n_updates.iter().zip(status).map(|(&n, s)| track_row_order(n, *s == Some(TrackStatus::Deleted))).collect())
-}
-
-/// Truth: one row per (run, target, t_s), times increasing within each target.
-pub(crate) fn check_truth(path: &Path, df: &Frame) -> Result<(), MetricsError> {
-    let (run, target, t) = (df.u32s(T.run)?, strs(df, T.target)?, df.f64s(T.t_s)?);
-    let keys = || run.iter().zip(&target).map(|(r, s)| Key2(*r, *s));
-    if ordered_few_keys(keys(), t, true) {
-        return Ok(());
-    }
-    times_ordered_per_key(keys(), t, true, T.target).map_err(to_err(TruthRow::TABLE, path))
 }
 
 /// Dwells: start times non-decreasing per (run, radar).

@@ -25,6 +25,8 @@
 //!   run's tables written that way, the sink of `mimo simulate`, `mimo track` and a study's runs
 //!   (memory flat in the run's length).
 //! * [`invariants`]: the rules checked on every typed read (unique ids, ordered times, runs).
+//! * [`table_chunks`]: the streaming reader of every run table: typed rows a chunk at a time,
+//!   each value and each rule between rows checked as they come ([`read_table`] collects it).
 //! * [`dwell_chunks`]: the dwells table's streaming reader: typed, checked column chunks a row
 //!   group at a time, from the pages of the store's layout or with the Arrow reader (the score's
 //!   one pass over the dwells, the key pass of re-runs).
@@ -59,6 +61,7 @@ pub mod schema;
 pub mod score_schema;
 mod stored_labels;
 pub mod study_schema;
+pub mod table_chunks;
 pub mod table_writer;
 #[doc(hidden)]
 pub mod testing;
@@ -72,7 +75,7 @@ use parquet::arrow::ArrowWriter;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::basic::Compression;
 use parquet::file::properties::WriterProperties;
-use rows::{Batch, TableRow};
+use rows::TableRow;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
@@ -331,20 +334,9 @@ pub(crate) fn write_batch_into(path: &Path, batch: &RecordBatch) -> Result<(), S
 
 /// Read one Parquet file of table `R`, checked ([`checked`]: table name, schema version, column
 /// types, every value against its column's rule, runs matching the file) and its rows against
-/// the table's rules ([`invariants`]).
+/// the table's rules ([`invariants`]): the rows of [`table_chunks::TableChunks`], collected.
 pub fn read_table<R: TableRow>(path: &Path) -> Result<Vec<R>, StoreError> {
-    let builder = open_table::<R>(path)?;
-    let reader = builder.build().map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-    let table_spec =
-        schema::table(R::SPEC.name).ok_or_else(|| StoreError::Arrow(format!("unknown table {}", R::SPEC.name)))?;
-    let mut out = Vec::new();
-    for batch in reader {
-        let batch = batch.map_err(|e| StoreError::Parquet { path: path.to_path_buf(), why: e.to_string() })?;
-        let b = Batch::check_from(&batch, path, table_spec, out.len())?;
-        out.extend(R::from_batch(&b)?);
-    }
-    invariants::check(path, &out)?;
-    Ok(out)
+    table_chunks::TableChunks::<R>::open(path)?.rest()
 }
 
 /// Open one Parquet file of table `R` for reading, checked ([`checked::open`]: table name,

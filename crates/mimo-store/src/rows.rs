@@ -91,6 +91,13 @@ impl<'a> Batch<'a> {
         Ok(Batch { batch, file, spec })
     }
 
+    fn col_ref(&self, name: &str) -> &'a ArrayRef {
+        let batch: &'a RecordBatch = self.batch;
+        // Presence was checked in `check`; a spec column name is always there.
+        let idx = batch.schema().index_of(name).unwrap_or(0);
+        batch.column(idx)
+    }
+
     fn col(&self, name: &str) -> &ArrayRef {
         // Presence was checked in `check`; a spec column name is always there.
         let idx = self.batch.schema().index_of(name).unwrap_or(0);
@@ -106,6 +113,36 @@ impl<'a> Batch<'a> {
             return Err(self.bad(name, "has null values"));
         }
         Ok((0..arr.len()).map(f).collect())
+    }
+
+    /// A checked float64 column's values, borrowed (no copy; its nulls and rule were checked by
+    /// [`Batch::check_values`]). Errors ([`StoreError::BadColumn`]) when it is not float64.
+    pub fn f64_values(&self, name: &str) -> Result<&'a [f64], StoreError> {
+        let a = self.col_ref(name);
+        Ok(a.as_any().downcast_ref::<Float64Array>().ok_or_else(|| self.bad(name, "is not float64"))?.values())
+    }
+
+    /// A checked uint32 column's values, borrowed.
+    pub fn u32_values(&self, name: &str) -> Result<&'a [u32], StoreError> {
+        let a = self.col_ref(name);
+        Ok(a.as_any().downcast_ref::<UInt32Array>().ok_or_else(|| self.bad(name, "is not uint32"))?.values())
+    }
+
+    /// A checked uint64 column's values, borrowed.
+    pub fn u64_values(&self, name: &str) -> Result<&'a [u64], StoreError> {
+        let a = self.col_ref(name);
+        Ok(a.as_any().downcast_ref::<UInt64Array>().ok_or_else(|| self.bad(name, "is not uint64"))?.values())
+    }
+
+    /// A checked utf8 column, borrowed (its strings are not copied).
+    pub fn utf8(&self, name: &str) -> Result<&'a StringArray, StoreError> {
+        let a = self.col_ref(name);
+        a.as_any().downcast_ref::<StringArray>().ok_or_else(|| self.bad(name, "is not utf8"))
+    }
+
+    /// The number of rows.
+    pub fn num_rows(&self) -> usize {
+        self.batch.num_rows()
     }
 
     /// The values of a non-nullable float64 column. Errors ([`StoreError::BadColumn`]) when it is
