@@ -101,9 +101,11 @@
 //! [`MetricsError::Table`]): the table's name and schema version in the metadata, every column of
 //! the table's spec with exactly its type, each value keeping its column's rule (finite numbers,
 //! non-negative dwell times and energies, labels of the enumerations, radar ids, covariances),
-//! rows of `run-K.parquet` of run K. Beyond them: a missing table, a run of the tracks or dwells
-//! that the truth does not have, a table rule broken (times out of order, rows of one track at
-//! one time that `n_updates` cannot order).
+//! rows of `run-K.parquet` of run K. Truth and tracks are read with the store's reader of every
+//! run table (`mimo_store::table_chunks`), which also checks their table rules (times out of
+//! order, rows of one track at one time that `n_updates` cannot order) and words every error as
+//! `mimo plot` and `mimo track` do. Beyond them: a missing table, a run of the tracks or dwells
+//! that the truth does not have, the dwells' rule broken (start times out of order per radar).
 #![warn(missing_docs)]
 
 mod dwell_file;
