@@ -42,7 +42,7 @@ fn failing_methods_are_recorded_not_fatal() {
     let p = plan(
         "[limits]\nmax_tracks = 2\n\
          [[methods]]\nname = \"crash\"\nta_cmd = \"sh -c 'exit 3'\"\n\
-         [[methods]]\nname = \"garbage\"\nta_cmd = \"sh -c 'read l; echo nonsense; sleep 5'\"\n\
+         [[methods]]\nname = \"garbage\"\nta_cmd = \"sh -c 'read l; echo nonsense; exec sleep 5'\"\n\
          [[methods]]\nname = \"ekf\"\nta = \"default\"\n",
     );
     let prep = prepare(&p).expect("prepare");
