@@ -34,6 +34,7 @@ pub(crate) struct Truth {
 }
 
 pub(crate) fn load_truth(paths: &[PathBuf]) -> Result<Truth, MetricsError> {
+    some_files(TruthRow::TABLE, paths)?;
     let (mut run, mut t, mut p, mut v, mut alt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
 
     // Each row's target, first as its index in order of first appearance: the name that followed
@@ -117,6 +118,7 @@ pub(crate) fn load_tracks(
     paths: &[PathBuf],
     runs: &BTreeSet<u32>,
 ) -> Result<BTreeMap<u32, Vec<TrackLife>>, MetricsError> {
+    some_files(TrackRow::TABLE, paths)?;
     let (mut run, mut id, mut t, mut p, mut v) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let (mut status, mut rank) = (Vec::new(), Vec::new());
     for path in paths {
@@ -227,6 +229,18 @@ fn in_table<R: TableRow>(e: mimo_store::StoreError) -> MetricsError {
         }
         e => e.into(),
     }
+}
+
+/// A table given no file is missing.
+fn some_files(table: &'static str, paths: &[PathBuf]) -> Result<(), MetricsError> {
+    if paths.is_empty() {
+        return Err(MetricsError::MissingTable {
+            table,
+            path: PathBuf::from(table),
+            detail: "no Parquet files given".into(),
+        });
+    }
+    Ok(())
 }
 
 /// Open one file of a run table ([`TableRows`]).

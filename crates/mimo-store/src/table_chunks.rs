@@ -62,14 +62,10 @@ impl<R: TableRow> TableChunks<R> {
 
     /// The next rows of the file, checked; `None` after the last.
     pub fn next_chunk(&mut self) -> Result<Option<Vec<R>>, StoreError> {
-        let Some(batch) = self.reader.next() else {
+        let Some(batch) = self.next_batch()? else {
             return Ok(None);
         };
-        let batch = batch.map_err(|e| parquet_err(&self.path, e))?;
-        let b = Batch::check_from(&batch, &self.path, self.spec, self.rows_read)?;
-        R::check_chunk(&mut self.rules, self.rows_read, &b)?;
-        self.rows_read += b.num_rows();
-        Ok(Some(R::from_batch(&b)?))
+        Ok(Some(R::from_batch(&self.view(&batch))?))
     }
 
     /// The next rows of the file as a checked Arrow batch (every check of
