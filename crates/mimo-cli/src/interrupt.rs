@@ -1,4 +1,6 @@
-//! SIGINT and SIGTERM (docs/design.md §7), one handler for every command: remove the staging
+//! SIGINT and SIGTERM (docs/design.md §7), one handler for every command: kill the process test
+//! articles still running, each with its process group (they no longer see the terminal's Ctrl-C,
+//! docs/decisions/0325-test-article-process-group.md), remove the staging
 //! directories, temporary files and lock files this process is writing (registered by
 //! `mimo_store::output`), say so on one `error:` line, and exit with 130 (128 + SIGINT, the
 //! shell's convention for an interrupted command). Killed harder (SIGKILL, power loss), a
@@ -21,6 +23,7 @@ pub fn install() -> Result<(), String> {
         .get_or_init(|| {
             ctrlc::set_handler(|| {
                 INTERRUPTED.store(true, Ordering::SeqCst);
+                mimo_ta::process::kill_live_groups();
                 mimo_store::output::remove_pending();
                 eprintln!("error: interrupted; partial output removed");
                 std::process::exit(130);

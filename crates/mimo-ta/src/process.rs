@@ -7,6 +7,10 @@
 //! to the adapter through a channel, so a child that stops answering is caught after
 //! `--ta-timeout` seconds; a child that exits, writes something that is not a reply, or asks for
 //! something impossible is a [`TaFault`] that stops the run.
+//!
+//! The child leads a process group of its own, and a child given up on (timed out, or dropped
+//! before it exited) is killed with its whole group, so the processes a wrapper script started
+//! go with it (docs/decisions/0325-test-article-process-group.md).
 
 use mimo_core::records::TrackRow;
 use mimo_sim::messages::{DwellReport, Reply, ReplyMessage, Request, StartInfo, Subscription, TaEvent};
@@ -14,9 +18,38 @@ use mimo_sim::test_article::{TaFault, TestArticle};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::io::{BufRead, BufReader, BufWriter, Write};
+use std::os::unix::process::CommandExt;
+use std::process::ExitStatus;
 use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
 use std::time::Duration;
+
+/// The process groups of the children not yet reaped, for [`kill_live_groups`]. A group leaves
+/// the list under its lock before its leader is reaped, so the list never names a reused pid.
+static LIVE_GROUPS: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+fn live_groups() -> std::sync::MutexGuard<'static, Vec<u32>> {
+    LIVE_GROUPS.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// SIGKILL every process test article still running in this process, with its group: what an
+/// interrupted `mimo` does before it exits (docs/decisions/0325-test-article-process-group.md).
+/// A child in a group of its own no longer receives the terminal's Ctrl-C.
+pub fn kill_live_groups() {
+    for &pgid in live_groups().iter() {
+        signal_group(pgid);
+    }
+}
+
+/// `kill(-pgid, SIGKILL)`, never to pgid 0 or 1 (the caller's group, every process).
+fn signal_group(pgid: u32) {
+    if let Some(pid) = i32::try_from(pgid).ok().and_then(rustix::process::Pid::from_raw)
+        && pid != rustix::process::Pid::INIT
+    {
+        let _ = rustix::process::kill_process_group(pid, rustix::process::Signal::KILL);
+    }
+}
 
 /// One line from the child's stdout, or how its output ended.
 enum Line {
@@ -112,6 +145,8 @@ pub struct ProcessTa {
     messages: u64,
     /// Time of the last message sent.
     last_t_s: f64,
+    /// The child was waited for: its pid, and so its group id, may name another process now.
+    reaped: bool,
 }
 
 impl ProcessTa {
@@ -127,8 +162,11 @@ impl ProcessTa {
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
+            // Its own process group (pgid = its pid): the handle on whatever it starts.
+            .process_group(0)
             .spawn()
             .map_err(|e| TaFault::Crashed(format!("cannot start it: {e}")))?;
+        live_groups().push(child.id());
         let stdin = child.stdin.take().map(BufWriter::new);
         let stdout = child.stdout.take().ok_or_else(|| TaFault::Io("no stdout pipe".into()))?;
         let (tx, rx) = channel();
@@ -164,7 +202,30 @@ impl ProcessTa {
             buf: Vec::with_capacity(1 << 16),
             messages: 0,
             last_t_s: 0.0,
+            reaped: false,
         })
+    }
+
+    /// Kill the child and every process of its group (what a wrapper script started), then the
+    /// child itself should the group signal fail. Only before the child is reaped: until then its
+    /// pid (a zombie's too) still names its group and no other.
+    fn kill_group(&mut self) {
+        if self.reaped {
+            return;
+        }
+        signal_group(self.child.id());
+        let _ = self.child.kill();
+    }
+
+    /// `try_wait`, with the group out of [`LIVE_GROUPS`] before the child is reaped.
+    fn try_reap(&mut self) -> std::io::Result<Option<ExitStatus>> {
+        let mut live = live_groups();
+        let waited = self.child.try_wait();
+        if matches!(waited, Ok(Some(_))) {
+            self.reaped = true;
+            live.retain(|&g| g != self.child.id());
+        }
+        waited
     }
 
     /// Messages exchanged so far.
@@ -175,7 +236,7 @@ impl ProcessTa {
     /// How the child ended, for a crash message.
     fn exit_note(&mut self) -> String {
         for _ in 0..50 {
-            match self.child.try_wait() {
+            match self.try_reap() {
                 Ok(Some(status)) => return format!("it exited ({status})"),
                 Ok(None) => std::thread::sleep(Duration::from_millis(10)),
                 Err(e) => return format!("it cannot be waited for ({e})"),
@@ -246,7 +307,7 @@ impl ProcessTa {
             }
             Ok(Line::Error(e)) => return Err(TaFault::Io(format!("reading its output: {e}"))),
             Err(RecvTimeoutError::Timeout) => {
-                let _ = self.child.kill();
+                self.kill_group();
                 return Err(TaFault::Timeout(self.timeout.as_secs_f64()));
             }
         };
@@ -309,13 +370,13 @@ impl ProcessTa {
         self.stdin = None;
         let deadline = std::time::Instant::now() + self.timeout;
         loop {
-            match self.child.try_wait() {
+            match self.try_reap() {
                 // Whatever it wrote after its last reply is a line too many.
                 Ok(Some(status)) if status.success() => return self.refuse_output_after_exit(),
                 Ok(Some(status)) => return Err(TaFault::Crashed(format!("it exited with {status} after `finish`"))),
                 Ok(None) if std::time::Instant::now() < deadline => std::thread::sleep(Duration::from_millis(2)),
                 Ok(None) => {
-                    let _ = self.child.kill();
+                    self.kill_group();
                     return Err(TaFault::Timeout(self.timeout.as_secs_f64()));
                 }
                 Err(e) => return Err(TaFault::Io(e.to_string())),
@@ -327,8 +388,11 @@ impl ProcessTa {
 impl Drop for ProcessTa {
     fn drop(&mut self) {
         self.stdin = None;
-        if !matches!(self.child.try_wait(), Ok(Some(_))) {
-            let _ = self.child.kill();
+        if !self.reaped {
+            // Running, or exited and not yet waited for (a zombie still names its group).
+            self.kill_group();
+            live_groups().retain(|&g| g != self.child.id());
+            self.reaped = true;
             let _ = self.child.wait();
         }
     }

@@ -1,6 +1,6 @@
 //! Helpers of the tests that run the `mimo` binary with a test article in another process
-//! (`ta_process.rs`, `stonesoup_ta.rs`): the binary run from the repository root, the Python
-//! modules a test needs, and the completeness of a scored run.
+//! (`ta_process.rs`, `stonesoup_ta.rs`, `ta_process_group.rs`): the binary run from the
+//! repository root, the Python modules a test needs, and the completeness of a scored run.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
