@@ -11,7 +11,8 @@
 //! plots completeness and energy per scoring interval (docs/design.md §6); clicking it moves the
 //! 3-D view to that time.
 //!
-//! * [`source`] opens a run directory (following `parent` links, docs/design.md §2).
+//! * [`source`] opens a run directory (following `parent` links, docs/design.md §2) and reads
+//!   one run's tables; its truth streams into compact per-target samples ([`truth_samples`]).
 //! * [`view`] builds the [`View`]: every position in a local ENU plot frame ([`frame`]), objects
 //!   as time-sorted columns ([`objects`]), the earth ([`globe`]), the linked metrics
 //!   ([`linked`]), covariance ellipsoid axes ([`ellipsoid`]), truth and track paths thinned within
@@ -36,6 +37,7 @@ pub mod html;
 pub mod linked;
 pub mod objects;
 pub mod source;
+pub mod truth_samples;
 pub mod view;
 
 pub use error::PlotError;

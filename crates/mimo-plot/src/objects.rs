@@ -7,9 +7,10 @@ use crate::decimate::{keep_within, points};
 use crate::ellipsoid::{position_block, sigma_axes};
 use crate::frame::PlotFrame;
 use crate::linked::RunScore;
+use crate::truth_samples::{TargetSamples, TruthSamples};
 use glam::{DMat3, DVec3};
 use mimo_core::ids::RadarId;
-use mimo_core::records::{DwellKind, DwellRow, MeasurementRow, Requester, TrackRow, TrackStatus, TruthRow};
+use mimo_core::records::{DwellKind, DwellRow, MeasurementRow, Requester, TrackRow, TrackStatus};
 use mimo_radar::geometry::{bistatic_ruv_to_ecef, ruv_to_ecef_jacobian};
 use mimo_scenario::{Ship, ShipFrames};
 use serde::Serialize;
@@ -101,29 +102,29 @@ pub struct TruthPath {
 /// the drawn path at its time ([`crate::decimate::keep_within`]).
 pub fn truth_paths(
     frame: &PlotFrame,
-    rows: &[TruthRow],
+    truth: &TruthSamples,
     targets: &[String],
     (t0, t1): (f64, f64),
     step_s: f64,
     tol_m: f64,
 ) -> Vec<TruthPath> {
-    let mut by: BTreeMap<&str, Vec<&TruthRow>> = BTreeMap::new();
-    for r in rows.iter().filter(|r| r.t_s >= t0 && r.t_s <= t1) {
-        by.entry(r.target.as_str()).or_default().push(r);
-    }
+    let none = TargetSamples::default();
     targets
         .iter()
         .map(|id| {
-            let mut v = by.remove(id.as_str()).unwrap_or_default();
-            v.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+            let s = truth.by_target.get(id).unwrap_or(&none);
+            // The samples in the window, in time order (rows of one time in file order).
+            let mut v: Vec<usize> = (0..s.t_s.len()).filter(|&i| s.t_s[i] >= t0 && s.t_s[i] <= t1).collect();
+            v.sort_by(|&a, &b| s.t_s[a].total_cmp(&s.t_s[b]));
             let last = v.len().saturating_sub(1);
             let mut out = TruthPath { id: id.clone(), t: Vec::new(), p: Vec::new(), v: Vec::new() };
-            for (i, r) in v.iter().enumerate() {
-                let on_step = step_s <= 0.0 || ((r.t_s / step_s).round() * step_s - r.t_s).abs() < 1e-6;
+            for (i, &k) in v.iter().enumerate() {
+                let t_s = s.t_s[k];
+                let on_step = step_s <= 0.0 || ((t_s / step_s).round() * step_s - t_s).abs() < 1e-6;
                 if on_step || i == 0 || i == last {
-                    out.t.push(ms(r.t_s));
-                    out.p.extend(frame.to_plot(DVec3::new(r.x_m, r.y_m, r.z_m)));
-                    let vel = frame.vec_to_plot(DVec3::new(r.vx_mps, r.vy_mps, r.vz_mps));
+                    out.t.push(ms(t_s));
+                    out.p.extend(frame.to_plot(s.pos_m[k]));
+                    let vel = frame.vec_to_plot(s.vel_mps[k]);
                     out.v.extend([vel.x, vel.y, vel.z].map(|x| x.round() as i64));
                 }
             }

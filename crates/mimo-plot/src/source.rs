@@ -3,7 +3,8 @@
 //! and (when the re-run did not re-form them) measurements.
 
 use crate::PlotError;
-use mimo_core::records::{DwellRow, MeasurementRow, TrackRow, TruthRow};
+use crate::truth_samples::TruthSamples;
+use mimo_core::records::{DwellRow, MeasurementRow, TrackRow};
 use mimo_scenario::Scenario;
 use mimo_store::layout::RunDir;
 use mimo_store::manifest::Manifest;
@@ -26,8 +27,8 @@ pub struct RunSource {
 /// The tables of one Monte Carlo run.
 #[derive(Debug, Clone, Default)]
 pub struct RunTables {
-    /// Truth samples.
-    pub truth: Vec<TruthRow>,
+    /// Truth samples, by target (read chunk by chunk into 56 bytes a sample).
+    pub truth: TruthSamples,
     /// Dwell parts.
     pub dwells: Vec<DwellRow>,
     /// Measurements.
@@ -96,7 +97,7 @@ impl RunSource {
             Err(e) => return Err(e.into()),
         };
         Ok(RunTables {
-            truth: read_table(&truth_f)?,
+            truth: TruthSamples::read(&truth_f)?,
             dwells: read_table(&dwells_f)?,
             measurements: read_table(&meas_f)?,
             tracks,

@@ -289,7 +289,7 @@ fn dropped_notes(
     meas_dropped: MeasDropped,
 ) -> Vec<String> {
     let in_window = |t: f64| t >= t0 && t <= t1;
-    let truth_rows = tables.truth.iter().filter(|r| in_window(r.t_s)).count();
+    let truth_rows = tables.truth.count_within(t0, t1);
     let truth_kept: usize = truth.iter().map(|p| p.t.len()).sum();
     let search_parts = tables.dwells.iter().filter(|d| d.kind == DwellKind::Search && in_window(d.t_s)).count();
     let step =
