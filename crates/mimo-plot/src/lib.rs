@@ -12,7 +12,8 @@
 //! 3-D view to that time.
 //!
 //! * [`source`] opens a run directory (following `parent` links, docs/design.md §2) and reads
-//!   one run's tables; its truth streams into compact per-target samples ([`truth_samples`]).
+//!   one run's tables; its truth streams into compact per-target samples ([`truth_samples`]),
+//!   its dwells into what the page keeps of them ([`dwell_digest`]).
 //! * [`view`] builds the [`View`]: every position in a local ENU plot frame ([`frame`]), objects
 //!   as time-sorted columns ([`objects`]), the earth ([`globe`]), the linked metrics
 //!   ([`linked`]), covariance ellipsoid axes ([`ellipsoid`]), truth and track paths thinned within
@@ -29,6 +30,7 @@
 mod error;
 
 pub mod decimate;
+pub mod dwell_digest;
 pub mod ellipsoid;
 pub mod frame;
 pub mod framing;

@@ -4,8 +4,8 @@
 //! Completeness and assignments come from `RUN/score/` when `mimo score` has been run (its
 //! `track_metrics.parquet`, `assignments.parquet` and the interval of `summary.json`), so the
 //! page agrees with the charts; otherwise the run is scored in memory with `mimo score`'s
-//! defaults and nothing is written. Energy per interval is summed here from the run's own
-//! dwells (the raw sums of docs/design.md §6: transmit parts, interval `⌊t/Δ⌋ + 1`), because
+//! defaults and nothing is written. Energy per interval is summed from the run's own
+//! dwells ([`crate::dwell_digest::DwellDigest::energy_per_interval`]: the raw sums of docs/design.md §6: transmit parts, interval `⌊t/Δ⌋ + 1`), because
 //! the `usage` tables average over the Monte Carlo runs.
 
 use crate::PlotError;
@@ -13,7 +13,6 @@ use crate::source::{RunSource, RunTables};
 use arrow::array::{ArrayRef, AsArray, RecordBatch};
 use arrow::compute::cast;
 use arrow::datatypes::{DataType, Float64Type, UInt64Type};
-use mimo_core::records::{DwellRow, Requester};
 use mimo_metrics::{AssignmentRow, ScorablePredicate, ScoreInput, ScoreOptions, TrackMetricsRow};
 use mimo_store::layout::ScoreDir;
 use mimo_store::schema::TableSpec;
@@ -180,22 +179,4 @@ pub fn computed(src: &RunSource, tables: &RunTables) -> Result<RunScore, PlotErr
         }
     }
     Ok(out)
-}
-
-/// Energy emitted per scoring interval `j = ⌊t/Δ⌋ + 1` (J): all transmit parts, and those the
-/// test article requested. Interval `j` is closed by scoring time `t_j = jΔ`; the result has
-/// one entry per `j = 1 … n`.
-pub fn energy_per_interval(dwells: &[DwellRow], interval_s: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut all = vec![0.0; n];
-    let mut ta = vec![0.0; n];
-    for d in dwells.iter().filter(|d| d.role.transmits()) {
-        let j = (d.t_s / interval_s).floor();
-        if j >= 0.0 && (j as usize) < n {
-            all[j as usize] += d.energy_j;
-            if d.requested_by == Requester::Ta {
-                ta[j as usize] += d.energy_j;
-            }
-        }
-    }
-    (all, ta)
 }

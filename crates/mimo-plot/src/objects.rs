@@ -4,6 +4,7 @@
 //! rows of a time window by bisection.
 
 use crate::decimate::{keep_within, points};
+use crate::dwell_digest::DwellDigest;
 use crate::ellipsoid::{position_block, sigma_axes};
 use crate::frame::PlotFrame;
 use crate::linked::RunScore;
@@ -274,7 +275,7 @@ pub fn meas_cols(
     frame: &PlotFrame,
     ships: &[Ship],
     rows: &[MeasurementRow],
-    kinds: &HashMap<u64, DwellKind>,
+    dwells: &DwellDigest,
     used_by: &HashMap<u64, u64>,
     targets: &[String],
     (t0, t1): (f64, f64),
@@ -308,7 +309,7 @@ pub fn meas_cols(
         let rm = DMat3::from_diagonal(DVec3::new(4.0 * r.var_range_m2, r.var_u, r.var_v));
         c.t.push(ms(r.t_s));
         c.id.push(r.meas_id);
-        c.kind.push(kinds.get(&r.dwell_id).map_or(0, |k| kind_code(*k)));
+        c.kind.push(dwells.kind_of(r.dwell_id).map_or(0, kind_code));
         c.tx.push(ti as u8);
         c.rx.push(ri as u8);
         c.p.extend(frame.to_plot(p));

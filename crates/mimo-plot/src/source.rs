@@ -3,8 +3,9 @@
 //! and (when the re-run did not re-form them) measurements.
 
 use crate::PlotError;
+use crate::dwell_digest::DwellDigest;
 use crate::truth_samples::TruthSamples;
-use mimo_core::records::{DwellRow, MeasurementRow, TrackRow};
+use mimo_core::records::{MeasurementRow, TrackRow};
 use mimo_scenario::Scenario;
 use mimo_store::layout::RunDir;
 use mimo_store::manifest::Manifest;
@@ -29,8 +30,8 @@ pub struct RunSource {
 pub struct RunTables {
     /// Truth samples, by target (read chunk by chunk into 56 bytes a sample).
     pub truth: TruthSamples,
-    /// Dwell parts.
-    pub dwells: Vec<DwellRow>,
+    /// What the page keeps of the dwell parts (read chunk by chunk).
+    pub dwells: DwellDigest,
     /// Measurements.
     pub measurements: Vec<MeasurementRow>,
     /// Track rows.
@@ -98,7 +99,7 @@ impl RunSource {
         };
         Ok(RunTables {
             truth: TruthSamples::read(&truth_f)?,
-            dwells: read_table(&dwells_f)?,
+            dwells: DwellDigest::read(&dwells_f)?,
             measurements: read_table(&meas_f)?,
             tracks,
             files: [truth_f, dwells_f, meas_f, tracks_f],

@@ -9,6 +9,7 @@
 //! under software rendering). The page lists these choices under "dropped".
 
 use crate::PlotError;
+use crate::dwell_digest::DwellDigest;
 use crate::frame::{FrameJson, PlotFrame};
 use crate::framing::{Framing, framing};
 use crate::globe::{Polylines, coastlines, globe_graticule, graticule};
@@ -16,7 +17,7 @@ use crate::linked::{self, RunScore};
 use crate::objects::{self, BeamCols, MeasCols, MeasDropped, RadarView, TrackCols, TruthPath};
 use crate::source::{RunSource, RunTables};
 use mimo_core::geo::ecef_to_geodetic;
-use mimo_core::records::{DwellKind, DwellRow, TrackRow};
+use mimo_core::records::TrackRow;
 use serde::Serialize;
 use std::collections::HashMap;
 
@@ -202,11 +203,10 @@ pub fn build_view(src: &RunSource, opts: &ViewOptions) -> Result<View, PlotError
     let (tracks, tracks_thinned) =
         objects::thin_tracks(objects::track_cols(&frame, &tables.tracks, &score, &targets, t0, t1), opts.tolerance_m);
 
-    let kinds: HashMap<u64, DwellKind> = tables.dwells.iter().map(|d| (d.dwell_id, d.kind)).collect();
     let used_by = used_by(&tables.tracks);
     let (meas, meas_dropped) =
-        objects::meas_cols(&frame, ships, &tables.measurements, &kinds, &used_by, &targets, (t0, t1));
-    let beams = objects::beam_cols(&frame, ships, &tables.dwells, t0, t1);
+        objects::meas_cols(&frame, ships, &tables.measurements, &tables.dwells, &used_by, &targets, (t0, t1));
+    let beams = objects::beam_cols(&frame, ships, &tables.dwells.ta_parts, t0, t1);
 
     let metrics = metrics_cols(&score, &tables.dwells, t0, t1);
     let dropped = dropped_notes(opts, &tables, &truth, (t0, t1), (tracks_thinned, tracks.t.len()), meas_dropped);
@@ -263,9 +263,9 @@ fn used_by(tracks: &[TrackRow]) -> HashMap<u64, u64> {
 }
 
 /// The linked metrics panel's columns within the window [t0, t1].
-fn metrics_cols(score: &RunScore, dwells: &[DwellRow], t0: f64, t1: f64) -> MetricsCols {
+fn metrics_cols(score: &RunScore, dwells: &DwellDigest, t0: f64, t1: f64) -> MetricsCols {
     let n = score.t_s.len();
-    let (energy, ta_energy) = linked::energy_per_interval(dwells, score.interval_s, n);
+    let (energy, ta_energy) = dwells.energy_per_interval(score.interval_s, n);
     let keep: Vec<usize> = (0..n).filter(|&i| score.t_s[i] >= t0 && score.t_s[i] <= t1).collect();
     MetricsCols {
         source: score.source.clone(),
@@ -288,10 +288,9 @@ fn dropped_notes(
     (tracks_thinned, tracks_kept): (usize, usize),
     meas_dropped: MeasDropped,
 ) -> Vec<String> {
-    let in_window = |t: f64| t >= t0 && t <= t1;
     let truth_rows = tables.truth.count_within(t0, t1);
     let truth_kept: usize = truth.iter().map(|p| p.t.len()).sum();
-    let search_parts = tables.dwells.iter().filter(|d| d.kind == DwellKind::Search && in_window(d.t_s)).count();
+    let search_parts = tables.dwells.search_parts_within(t0, t1);
     let step =
         if opts.truth_step_s > 0.0 { format!(" sampled every {} s, then", opts.truth_step_s) } else { String::new() };
     let tol = opts.tolerance_m;
