@@ -435,7 +435,10 @@ class NetworkRun:
             except subprocess.TimeoutExpired:
                 pass
         elif self.proc is not None:
-            try:  # a test-article helper may outlive mimo by a moment
+            # What of mimo's group outlives it by a moment. The test-article helper has a process
+            # group of its own (docs/decisions/0325-test-article-process-group.md) and exits by
+            # itself once it has handed the pipes over, or cannot connect.
+            try:
                 os.killpg(self.proc.pid, signal.SIGKILL)
             except (ProcessLookupError, PermissionError):
                 pass
