@@ -9,9 +9,11 @@
 #   scripts/instruction_guard.sh --update   measure and write the new baseline
 #
 # A change that makes simulate or score heavier on purpose updates the baseline in the same commit
-# and says why in its message. The counts belong to the dev profile (`target/debug/mimo`, what the
-# tests build), the rustc and the valgrind of the baseline: a different rustc or
-# valgrind may move them by a few per cent (the script prints both versions).
+# and says why in its message. The counts belong to the dev profile built without incremental
+# compilation (`CARGO_INCREMENTAL=0 cargo build --bin mimo`, what .ci/run builds), the rustc and the
+# valgrind of the baseline: an incremental build splits the code differently and counts more
+# (simulate about 8 %, score 1.5 %), and a different rustc or valgrind may move them by a few per
+# cent (the script prints both versions).
 #
 # Environment: MIMO=path/to/mimo (default target/debug/mimo), BASELINE (default
 # reports/instructions.json), LIMIT_PCT (default 10), OUT=dir for the scratch run (default a
@@ -51,7 +53,7 @@ path, sim, score, rustc, valgrind = sys.argv[1:]
 doc = {
     "about": "Instructions (valgrind --tool=callgrind, 'Collected') of one fixed case, compared by "
              "scripts/instruction_guard.sh; update with --update in the commit that explains why.",
-    "profile": "dev (target/debug/mimo: dependencies opt-level 2, the mimo crates 3, debug assertions on)",
+    "profile": "dev, not incremental (CARGO_INCREMENTAL=0 cargo build --bin mimo, as .ci/run builds: dependencies opt-level 2, the mimo crates 3, debug assertions on)",
     "rustc": rustc,
     "valgrind": valgrind,
     "simulate_command": "mimo simulate --scenario 7 --runs 1 --duration 300 --threads 1 --out RUN --quiet",
