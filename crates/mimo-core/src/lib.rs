@@ -11,7 +11,9 @@
 //! * [`time`]: integer-nanosecond simulation time, so event ordering never depends on rounding.
 //! * [`ids`]: radar and target identifiers (`R1`…`R4`, `F-1`…`F-4`, `A`, `B`, `C`).
 //! * [`assign`]: an exact rectangular assignment solver (shortest augmenting path, Jonker–Volgenant
-//!   style) shared by the tracker's GNN and the metrics engine's truth–track pairing.
+//!   style) shared by the tracker's GNN and the metrics engine's truth–track pairing;
+//!   [`assign_components`] splits a gated problem into the components of its graph, which the
+//!   metrics engine solves one by one.
 //! * [`polarimetry`]: a target's polarimetric scattering statistics (docs/model.md §3.5).
 //! * [`table_rules`]: what a well-formed table keeps beyond its schema (unique ids, ordered times),
 //!   checked by every reader of the tables.
@@ -24,6 +26,7 @@
 #![warn(missing_docs)]
 
 pub mod assign;
+pub mod assign_components;
 pub mod covariance;
 pub mod face;
 pub mod geo;

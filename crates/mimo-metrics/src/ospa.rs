@@ -9,11 +9,13 @@
 //!   localisation error, `c^p/2` per missed truth and `c^p/2` per false track.
 //!
 //! Both use the same optimal assignment (of the smaller set into the larger one on the cost
-//! `d_c^p`), solved exactly with [`mimo_core::assign::solve`]. Both are 0 for two empty sets; the
-//! metrics engine reports null at such times instead (see the crate docs).
+//! `d_c^p`), solved exactly with [`mimo_core::assign::solve`], one component of the pairs closer
+//! than `c` at a time ([`mimo_core::assign_components::solve_below_cut`]): every other pairing
+//! costs `c^p` whichever it is. Both are 0 for two empty sets; the metrics engine reports null at
+//! such times instead (see the crate docs).
 
 use glam::DVec3;
-use mimo_core::assign::solve;
+use mimo_core::assign_components::solve_below_cut;
 
 /// OSPA and GOSPA of one pair of sets.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,7 +52,7 @@ pub fn ospa_gospa(x: &[DVec3], y: &[DVec3], c_m: f64, p: f64) -> OspaGospa {
     let pairs: Vec<f64> = if n == 0 {
         Vec::new()
     } else {
-        solve(&cost, n, m).iter().enumerate().map(|(i, &j)| cost[i * m + j]).collect()
+        solve_below_cut(&cost, n, m, cp).iter().enumerate().map(|(i, j)| j.map_or(cp, |j| cost[i * m + j])).collect()
     };
     let loc: f64 = pairs.iter().sum();
     // A pair at the cut-off costs c^p = c^p/2 (a miss) + c^p/2 (a false track): GOSPA's split.
@@ -70,6 +72,7 @@ pub fn ospa_gospa(x: &[DVec3], y: &[DVec3], c_m: f64, p: f64) -> OspaGospa {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mimo_core::assign::solve;
 
     /// The cost of every pair is bit for bit `min(d, c)^p` (the definition), whether the pair is
     /// inside the cut-off, at it or beyond: the figures equal those of the plain formula.

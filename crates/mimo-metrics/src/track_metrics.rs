@@ -7,7 +7,7 @@
 use crate::ospa::ospa_gospa;
 use crate::{AssignmentRow, TrackMetricsRow};
 use glam::DVec3;
-use mimo_core::assign::assign_with_miss;
+use mimo_core::assign_components::assign_with_miss_by_components;
 
 /// Time tolerance (s) when comparing a scoring time with sample times.
 const T_EPS: f64 = 1e-9;
@@ -215,7 +215,8 @@ impl Scene {
             cost.extend(self.dist[i * m..(i + 1) * m].iter().map(|&d| if d <= gate { d } else { f64::INFINITY }));
         }
         let miss = gate * ((n.min(m) + 1) as f64);
-        assign_with_miss(cost, n, m, &vec![miss; n])
+        // Pairs form only inside the gate: each component of the gated graph is solved alone.
+        assign_with_miss_by_components(cost, n, m, &vec![miss; n])
     }
 
     /// Redundant tracks (unassigned, inside the gate of some scorable truth) and spurious tracks
