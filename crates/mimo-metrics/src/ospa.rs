@@ -75,7 +75,8 @@ mod tests {
     use mimo_core::assign::solve;
 
     /// The cost of every pair is bit for bit `min(d, c)^p` (the definition), whether the pair is
-    /// inside the cut-off, at it or beyond: the figures equal those of the plain formula.
+    /// inside the cut-off, at it or beyond: the figures equal those of the plain formula on the
+    /// whole matrix, for a small scene (solved whole) and a large one (solved by component).
     #[test]
     fn far_pairs_cost_exactly_the_cut_off() {
         let mut rng = 12345u64;
@@ -83,9 +84,11 @@ mod tests {
             rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (rng >> 11) as f64 / (1u64 << 53) as f64
         };
-        for p in [1.0, 2.0, 1.7] {
-            let x: Vec<DVec3> = (0..7).map(|_| DVec3::new(next(), next(), next()) * 300.0).collect();
-            let mut y: Vec<DVec3> = (0..9).map(|_| DVec3::new(next(), next(), next()) * 300.0).collect();
+        for (p, (nx, ny, side_m)) in
+            [1.0, 2.0, 1.7].into_iter().flat_map(|p| [(p, (7, 9, 300.0)), (p, (60, 70, 900.0))])
+        {
+            let x: Vec<DVec3> = (0..nx).map(|_| DVec3::new(next(), next(), next()) * side_m).collect();
+            let mut y: Vec<DVec3> = (0..ny).map(|_| DVec3::new(next(), next(), next()) * side_m).collect();
             y.push(x[0] + DVec3::new(100.0, 0.0, 0.0)); // exactly at the cut-off
             let c = 100.0;
             let got = ospa_gospa(&x, &y, c, p);
